@@ -1,0 +1,133 @@
+"""Polygon footprints of workpieces and their bounding disks (book 3.1.8)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from models.errors import InvalidInput
+from models.tolerances import DEFAULT, Tolerances
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+def signed_area(vertices: np.ndarray) -> float:
+    """Shoelace area, positive for counter-clockwise vertex order."""
+    x, y = vertices[:, 0], vertices[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def area_centroid(vertices: np.ndarray) -> np.ndarray:
+    """Centroid of the polygon's area: the CM of a part of uniform density."""
+    v = vertices - vertices.mean(axis=0)  # shift for accuracy far from the origin
+    x, y = v[:, 0], v[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    w = x * yn - xn * y
+    a6 = 3.0 * float(np.sum(w))
+    return vertices.mean(axis=0) + np.array([np.sum((x + xn) * w), np.sum((y + yn) * w)]) / a6
+
+
+def _segments_cross(vertices: np.ndarray) -> bool:
+    """True when two non-adjacent edges of the closed polygon touch or cross (O(n^2),
+    vectorised)."""
+    n = len(vertices)
+    p = vertices
+    q = np.roll(vertices, -1, axis=0)
+    i, j = np.triu_indices(n, k=2)
+    keep = ~((i == 0) & (j == n - 1))  # first and last edges are adjacent
+    i, j = i[keep], j[keep]
+    if i.size == 0:
+        return False
+    d1 = _cross(q[i] - p[i], p[j] - p[i])
+    d2 = _cross(q[i] - p[i], q[j] - p[i])
+    d3 = _cross(q[j] - p[j], p[i] - p[j])
+    d4 = _cross(q[j] - p[j], q[i] - p[j])
+    proper = (d1 * d2 < 0) & (d3 * d4 < 0)
+    scale = np.max(np.abs(vertices - vertices.mean(axis=0))) ** 2
+    touching = (np.abs(d1) <= 1e-15 * scale) | (np.abs(d2) <= 1e-15 * scale)
+    # Collinear touching: check the point lies within the other segment's box.
+    def within(a, b, c):
+        return np.all((np.minimum(a, b) - 1e-15 * np.sqrt(scale) <= c) & (c <= np.maximum(a, b) + 1e-15 * np.sqrt(scale)), axis=-1)
+    touch1 = (np.abs(d1) <= 1e-15 * scale) & within(p[i], q[i], p[j])
+    touch2 = (np.abs(d2) <= 1e-15 * scale) & within(p[i], q[i], q[j])
+    return bool(np.any(proper | (touching & (touch1 | touch2))))
+
+
+def _inside_convex_hull(points: np.ndarray, x: np.ndarray, slack: float) -> bool:
+    """Whether x lies in the convex hull of points (monotone-chain hull)."""
+    pts = sorted(map(tuple, points))
+    if len(pts) < 3:
+        return False
+
+    def half(seq):
+        out: list[tuple[float, float]] = []
+        for pt in seq:
+            while len(out) >= 2 and (out[-1][0] - out[-2][0]) * (pt[1] - out[-2][1]) - (out[-1][1] - out[-2][1]) * (pt[0] - out[-2][0]) <= 0:
+                out.pop()
+            out.append(pt)
+        return out
+
+    hull = np.array(half(pts)[:-1] + half(pts[::-1])[:-1])
+    edges = np.roll(hull, -1, axis=0) - hull
+    return bool(np.all(_cross(edges, x - hull) >= -slack))
+
+
+@dataclass(frozen=True)
+class Footprint:
+    """A simple polygon footprint, vertices counter-clockwise (world frame).
+
+    ``circumradius`` is the book's a (3.1.8): the largest distance from the CM to the
+    workpiece, attained at a vertex.
+    """
+
+    vertices: np.ndarray
+    center_of_mass: np.ndarray
+    area: float
+    circumradius: float
+
+    @classmethod
+    def create(cls, vertices, center_of_mass=None, tolerances: Tolerances = DEFAULT) -> "Footprint":
+        v = np.asarray(vertices, dtype=float)
+        if v.ndim != 2 or v.shape[1] != 2:
+            raise InvalidInput("workpiece", "must be a list of [x, y] vertices")
+        if v.shape[0] < 3:
+            raise InvalidInput("workpiece", "needs at least 3 vertices")
+        if not np.all(np.isfinite(v)):
+            raise InvalidInput("workpiece", "vertices must be finite numbers")
+        if np.any(np.all(v == np.roll(v, -1, axis=0), axis=1)):
+            raise InvalidInput("workpiece", "has repeated consecutive vertices")
+        span = float(np.max(np.ptp(v, axis=0)))
+        area = signed_area(v)
+        if abs(area) <= tolerances.polygon_area_rel * span * span:
+            raise InvalidInput("workpiece", "is degenerate: its vertices are (nearly) collinear")
+        if area < 0.0:
+            v = v[::-1].copy()
+            area = -area
+        if _segments_cross(v):
+            raise InvalidInput("workpiece", "is not a simple polygon: two edges cross or touch")
+        if center_of_mass is None:
+            cm = area_centroid(v)
+        else:
+            cm = np.asarray(center_of_mass, dtype=float)
+            if cm.shape != (2,) or not np.all(np.isfinite(cm)):
+                raise InvalidInput("center_of_mass", "must be a finite point [x, y]")
+            if not _inside_convex_hull(v, cm, slack=tolerances.polygon_area_rel * span * span):
+                raise InvalidInput(
+                    "center_of_mass",
+                    "lies outside the convex hull of the workpiece: no pressure distribution "
+                    "on the footprint can have its centroid there (3.1.5)",
+                )
+        radius = float(np.max(np.linalg.norm(v - cm, axis=1)))
+        return cls(vertices=v, center_of_mass=cm, area=area, circumradius=radius)
+
+    def distance_to_outline(self, point) -> float:
+        """Distance from ``point`` to the nearest edge of the polygon."""
+        p = np.asarray(point, dtype=float)
+        a = self.vertices
+        b = np.roll(a, -1, axis=0)
+        ab = b - a
+        t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+        return float(np.min(np.linalg.norm(a + t[:, None] * ab - p, axis=1)))

@@ -1,0 +1,75 @@
+"""Shared scenes and geometric helpers for the tests (seeded, no I/O)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from models.scene import PushScene
+
+SEED = 20261122
+
+# mu = |alpha . c| / a for each regime of the boundary (models/cor_disk.py docstring):
+# outer+inner, outer+arc+inner, arc+inner (contact outside the disk).
+MU_OUTER_INNER = (1e-3, 0.05, 0.3, 0.6, 0.7)
+MU_WITH_ARC = (0.72, 0.9, 0.99)
+MU_ON_DISK = (1.0, 1.5, 3.0)
+ALL_MU = MU_OUTER_INNER + MU_WITH_ARC + MU_ON_DISK
+
+
+def scene_for_mu(mu: float, a: float = 1.0, along: float = 0.2, cm=(0.0, 0.0),
+                 edge_angle: float = math.pi / 2, push_direction: float = 0.0) -> PushScene:
+    """Book-like scene (figure 3-3): push along +x on a vertical edge, contact placed so
+    that alpha . c = mu a. ``along`` shifts the contact along the line of force."""
+    probe = PushScene.create(a, np.asarray(cm, float) + [0.0, 0.0], edge_angle, push_direction, cm)
+    contact = np.asarray(cm, float) + mu * a * probe.alpha_hat + along * a * probe.normal
+    return PushScene.create(a, contact, edge_angle, push_direction, cm)
+
+
+def point_in_polygon(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
+    """Even-odd rule, vectorised over points (k, 2)."""
+    pts = np.atleast_2d(points)
+    x, y = pts[:, 0:1], pts[:, 1:2]
+    a = polygon
+    b = np.roll(polygon, -1, axis=0)
+    cond = (a[:, 1] > y) != (b[:, 1] > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xint = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    return np.sum(cond & (x < xint), axis=1) % 2 == 1
+
+
+def distance_to_polyline(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
+    """Distance from each point to the closed polygon's edges."""
+    pts = np.atleast_2d(points)[:, None, :]
+    a = polygon[None]
+    ab = np.roll(polygon, -1, axis=0)[None] - a
+    t = np.clip(np.sum((pts - a) * ab, axis=-1) / np.sum(ab * ab, axis=-1), 0.0, 1.0)
+    return np.min(np.linalg.norm(a + t[..., None] * ab - pts, axis=-1), axis=1)
+
+
+def random_tripods(rng: np.random.Generator, count: int, a: float = 1.0):
+    """Tripods uniformly in the disk whose weights put the centroid at the origin
+    (book 3.3.3: a tripod needing a negative weight is discarded)."""
+    out = []
+    while len(out) < count:
+        r = a * np.sqrt(rng.uniform(0, 1, 3))
+        th = rng.uniform(0, 2 * math.pi, 3)
+        w = np.column_stack([r * np.cos(th), r * np.sin(th)])
+        m = np.vstack([np.ones(3), w.T])
+        try:
+            p = np.linalg.solve(m, np.array([1.0, 0.0, 0.0]))
+        except np.linalg.LinAlgError:
+            continue
+        if np.all(p > 1e-3):
+            out.append((w, p))
+    return out
+
+
+def circle_radius(p0: np.ndarray, p1: np.ndarray, p2: np.ndarray) -> float:
+    """Radius of the circle through three points."""
+    a = np.linalg.norm(p1 - p0)
+    b = np.linalg.norm(p2 - p1)
+    c = np.linalg.norm(p2 - p0)
+    area2 = abs((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]))
+    return a * b * c / (2.0 * area2)
