@@ -30,9 +30,9 @@ def area_centroid(vertices: np.ndarray) -> np.ndarray:
     return vertices.mean(axis=0) + np.array([np.sum((x + xn) * w), np.sum((y + yn) * w)]) / a6
 
 
-def _segments_cross(vertices: np.ndarray) -> bool:
+def _segments_cross(vertices: np.ndarray, rel: float) -> bool:
     """True when two non-adjacent edges of the closed polygon touch or cross (O(n^2),
-    vectorised)."""
+    vectorised); ``rel`` is the relative slack of "touch"."""
     n = len(vertices)
     p = vertices
     q = np.roll(vertices, -1, axis=0)
@@ -46,14 +46,16 @@ def _segments_cross(vertices: np.ndarray) -> bool:
     d3 = _cross(q[j] - p[j], p[i] - p[j])
     d4 = _cross(q[j] - p[j], q[i] - p[j])
     proper = (d1 * d2 < 0) & (d3 * d4 < 0)
-    scale = np.max(np.abs(vertices - vertices.mean(axis=0))) ** 2
-    touching = (np.abs(d1) <= 1e-15 * scale) | (np.abs(d2) <= 1e-15 * scale)
-    # Collinear touching: check the point lies within the other segment's box.
-    def within(a, b, c):
-        return np.all((np.minimum(a, b) - 1e-15 * np.sqrt(scale) <= c) & (c <= np.maximum(a, b) + 1e-15 * np.sqrt(scale)), axis=-1)
-    touch1 = (np.abs(d1) <= 1e-15 * scale) & within(p[i], q[i], p[j])
-    touch2 = (np.abs(d2) <= 1e-15 * scale) & within(p[i], q[i], q[j])
-    return bool(np.any(proper | (touching & (touch1 | touch2))))
+    span = float(np.max(np.abs(vertices - vertices.mean(axis=0))))
+    flat = rel * span * span
+
+    def within(a, b, c):  # c inside the bounding box of segment ab
+        return np.all((np.minimum(a, b) - rel * span <= c) & (c <= np.maximum(a, b) + rel * span), axis=-1)
+
+    # An end point of one edge lying on the other edge: the polygon touches itself.
+    touch1 = (np.abs(d1) <= flat) & within(p[i], q[i], p[j])
+    touch2 = (np.abs(d2) <= flat) & within(p[i], q[i], q[j])
+    return bool(np.any(proper | touch1 | touch2))
 
 
 def _inside_convex_hull(points: np.ndarray, x: np.ndarray, slack: float) -> bool:
@@ -106,7 +108,7 @@ class Footprint:
         if area < 0.0:
             v = v[::-1].copy()
             area = -area
-        if _segments_cross(v):
+        if _segments_cross(v, tolerances.polygon_area_rel):
             raise InvalidInput("workpiece", "is not a simple polygon: two edges cross or touch")
         if center_of_mass is None:
             cm = area_centroid(v)

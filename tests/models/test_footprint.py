@@ -1,0 +1,70 @@
+"""Polygon footprints and their circumscribing disk (book 3.1.8)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from models.errors import InvalidInput
+from models.footprint import Footprint
+
+SQUARE = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+L_SHAPE = [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]
+
+
+def test_square_disk_is_the_circumscribed_circle():
+    f = Footprint.create(SQUARE)
+    assert np.allclose(f.center_of_mass, 0.0)
+    assert f.circumradius == pytest.approx(math.sqrt(2))
+    assert f.area == pytest.approx(4.0)
+
+
+def test_l_shape_centroid_and_radius():
+    f = Footprint.create(L_SHAPE)
+    # two unit-area squares' centroids (1, 0.5)+(0.5, 0.5) and (0.5, 1.5): mean of 3 unit squares
+    assert np.allclose(f.center_of_mass, [(1.5 + 0.5 + 0.5) / 3, (0.5 + 0.5 + 1.5) / 3])
+    assert f.circumradius == pytest.approx(np.max(np.linalg.norm(np.array(L_SHAPE) - f.center_of_mass, axis=1)))
+
+
+def test_clockwise_input_is_reoriented_and_far_offsets_keep_digits():
+    off = np.array([1e6, -3e6])
+    f = Footprint.create((np.array(SQUARE) + off)[::-1])
+    assert np.allclose(f.center_of_mass, off, rtol=0, atol=1e-9)
+    x, y = f.vertices.T
+    assert 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) > 0
+
+
+def test_given_centre_of_mass_sets_the_radius():
+    f = Footprint.create(SQUARE, center_of_mass=[0.5, 0.0])
+    assert f.circumradius == pytest.approx(math.hypot(1.5, 1.0))
+
+
+@pytest.mark.parametrize(
+    "vertices, field",
+    [
+        ([[0, 0], [1, 1]], "workpiece"),
+        ([[0, 0], [1, 0], [2, 0]], "workpiece"),  # collinear
+        ([[0, 0], [2, 2], [2, 0], [0, 2]], "workpiece"),  # bow-tie
+        ([[0, 0], [2, 0], [1, 1], [2, 2], [0, 2], [1, 1]], "workpiece"),  # touches itself
+        ([[0, 0], [1, 0], [1, 0], [0, 1]], "workpiece"),  # repeated vertex
+        ([[0, 0], [1, float("inf")], [0, 1]], "workpiece"),
+    ],
+)
+def test_bad_polygons_are_refused(vertices, field):
+    with pytest.raises(InvalidInput) as err:
+        Footprint.create(vertices)
+    assert err.value.field == field
+
+
+def test_centre_of_mass_outside_the_hull_is_refused():
+    with pytest.raises(InvalidInput) as err:
+        Footprint.create(SQUARE, center_of_mass=[3.0, 0.0])
+    assert err.value.field == "center_of_mass"
+
+
+def test_distance_to_outline():
+    f = Footprint.create(SQUARE)
+    assert f.distance_to_outline([1.0, 0.3]) == pytest.approx(0.0)
+    assert f.distance_to_outline([0.0, 0.0]) == pytest.approx(1.0)
