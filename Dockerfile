@@ -1,0 +1,56 @@
+# syntax=docker/dockerfile:1
+#
+# Planning service image.
+#   docker build -t peshkin-service .
+#   docker run -p 8000:8000 peshkin-service
+#
+# BASE_IMAGE must be a Debian-like image with Python 3.11 reachable as
+# `python3` (with the venv module): the official python:3.11-slim, or the
+# debootstrapped local base from scripts/docker-local-base.sh.
+ARG BASE_IMAGE=python:3.11-slim
+
+# ---------------------------------------------------------------- builder --
+FROM ${BASE_IMAGE} AS builder
+
+# Optional: path of a CA bundle pip should trust, for builds behind a
+# TLS-intercepting proxy.  Mount the file into the build and pass its path
+# (the Makefile's docker-local target does this with the host's bundle).
+# Unset by default; nothing of it ends up in the final image.
+ARG PIP_CERT
+
+ENV PIP_NO_CACHE_DIR=1 \
+    PIP_DISABLE_PIP_VERSION_CHECK=1 \
+    PYTHONDONTWRITEBYTECODE=1
+
+RUN python3 -c 'import sys; assert sys.version_info[:2] == (3, 11), sys.version' \
+ && python3 -m venv /opt/venv \
+ && /opt/venv/bin/python -m pip install --quiet --upgrade pip
+
+COPY requirements.txt /tmp/requirements.txt
+RUN /opt/venv/bin/python -m pip install --quiet -r /tmp/requirements.txt \
+ && /opt/venv/bin/python -c 'import importlib.util as u, sys; sys.exit(u.find_spec("highspy") is not None)'
+
+# ------------------------------------------------------------------ final --
+FROM ${BASE_IMAGE}
+
+ENV PATH=/opt/venv/bin:${PATH} \
+    PYTHONDONTWRITEBYTECODE=1 \
+    PYTHONUNBUFFERED=1 \
+    MPLBACKEND=Agg \
+    MPLCONFIGDIR=/tmp/matplotlib
+
+RUN groupadd --gid 10001 app \
+ && useradd --uid 10001 --gid app --no-create-home --home-dir /app --shell /usr/sbin/nologin app
+
+COPY --from=builder /opt/venv /opt/venv
+WORKDIR /app
+COPY --chown=root:root . /app
+
+USER app
+EXPOSE 8000
+
+HEALTHCHECK --interval=30s --timeout=5s --start-period=20s --retries=3 \
+  CMD ["python3", "-c", "import sys, urllib.request; sys.exit(0 if urllib.request.urlopen('http://127.0.0.1:8000/healthz', timeout=4).status == 200 else 1)"]
+
+# Same start command as `bash scripts/serve.sh`, listening on all interfaces.
+CMD ["python3", "-m", "uvicorn", "service.app:app", "--host", "0.0.0.0", "--port", "8000"]
