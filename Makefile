@@ -1,0 +1,54 @@
+# Convenience targets; the canonical commands are scripts/serve.sh and
+# scripts/test.sh (see README).
+
+VENV          ?= .venv
+PYTHON        ?= $(VENV)/bin/python
+IMAGE         ?= peshkin-service
+LOCAL_BASE    ?= localhost/peshkin-base:bookworm
+PODMAN        ?= podman
+PODMAN_BUILD_FLAGS ?=
+# Host CA bundle handed to pip inside the build (read-only mount, not copied
+# into the image), so builds work behind a TLS-intercepting proxy too.
+# Set HOST_CA_BUNDLE= (empty) to disable.
+HOST_CA_BUNDLE ?= $(wildcard /etc/ssl/certs/ca-certificates.crt)
+CA_BUILD_FLAGS = $(if $(HOST_CA_BUNDLE),-v $(HOST_CA_BUNDLE):/run/host-ca-bundle.crt:ro --build-arg PIP_CERT=/run/host-ca-bundle.crt)
+PORT          ?= 8000
+
+.PHONY: help venv serve test openapi bench docker-local-base docker-local docker-run-local
+
+help:
+	@echo "make serve             run the service (bash scripts/serve.sh)"
+	@echo "make test              run the test suite (bash scripts/test.sh)"
+	@echo "make openapi           write the OpenAPI document (scripts/gen_openapi.py)"
+	@echo "make bench             run the benchmarks (tests/benchmarks)"
+	@echo "make docker-local-base debootstrap a Debian base image into podman ($(LOCAL_BASE))"
+	@echo "make docker-local      podman build $(IMAGE) on that base"
+	@echo "make docker-run-local  podman run $(IMAGE) on port $(PORT)"
+
+serve:
+	bash scripts/serve.sh
+
+test:
+	bash scripts/test.sh
+
+# Create/refresh .venv with the dev requirements (instant when up to date).
+venv:
+	@bash scripts/test.sh --version >/dev/null
+
+openapi: venv
+	$(PYTHON) scripts/gen_openapi.py
+
+bench: venv
+	$(PYTHON) -m pytest tests/benchmarks -q --run-benchmarks
+
+docker-local-base:
+	bash scripts/docker-local-base.sh $(LOCAL_BASE)
+
+# --format docker keeps the HEALTHCHECK (the OCI format drops it).
+docker-local:
+	$(PODMAN) build --format docker $(CA_BUILD_FLAGS) $(PODMAN_BUILD_FLAGS) \
+		--build-arg BASE_IMAGE=$(LOCAL_BASE) -t $(IMAGE) .
+
+docker-run-local:
+	$(PODMAN) run --rm --runtime runc --ulimit nofile=1024:1024 --ulimit nproc=4096:4096 \
+		-p $(PORT):8000 $(IMAGE)
