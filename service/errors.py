@@ -1,0 +1,125 @@
+"""Error handling: every input problem is an HTTP 422 in FastAPI's validation-error shape.
+
+    {"detail": [{"loc": ["body", "<field>"], "msg": "<reason>", "type": "<type>"}]}
+
+* a body that cannot be decoded at all (FastAPI's HTTP 400 "error parsing the body",
+  e.g. bytes that are not UTF-8): ``loc`` ["body"], type ``json_invalid``, like a JSON
+  syntax error;
+* request validation (pydantic): FastAPI's own errors, with non-finite numbers in the
+  echoed ``input``/``ctx`` turned into strings so the body stays valid JSON;
+* ``models.errors.InvalidInput(field, reason)``: ``loc`` ["body", field], type
+  ``value_error``;
+* any other ``models.errors.ModelError`` (e.g. a boundary solve that missed its
+  tolerance): ``loc`` ["body"], type ``model_error``;
+* :class:`NonFiniteResult`: the input is valid but so extreme that a result overflowed;
+  ``loc`` ["body"], type ``numeric_range``.
+
+Anything else is a bug: HTTP 500 with a short JSON body (type ``internal_error``); the
+traceback goes to the ``service`` log only, never to the client.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.exception_handlers import http_exception_handler
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+
+from starlette.exceptions import HTTPException as StarletteHTTPException
+
+from models.errors import InvalidInput, ModelError
+
+log = logging.getLogger("service")
+
+UNPROCESSABLE = 422
+
+
+class NonFiniteResult(Exception):
+    """A computed quantity is NaN or infinite (inputs at the edge of float range)."""
+
+    def __init__(self, what: str) -> None:
+        super().__init__(what)
+        self.what = what
+
+
+def error_body(loc: list[str | int], msg: str, type_: str) -> dict[str, Any]:
+    return {"detail": [{"loc": loc, "msg": msg, "type": type_}]}
+
+
+def _json_safe(value: Any) -> Any:
+    """Replace non-finite floats (which JSON cannot carry) by their names, recursively."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else repr(value)  # 'nan', 'inf', '-inf'
+    if isinstance(value, dict):
+        return {str(k): _json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_safe(v) for v in value]
+    if value is None or isinstance(value, (str, int, bool)):
+        return value
+    return str(value)
+
+
+async def _request_validation(request: Request, exc: RequestValidationError) -> JSONResponse:
+    errors = []
+    for err in exc.errors():
+        item = {k: _json_safe(v) for k, v in err.items() if k in ("loc", "msg", "type", "input", "ctx")}
+        errors.append(item)
+    return JSONResponse(status_code=UNPROCESSABLE, content={"detail": errors})
+
+
+async def _http_exception(request: Request, exc: StarletteHTTPException):
+    if exc.status_code == 400:  # FastAPI could not read the body (e.g. not UTF-8)
+        return JSONResponse(
+            status_code=UNPROCESSABLE,
+            content=error_body(["body"], f"the body is not valid JSON: {exc.detail}", "json_invalid"),
+        )
+    return await http_exception_handler(request, exc)
+
+
+async def _invalid_input(request: Request, exc: InvalidInput) -> JSONResponse:
+    return JSONResponse(
+        status_code=UNPROCESSABLE,
+        content=error_body(["body", exc.field], exc.reason, "value_error"),
+    )
+
+
+async def _model_error(request: Request, exc: ModelError) -> JSONResponse:
+    log.warning("model error on %s: %s", request.url.path, exc)
+    return JSONResponse(
+        status_code=UNPROCESSABLE,
+        content=error_body(["body"], f"{type(exc).__name__}: {exc}", "model_error"),
+    )
+
+
+async def _non_finite(request: Request, exc: NonFiniteResult) -> JSONResponse:
+    return JSONResponse(
+        status_code=UNPROCESSABLE,
+        content=error_body(
+            ["body"],
+            f"the result is out of floating-point range ({exc.what} is not finite); "
+            "use less extreme sizes (e.g. a disk radius closer to the scene's size)",
+            "numeric_range",
+        ),
+    )
+
+
+async def _unexpected(request: Request, exc: Exception) -> JSONResponse:
+    log.exception("unexpected error on %s %s", request.method, request.url.path)
+    return JSONResponse(
+        status_code=500,
+        content=error_body([], f"internal error ({type(exc).__name__}); this is a bug", "internal_error"),
+    )
+
+
+def install(app: FastAPI) -> None:
+    """Register the handlers on ``app``."""
+    app.add_exception_handler(Exception, _unexpected)
+    app.add_exception_handler(StarletteHTTPException, _http_exception)
+    app.add_exception_handler(RequestValidationError, _request_validation)
+    app.add_exception_handler(InvalidInput, _invalid_input)
+    app.add_exception_handler(ModelError, _model_error)
+    app.add_exception_handler(NonFiniteResult, _non_finite)

@@ -1,0 +1,2 @@
+"""HTTP routes; each module holds one APIRouter and stays thin:
+schema -> domain object -> model/solver -> schema."""
