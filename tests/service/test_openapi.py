@@ -1,0 +1,97 @@
+"""openapi.yaml is generated from the app and must not drift from it."""
+
+from __future__ import annotations
+
+import importlib.util
+import subprocess
+import sys
+from pathlib import Path
+
+import yaml
+
+from service.app import app
+from service.limits import (
+    MAX_ABS_ANGLE,
+    MAX_ABS_COORDINATE,
+    MAX_DISK_RADIUS,
+    MAX_N_POINTS,
+    MAX_POLYGON_VERTICES,
+    MIN_N_POINTS,
+    MIN_POLYGON_VERTICES,
+)
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = REPO_ROOT / "scripts" / "gen_openapi.py"
+DOCUMENT = REPO_ROOT / "openapi.yaml"
+
+
+def _load_script():
+    spec = importlib.util.spec_from_file_location("gen_openapi", SCRIPT)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_openapi_yaml_is_up_to_date():
+    gen = _load_script()
+    assert DOCUMENT.exists(), "openapi.yaml is missing: run python scripts/gen_openapi.py"
+    assert DOCUMENT.read_text(encoding="utf-8") == gen.render(), (
+        "openapi.yaml drifted from the app: run python scripts/gen_openapi.py"
+    )
+    assert yaml.safe_load(DOCUMENT.read_text(encoding="utf-8")) == app.openapi()
+
+
+def test_generation_is_deterministic():
+    gen = _load_script()
+    assert gen.render() == gen.render()
+
+
+def test_check_mode(tmp_path):
+    ok = subprocess.run([sys.executable, str(SCRIPT), "--check"], capture_output=True, text=True, cwd=REPO_ROOT)
+    assert ok.returncode == 0, ok.stderr
+    stale = tmp_path / "openapi.yaml"
+    stale.write_text(DOCUMENT.read_text(encoding="utf-8").replace("cor_locus", "renamed"), encoding="utf-8")
+    bad = subprocess.run([sys.executable, str(SCRIPT), "--check", "-o", str(stale)],
+                         capture_output=True, text=True, cwd=REPO_ROOT)
+    assert bad.returncode == 1
+    assert "out of date" in bad.stderr
+
+
+def test_stable_operation_ids():
+    ops = {
+        (path, method): op["operationId"]
+        for path, item in app.openapi()["paths"].items()
+        for method, op in item.items()
+    }
+    assert ops == {("/healthz", "get"): "healthz", ("/v1/cor/locus", "post"): "cor_locus"}
+
+
+def test_both_media_types_and_errors_are_documented():
+    op = app.openapi()["paths"]["/v1/cor/locus"]["post"]
+    content = op["responses"]["200"]["content"]
+    assert set(content) == {"application/json", "image/svg+xml"}
+    assert content["application/json"]["schema"] == {"$ref": "#/components/schemas/CorLocusResponse"}
+    assert op["responses"]["422"]["content"]["application/json"]["schema"] == {
+        "$ref": "#/components/schemas/ErrorResponse"
+    }
+    (fmt,) = op["parameters"]
+    assert fmt["name"] == "format" and fmt["in"] == "query"
+    assert fmt["schema"]["enum"] == ["json", "svg"] and fmt["schema"]["default"] == "json"
+
+
+def test_limits_are_in_the_schema():
+    req = app.openapi()["components"]["schemas"]["CorLocusRequest"]
+    props = req["properties"]
+    assert req["additionalProperties"] is False
+    radius = props["disk_radius"]["anyOf"][0]
+    assert radius["exclusiveMinimum"] == 0 and radius["maximum"] == MAX_DISK_RADIUS
+    contact = props["contact_point"]
+    assert contact["minItems"] == contact["maxItems"] == 2
+    assert contact["items"]["maximum"] == MAX_ABS_COORDINATE
+    assert contact["items"]["minimum"] == -MAX_ABS_COORDINATE
+    poly = props["workpiece"]["anyOf"][0]
+    assert (poly["minItems"], poly["maxItems"]) == (MIN_POLYGON_VERTICES, MAX_POLYGON_VERTICES)
+    assert (props["n_points"]["minimum"], props["n_points"]["maximum"]) == (MIN_N_POINTS, MAX_N_POINTS)
+    assert props["edge_angle"]["maximum"] == MAX_ABS_ANGLE
+    assert set(req["required"]) == {"contact_point", "edge_angle"}
+    assert [branch["required"] for branch in req["oneOf"]] == [["disk_radius"], ["workpiece"]]
