@@ -10,8 +10,9 @@ the workpiece, the contact and r_min; it shows the whole locus when its tip is w
 at the tip, labelled with its distance (r_tip reaches 1e14 a when the line of force
 nearly passes through the CM).
 
-Everything is drawn relative to the centre of mass (axes "x - x_cm", "y - y_cm"), and in
-units of a power of ten when the view is very small or very large, so that a part of
+Far from the origin (relative to the view) everything is drawn relative to the centre
+of mass (axes "x - x_cm", "y - y_cm"), and in units of a power of ten when the view is
+very small or very large, so that a part of
 size 1e-9 at coordinates 1e9 still draws correctly. Lines are clipped to the view here
 rather than by matplotlib, so the SVG never holds far-away coordinates.
 """
@@ -36,6 +37,8 @@ MAX_TIP_IN_VIEW = 6.0
 VIEW_MARGIN = 1.15
 """Half-width of the view / distance of the farthest point that must be visible."""
 FIGSIZE_IN = 6.4
+ORIGIN_SHIFT_RATIO = 1e3
+"""Draw relative to the CM when |CM| exceeds this many view half-widths."""
 PLAIN_UNITS = (1e-3, 1e4)
 """Views of half-width in this range are drawn in the client's units, others in 10^k."""
 
@@ -134,12 +137,17 @@ def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
         unit_exp = int(math.floor(math.log10(half_world)))
     scale = 10.0**unit_exp
 
+    # Drawing origin: the world's, unless the CM is so far away relative to the view that
+    # plotting world coordinates would lose precision; then the CM.
+    far = float(np.max(np.abs(cm_world))) > ORIGIN_SHIFT_RATIO * half_world
+    origin = cm_world if far else np.zeros(2)
+
     def P(point) -> np.ndarray:
-        """World point(s) -> drawing coordinates (relative to the CM, in 10^unit_exp)."""
-        return rel(point) / scale
+        """World point(s) -> drawing coordinates (from ``origin``, in 10^unit_exp)."""
+        return (np.asarray(point, dtype=float) - origin) / scale
 
     a = a_world / scale
-    cm = np.zeros(2)
+    cm = P(cm_world)
     contact = P(scene.contact_point)
     half = half_world / scale
     lo, hi = cm - half, cm + half
@@ -233,8 +241,8 @@ def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
                               label="pure translation"))
 
     ax.set_title(_title(prep, locus), fontsize=10)
-    ax.set_xlabel(_axis_label("x", float(cm_world[0]), unit_exp))
-    ax.set_ylabel(_axis_label("y", float(cm_world[1]), unit_exp))
+    ax.set_xlabel(_axis_label("x", float(origin[0]), unit_exp))
+    ax.set_ylabel(_axis_label("y", float(origin[1]), unit_exp))
     ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.85)
     fig.tight_layout()
     return fig
