@@ -565,7 +565,7 @@ def disk_cor_locus(
     boundary = residual = iterations = None
     if "boundary" in wanted:
         local, residual, iterations = boundary_local(mu, n_points, tol)
-        if residual > tol.boundary_residual_rel:
+        if not residual <= tol.boundary_residual_rel:  # NaN fails too
             raise BoundaryNotConverged(
                 f"boundary residual {residual:.3g} exceeds {tol.boundary_residual_rel:.3g}"
             )

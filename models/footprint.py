@@ -15,8 +15,10 @@ def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def signed_area(vertices: np.ndarray) -> float:
-    """Shoelace area, positive for counter-clockwise vertex order."""
-    x, y = vertices[:, 0], vertices[:, 1]
+    """Shoelace area, positive for counter-clockwise vertex order (about the vertex mean,
+    so a small polygon far from the origin keeps its digits)."""
+    v = vertices - vertices.mean(axis=0)
+    x, y = v[:, 0], v[:, 1]
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 

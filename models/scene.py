@@ -108,6 +108,12 @@ class PushScene:
         alpha_hat = perp(n)
         c = cp - cm
         m = float(alpha_hat @ c)
+        if not abs(m) <= tolerances.max_relative_moment_arm * a:
+            raise InvalidInput(
+                "disk_radius",
+                f"is too small for this contact: the line of force passes more than "
+                f"{tolerances.max_relative_moment_arm:g} disk radii from the centre of mass",
+            )
         book_alpha = math.atan2(p[0] * alpha_hat[1] - p[1] * alpha_hat[0], float(p @ alpha_hat))
         return cls(
             disk_radius=a,

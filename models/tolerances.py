@@ -23,6 +23,9 @@ class Tolerances:
         boundary_residual_rel: largest accepted residual of the boundary equations
             (3.29)/(3.35), relative to the disk radius; a larger one is reported as a
             numerical failure instead of a wrong locus.
+        max_relative_moment_arm: largest |alpha . c| / a accepted. The locus is then inside
+            the disk and no longer changes visibly, while powers of the ratio in (3.33) would
+            overflow; a scene beyond it is refused as an input error.
     """
 
     root_rtol: float = 1e-14
@@ -31,6 +34,7 @@ class Tolerances:
     grazing_sin: float = 1e-9
     polygon_area_rel: float = 1e-12
     boundary_residual_rel: float = 1e-9
+    max_relative_moment_arm: float = 1e12
 
     @classmethod
     def default(cls) -> "Tolerances":

@@ -368,3 +368,12 @@ def test_scene_validation_names_the_field():
     with pytest.raises(InvalidInput) as err:
         PushScene.create(1.0, [0, float("nan")], 0.5)
     assert err.value.field == "contact_point"
+
+
+def test_absurd_moment_arm_is_an_input_error_not_an_overflow():
+    """A disk 1e-200 wide pushed 0.3 away: the ratio would overflow (3.33); refuse it."""
+    with pytest.raises(InvalidInput) as err:
+        PushScene.create(1e-200, [-0.5, -0.3], math.pi / 2)
+    assert err.value.field == "disk_radius"
+    loc = cd.disk_cor_locus(PushScene.create(1e-12, [0.0, 0.9999], math.pi / 2))
+    assert np.all(np.isfinite(loc.boundary)) and loc.tip.on_disk

@@ -68,3 +68,8 @@ def test_distance_to_outline():
     f = Footprint.create(SQUARE)
     assert f.distance_to_outline([1.0, 0.3]) == pytest.approx(0.0)
     assert f.distance_to_outline([0.0, 0.0]) == pytest.approx(1.0)
+
+
+def test_small_polygon_far_from_the_origin_keeps_its_area():
+    tri = np.array([[0.0, 0.0], [1e-3, 0.0], [0.0, 1e-3]]) + 1e6
+    assert Footprint.create(tri).area == pytest.approx(0.5e-6, rel=1e-6)
