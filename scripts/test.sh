@@ -12,30 +12,9 @@ set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-VENV="${VENV:-.venv}"
-
-die() { echo "test.sh: $*" >&2; exit 1; }
-
-find_python() {
-    local candidate
-    for candidate in "${PYTHON:-}" python3.11 python3; do
-        [[ -n "$candidate" ]] || continue
-        if command -v "$candidate" >/dev/null 2>&1 &&
-            "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' 2>/dev/null; then
-            echo "$candidate"
-            return 0
-        fi
-    done
-    return 1
-}
-
-if [[ ! -x "$VENV/bin/python" ]]; then
-    py="$(find_python)" || die "Python 3.11 not found (set PYTHON=/path/to/python3.11)"
-    echo "test.sh: creating $VENV with $py" >&2
-    "$py" -m venv "$VENV"
-fi
-"$VENV/bin/python" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' ||
-    die "$VENV is not a Python 3.11 venv; remove it and rerun"
+SCRIPT=test.sh
+# shellcheck source=scripts/_venv.sh
+source scripts/_venv.sh
 
 # Install only when the requirement files changed since the last successful
 # install.  The dev set includes the runtime set, so both stamps are written.

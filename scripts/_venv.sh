@@ -1,0 +1,27 @@
+# Sourced by serve.sh and test.sh: make sure ./.venv is a Python 3.11 venv.
+# Expects SCRIPT (the caller's name, for messages); sets VENV.
+
+VENV="${VENV:-.venv}"
+
+die() { echo "$SCRIPT: $*" >&2; exit 1; }
+
+find_python() {
+    local candidate
+    for candidate in "${PYTHON:-}" python3.11 python3; do
+        [[ -n "$candidate" ]] || continue
+        if command -v "$candidate" >/dev/null 2>&1 &&
+            "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' 2>/dev/null; then
+            echo "$candidate"
+            return 0
+        fi
+    done
+    return 1
+}
+
+if [[ ! -x "$VENV/bin/python" ]]; then
+    py="$(find_python)" || die "Python 3.11 not found (set PYTHON=/path/to/python3.11)"
+    echo "$SCRIPT: creating $VENV with $py" >&2
+    "$py" -m venv "$VENV"
+fi
+"$VENV/bin/python" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' ||
+    die "$VENV is not a Python 3.11 venv; remove it and rerun"
