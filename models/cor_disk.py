@@ -250,6 +250,14 @@ def outer_boundary_residual(rho, eta, omega, mu):
 # ---------------------------------------------------------------------------------------
 
 
+def polar_to_local(rho, eta) -> np.ndarray:
+    """Locus-frame point(s) (..., 2) at distance rho and relative angle eta (3.24):
+    rho (-cos eta, sin eta)."""
+    rho = np.asarray(rho, dtype=float)
+    eta = np.asarray(eta, dtype=float)
+    return np.stack([-rho * np.cos(eta), rho * np.sin(eta)], axis=-1)
+
+
 @dataclass(frozen=True)
 class PolarBoundary:
     """One half of the boundary (eta from 0 to pi), in the dimensionless locus frame.
@@ -300,9 +308,7 @@ def half_boundary(mu: float, n_half: int, tol: Tolerances = DEFAULT) -> PolarBou
         eta_c = eta_a
     rho_tip = float(tip_distance(mu))
 
-    def cart(rho, eta):
-        return np.array([-rho * math.cos(eta), rho * math.sin(eta)])
-
+    cart = polar_to_local
     corner = cart(1.0, eta_c)
     length_outer = float(np.linalg.norm(cart(rho_tip, 0.0) - corner)) if has_outer else 0.0
     length_arc = max(0.0, eta_a - eta_c)
@@ -318,8 +324,7 @@ def half_boundary(mu: float, n_half: int, tol: Tolerances = DEFAULT) -> PolarBou
     residual = 0.0
     iterations = 0
     if has_outer:
-        # omega from pi/2 (tip) down to the corner; t^1.5 spacing thins the points where the
-        # curve runs almost straight and keeps them dense near both ends.
+        # omega evenly spaced from pi/2 (tip) down to the corner.
         t = np.linspace(0.0, 1.0, n_outer)
         omega = omega_c + (0.5 * math.pi - omega_c) * (1.0 - t)
         interior = omega[1:-1]
@@ -366,11 +371,9 @@ def boundary_local(mu: float, n_points: int, tol: Tolerances = DEFAULT):
     iterations)."""
     n_half = (n_points + 1) // 2 + 1
     half = half_boundary(mu, n_half, tol)
-    x = -half.rho * np.cos(half.eta)
-    y = half.rho * np.sin(half.eta)
     # The half runs tip -> r_min through y > 0 (clockwise); its mirror image closes it.
-    upper = np.column_stack([x, y])
-    lower = np.column_stack([x[-2:0:-1], -y[-2:0:-1]])
+    upper = polar_to_local(half.rho, half.eta)
+    lower = upper[-2:0:-1] * np.array([1.0, -1.0])
     ring = np.vstack([upper, lower])[::-1]
     ring = np.roll(ring, 1, axis=0)  # start at the tip again
     return ring, half.residual, half.iterations
@@ -488,7 +491,6 @@ def disk_cor_locus(
     a = scene.disk_radius
     mu = scene.relative_moment_arm
     e1 = scene.axis
-    e2 = np.array([-e1[1], e1[0]])
     cm = scene.center_of_mass
 
     tip_line = None
@@ -542,10 +544,10 @@ def disk_cor_locus(
         eta_a = math.acos(min(1.0, cos_a))
 
         def on_disk(eta: float) -> np.ndarray:
-            return cm + a * (-math.cos(eta) * e1 + math.sin(eta) * e2)
+            return scene.to_world(a * polar_to_local(1.0, eta))
 
         def world_angle(eta: float) -> float:
-            v = -math.cos(eta) * e1 + math.sin(eta) * e2
+            v = on_disk(eta) - cm
             return math.atan2(v[1], v[0])
 
         arcs: list[PerimeterArc] = []
