@@ -15,6 +15,8 @@ Here, with one contact row:
    that satisfies the contact row is optimal iff the gradient of the other terms can be
    balanced by a subgradient z of the j-th term, |z| <= P_j, plus a multiple of the row --
    a 3x3 linear system (``_vertex_optima``);
+   (for supports of more than 16 points, Newton runs first and only the support points
+   nearest a stalled iterate are tested, which keeps the cost linear in k);
 2. all other problems are smooth at their optimum: damped Newton on f restricted to the
    2-D constraint plane, whose points are twists, so a translation is an ordinary point
    rather than a COR at infinity (``_newton_plane``).
@@ -38,6 +40,9 @@ _MAX_HALVINGS = 40
 # floating point: in that (quadratic) region the full Newton step is taken.
 _ROUNDOFF = 1e-13
 _TINY = 1e-300
+# Supports with more points than this are solved Newton-first (see solve_batch).
+_VERTEX_FIRST_MAX_K = 16
+_NEAREST = 3
 
 
 @dataclass(frozen=True)
@@ -330,7 +335,28 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None) -> BatchSolu
     rows = m.shape[1]
     vertex = np.full(b, -1)
     iters = np.zeros(b, dtype=int)
-    if rows == 1:
+    if rows == 1 and w.shape[1] > _VERTEX_FIRST_MAX_K:
+        # Many support points: the O(k^2) test of every point is too dear. Newton first;
+        # a converged smooth KKT point is optimal (f is convex). Where Newton stalls, the
+        # iterate has run into a kink: test the few nearest support points exactly.
+        a, qq = m[:, 0, :], q[:, 0]
+        x, lam, kkt, iters = _newton_plane(wx, wy, p, a, qq, kkt_tol, max_iter, x0)
+        mult = lam[:, None].copy()
+        bad = np.nonzero(kkt > kkt_tol)[0]
+        if bad.size:
+            ux = x[bad, 0:1] - x[bad, 2:3] * wy[bad]
+            uy = x[bad, 1:2] + x[bad, 2:3] * wx[bad]
+            near = np.argsort(ux * ux + uy * uy, axis=1)[:, :_NEAREST]
+            for rank in range(near.shape[1]):
+                for jj in np.unique(near[:, rank]):
+                    sel = bad[near[:, rank] == jj]
+                    xv, lam_v, viol, _ = _vertex_optima(wx[sel], wy[sel], p[sel], a[sel], qq[sel], kkt_tol, [int(jj)])
+                    ok = viol <= kkt_tol
+                    x[sel[ok]] = xv[ok]
+                    mult[sel[ok], 0] = lam_v[ok]
+                    kkt[sel[ok]] = viol[ok]
+                    vertex[sel[ok]] = jj
+    elif rows == 1:
         a, qq = m[:, 0, :], q[:, 0]
         xv, lam_v, viol, idx = _vertex_optima(wx, wy, p, a, qq, kkt_tol)
         at_vertex = viol <= kkt_tol

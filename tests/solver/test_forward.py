@@ -318,3 +318,21 @@ def test_uniform_disk_cor_is_on_the_axis_and_converges():
     assert point_in_polygon(cors[-1][None], loc.boundary)[0]
     # Uniform pressure turns the part about a point between the tip and the CM.
     assert 0.0 < -d[-1] < loc.tip.distance
+
+
+def test_large_support_pinned_on_a_heavy_point():
+    """More than 16 points: the Newton-first path finds a COR on a support point exactly,
+    and agrees with the CasADi dual solve."""
+    rng = np.random.default_rng(SEED + 11)
+    scene = scene_for_mu(0.5)
+    w = rng.uniform(-0.7, 0.7, (60, 2))
+    w[0] = [0.25, -0.15]
+    p = np.full(60, 0.1 / 59)
+    p[0] = 0.9
+    w = w - p @ w
+    sup = Support.create(w, p, (0, 0))
+    r = solve_forward(scene, sup)
+    ref = solve_forward(scene, sup, method="casadi")
+    assert r.status == "optimal" and r.cor_on_support is not None
+    assert np.allclose(r.cor, sup.points[r.cor_on_support], atol=1e-14)
+    assert np.linalg.norm(twist(r) - twist(ref)) <= 1e-8
