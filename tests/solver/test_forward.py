@@ -77,7 +77,7 @@ def test_batch_equals_single_solves(mu_c):
     br = solve_forward_batch(scene, pts, wts, mu_c=mu_c)
     assert br.converged.all()
     for i in range(0, 40, 7):
-        for method in ("newton", "casadi"):
+        for method in ("newton", "cvxpy", "casadi"):
             r = solve_forward(scene, Support.create(pts[i], wts[i], (0, 0)), mu_c=mu_c, method=method)
             assert r.mode == br.MODES[br.mode[i]]
             assert np.linalg.norm(np.r_[r.velocity_cm - br.velocity_cm[i], r.omega - br.omega[i]]) <= 1e-8
