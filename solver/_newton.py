@@ -84,17 +84,18 @@ def power(x, wx, wy, p):
     return (p * np.sqrt(ux * ux + uy * uy)).sum(1)
 
 
-def _vertex_optima(wx, wy, p, a, q, slack, candidates=None):
+def _vertex_optima(wx, wy, p, a, q, slack, candidates=None, return_z=False):
     """For one contact row a.x = q: the best exact optimum with the COR on a support point.
 
     ``candidates``: support indices to try (default all). Returns (x, lambda, violation,
-    index); violation <= slack means optimal.
+    index[, z]); violation <= slack means optimal; z is the balancing subgradient.
     """
     b, k = wx.shape
     best_x = np.zeros((b, 3))
     best_lam = np.zeros(b)
     best_viol = np.full(b, np.inf)
     best_idx = np.full(b, -1)
+    best_z = np.zeros((b, 2))
     for j in range(k) if candidates is None else candidates:
         # Rotation about w_j: x = omega (w_yj, -w_xj, 1).
         den = a[:, 0] * wy[:, j] - a[:, 1] * wx[:, j] + a[:, 2]
@@ -124,6 +125,9 @@ def _vertex_optima(wx, wy, p, a, q, slack, candidates=None):
         best_lam = np.where(better, lam, best_lam)
         best_idx = np.where(better, j, best_idx)
         best_x[better] = np.stack([omega * wy[:, j], -omega * wx[:, j], omega], axis=1)[better]
+        best_z[better] = np.stack([zx, zy], axis=1)[better]
+    if return_z:
+        return best_x, best_lam, best_viol, best_idx, best_z
     return best_x, best_lam, best_viol, best_idx
 
 
@@ -356,6 +360,9 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None) -> BatchSolu
                     mult[sel[ok], 0] = lam_v[ok]
                     kkt[sel[ok]] = viol[ok]
                     vertex[sel[ok]] = jj
+            lam = mult[:, 0]
+            _escape_kinks(wx, wy, p, a, qq, x, lam, kkt, vertex, iters, kkt_tol, max_iter)
+            mult = lam[:, None]
     elif rows == 1:
         a, qq = m[:, 0, :], q[:, 0]
         xv, lam_v, viol, idx = _vertex_optima(wx, wy, p, a, qq, kkt_tol)
@@ -374,6 +381,10 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None) -> BatchSolu
             mult[todo, 0] = lam
             kkt[todo] = k_
             iters[todo] = its
+            if np.any(k_ > kkt_tol):
+                lam_all = mult[:, 0].copy()
+                _escape_kinks(wx, wy, p, a, qq, x, lam_all, kkt, vertex, iters, kkt_tol, max_iter)
+                mult[:, 0] = lam_all
     elif rows == 2:
         # Null direction of the two rows, and a particular solution.
         kdir = np.cross(m[:, 0, :], m[:, 1, :])
@@ -390,6 +401,61 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None) -> BatchSolu
         raise ValueError("one or two constraint rows")
     pw = power(x, wx, wy, p)
     return BatchSolution(x, mult, pw, kkt, vertex, iters, kkt <= kkt_tol)
+
+
+def _escape_kinks(wx, wy, p, a, q, x, lam, kkt, vertex, iters, kkt_tol, max_iter, rounds=3):
+    """Problems where Newton stalled: the iterate ran into a kink (a support point j) that
+    is not the optimum. There the vertex test gives the balancing subgradient z with
+    |z| > P_j, and the twist d in the constraint plane with A_j d = z/|z| is a descent
+    direction: f'(x_j; d) = P_j - |z| < 0. Step along it, then resume Newton. In place."""
+    for _ in range(rounds):
+        bad = np.nonzero(kkt > kkt_tol)[0]
+        if bad.size == 0:
+            return
+        xb = x[bad]
+        ux = xb[:, 0:1] - xb[:, 2:3] * wy[bad]
+        uy = xb[:, 1:2] + xb[:, 2:3] * wx[bad]
+        j = np.argmin(ux * ux + uy * uy, axis=1)
+        starts = np.zeros((bad.size, 3))
+        for jj in np.unique(j):
+            s = np.nonzero(j == jj)[0]
+            sel = bad[s]
+            xv, lam_v, viol, _, z = _vertex_optima(
+                wx[sel], wy[sel], p[sel], a[sel], q[sel], kkt_tol, [int(jj)], return_z=True
+            )
+            ok = viol <= kkt_tol
+            x[sel[ok]], lam[sel[ok]], kkt[sel[ok]], vertex[sel[ok]] = xv[ok], lam_v[ok], viol[ok], jj
+            # Descent direction: [A_j; a] d = [z/|z|; 0], A_j d = d_v + d_w J w_j.
+            mat = np.zeros((sel.size, 3, 3))
+            mat[:, 0, 0] = 1.0
+            mat[:, 1, 1] = 1.0
+            mat[:, 0, 2] = -wy[sel, jj]
+            mat[:, 1, 2] = wx[sel, jj]
+            mat[:, 2, :] = a[sel]
+            zn = z / np.maximum(np.linalg.norm(z, axis=1, keepdims=True), _TINY)
+            rhs = np.concatenate([zn, np.zeros((sel.size, 1))], axis=1)
+            d = np.linalg.solve(mat, rhs[..., None])[..., 0]
+            f0 = power(xv, wx[sel], wy[sel], p[sel])
+            t = np.linalg.norm(xv, axis=1) / np.maximum(np.linalg.norm(d, axis=1), _TINY)
+            found = np.zeros(sel.size, dtype=bool)
+            best = xv.copy()
+            for _ in range(60):
+                trial = xv + t[:, None] * d
+                ft = power(trial, wx[sel], wy[sel], p[sel])
+                good = (ft < f0) & ~found
+                best[good] = trial[good]
+                found |= good
+                if found.all():
+                    break
+                t = np.where(found, t, 0.5 * t)
+            starts[s] = best
+        redo = bad[kkt[bad] > kkt_tol]
+        if redo.size == 0:
+            return
+        pos = np.searchsorted(bad, redo)
+        xs, lm, k_, its = _newton_plane(wx[redo], wy[redo], p[redo], a[redo], q[redo], kkt_tol, max_iter, starts[pos])
+        x[redo], lam[redo], kkt[redo] = xs, lm, k_
+        iters[redo] += its
 
 
 def _cor_points(x):
