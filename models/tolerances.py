@@ -74,6 +74,8 @@ class SolverTolerances:
         centroid_rel: largest |weighted centroid - CM| / L accepted for a given support.
         conic_gap: absolute and relative gap / feasibility tolerance handed to Clarabel.
         casadi_tol: IPOPT's tol for the CasADi paths.
+        nlp_feasibility: largest constraint violation of an IPOPT tripod-search optimum
+            that counts as feasible; weights below it are dropped.
         membership_residual: L1 residual of the membership equations at or below which a
             witness support is accepted (candidate COR inside the locus).
         witness_cor_rel: largest |forward COR of the witness - r| / L for a witness to be
@@ -94,6 +96,7 @@ class SolverTolerances:
     centroid_rel: float = 1e-9
     conic_gap: float = 1e-11
     casadi_tol: float = 1e-12
+    nlp_feasibility: float = 1e-8
     membership_residual: float = 1e-8
     witness_cor_rel: float = 1e-6
     certificate_margin: float = 1e-9

@@ -32,13 +32,13 @@ mu = |alpha . c| / a, and (3.8) reads with alpha = (1, 0), s = mu - r_x.
 Each start is a random tripod whose weights centre it on the CM (3.3.3: tripods that would
 need a negative weight are discarded), with its COR from the forward solver as the initial
 r; IPOPT then maximises d . r. Every optimum is re-checked independently with the forward
-minimum-power solve of its tripod (solver.min_power.solve_cor, a conic programme):
+minimum-power solve of its tripod (solver.forward.solve_forward, exact Newton/KKT):
 
 * "cor": the forward COR equals the NLP's r to ``verify_rel`` max(a, |r - CM|);
 * "power": it does not, but the NLP's r dissipates no more power (3.7) than the forward
-  optimum (relative excess <= tol.kkt). That happens when the forward problem's arg-min is
-  ill-conditioned, typically a heavy foot next to the COR (inner boundary, figure 3-11):
-  distant CORs then differ in power by less than the conic solver's accuracy;
+  optimum (relative excess <= tol.kkt). That can happen when the forward problem's arg-min
+  is ill-conditioned, typically a heavy foot next to the COR (inner boundary, figure 3-11):
+  distant CORs then differ in power by less than the solver's accuracy;
 * "failed" otherwise (and "none" for a point that IPOPT left infeasible).
 
 The best optimum verified either way is returned, its kind of check in
@@ -60,9 +60,13 @@ from models import mpp
 from models.errors import InvalidInput, ModelError
 from models.footprint import Footprint
 from models.scene import PushScene
+from models.support import Support
 from models.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.errors import SolverError
-from solver.min_power import solve_cor
+from solver.forward import solve_forward
+
+# Centroid check for NLP tripods, whose balance holds to the NLP's feasibility only.
+_LOOSE_CENTROID = SolverTolerances(centroid_rel=1e-6)
 
 CONVERGED = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
 """IPOPT return statuses counted as converged."""
@@ -78,7 +82,7 @@ class TripodStart:
     ``status``: IPOPT's return status, or "start_rejected" (the start tripod's COR lay on
     the wrong side of the line of force, or none: translation), or "skipped_time_limit".
     ``converged``: IPOPT reported success. ``feasible``: the final point satisfies the NLP's
-    constraints to ``tol.membership_residual`` (also after a non-success status).
+    constraints to ``tol.nlp_feasibility`` (also after a non-success status).
     ``verification``: "cor", "power", "failed" or "none" (module docstring).
     ``forward_distance``: |forward COR - cor| / max(a, |cor - CM|). ``power_excess``:
     (power about cor - forward power) / forward power, (3.7). ``stationarity``: |(3.8)| / a
@@ -309,10 +313,16 @@ def _skipped(index: int, status: str, seconds: float) -> TripodStart:
     return TripodStart(index, status, False, False, "none", None, None, None, None, None, None, None, 0, seconds)
 
 
+def _support(scene: PushScene, feet_world, weights) -> Support:
+    """The tripod as a support; the NLP holds its centroid at the CM only to its own
+    feasibility tolerance, so the centroid check is that loose here."""
+    return Support.create(feet_world, weights, scene.center_of_mass, _LOOSE_CENTROID)
+
+
 def _verify(scene: PushScene, cor_world, feet_world, weights, verify_rel: float, tol: SolverTolerances):
     """Forward minimum-power check of one optimum: (verification, distance, power excess)."""
     try:
-        check = solve_cor(scene, feet_world, weights, eps_abs=tol.conic_gap, eps_rel=tol.conic_gap)
+        check = solve_forward(scene, _support(scene, feet_world, weights), tol=tol)
     except ModelError:
         return "failed", None, None
     if check.cor is None:  # the tripod translates: its COR is not r
@@ -396,7 +406,7 @@ def extreme_cor_search(
         t0 = time.perf_counter()
         feet0, q0, tri_idx, p0 = _draw_start(rng, tris, areas)
         try:
-            start_cor = solve_cor(scene, _to_world(scene, feet0), p0).cor
+            start_cor = solve_forward(scene, _support(scene, _to_world(scene, feet0), p0), tol=tol).cor
         except ModelError as exc:
             raise SolverError(f"forward solve of a start tripod failed: {exc}") from exc
         if start_cor is None:
@@ -436,12 +446,12 @@ def extreme_cor_search(
             feet = t[:, 0] + q[:, :1] * (t[:, 1] - t[:, 0]) + q[:, 1:] * (t[:, 2] - t[:, 0])
         # An interior-point weight of a foot that should carry nothing ends near 1e-13,
         # not 0; zeroing it (the tripod is then a dipod, as at the tip, 3.3.10) moves the
-        # centroid and the COR by O(centroid_rel) only, and keeps the conic check well scaled.
-        weights = np.where(weights <= tol.centroid_rel, 0.0, weights)
+        # centroid and the COR by O(nlp_feasibility) only, and keeps the conic check well scaled.
+        weights = np.where(weights <= tol.nlp_feasibility, 0.0, weights)
         weights = weights / weights.sum()
         cor_world = _to_world(scene, r)
         feet_world = _to_world(scene, feet)
-        feasible = violation <= tol.membership_residual
+        feasible = violation <= tol.nlp_feasibility
         stationarity = float(np.linalg.norm(mpp.stationarity_residual(r, feet, weights, np.array([mu, 0.0]), np.array([1.0, 0.0]))))
         verification, distance, excess = "none", None, None
         if feasible:
