@@ -15,7 +15,8 @@ from models.footprint import Footprint
 from models.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver import tripod_search as ts
 from solver.errors import SolverError
-from solver.min_power import solve_cor
+from models.support import Support
+from solver.forward import solve_forward
 from tests.scenes import SEED, distance_to_polyline, point_in_polygon, scene_for_mu
 
 SQUARE = [[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]]
@@ -115,7 +116,7 @@ def test_square_stays_inside_the_circumscribing_disk_locus():
         assert np.all(fp.vertices.min(axis=0) - 1e-12 <= res.points) and np.all(res.points <= fp.vertices.max(axis=0) + 1e-12)
     res = ts.extreme_cor_search(sc, loc.axis, footprint=fp, n_starts=10, seed=SEED)
     diagonals = [np.array([fp.vertices[i], fp.vertices[i + 2]]) for i in (0, 1)]
-    dipod = max(float(loc.axis @ (solve_cor(sc, dg, [1, 1]).cor - sc.center_of_mass)) for dg in diagonals)
+    dipod = max(float(loc.axis @ (solve_forward(sc, Support.create(dg, [1, 1], sc.center_of_mass)).cor - sc.center_of_mass)) for dg in diagonals)
     assert res.objective >= dipod - 1e-9 * a
     assert res.objective < loc.tip.distance - 0.1 * a  # the square's locus is smaller
 
@@ -142,7 +143,7 @@ def test_non_convex_polygon_beats_brute_force_tripods():
         if np.any(p <= 1e-3):
             continue
         count += 1
-        cor = solve_cor(sc, feet, p).cor
+        cor = solve_forward(sc, Support.create(feet, p, sc.center_of_mass)).cor
         best_random = max(best_random, float(d @ (cor - sc.center_of_mass)))
     assert res.objective >= best_random
     assert inside_or_on(res.cor, loc.boundary, 1e-7 * a)
