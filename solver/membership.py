@@ -99,6 +99,7 @@ from dataclasses import dataclass
 
 import cvxpy as cp
 import numpy as np
+from scipy.optimize import nnls
 
 from models.errors import InvalidInput
 from models.footprint import Footprint
@@ -117,10 +118,18 @@ CIRCLE_SAMPLES = 256
 """Initial columns (and pricing grid) on the disk's circle."""
 
 EDGE_SAMPLES = 64
-"""Initial columns (and pricing grid) per polygon edge, vertices included."""
+"""Most initial columns (and pricing grid points) per polygon edge, vertices included."""
+
+POLYGON_SAMPLES = 512
+"""Initial columns of a polygon in all, shared among the edges by length (at least 4 and
+at most EDGE_SAMPLES per edge)."""
 
 COLUMNS_PER_ROUND = 4
 """Most new columns added per column-generation round."""
+
+POINT_MASS_RADIUS = 1e-7
+"""With r in the footprint, columns at support points closer than this (/ L) to r are not
+used: G(w) is then within this distance of the point-mass set, which the master has."""
 
 BASE_CAPACITY = 320
 """Column capacities of the compiled restricted masters are BASE_CAPACITY * 2^k (one cached
@@ -492,6 +501,7 @@ class _PolygonOutline(_Pieces):
             tau_f = np.where(through, np.clip(tau_f, 0.0, lengths), tau_f)
         self.edge_a, self.edge_d, self.edge_n = a, d, n_unit
         self.edge_h, self.edge_tf = h, tau_f
+        per_edge = np.clip(np.round(POLYGON_SAMPLES * lengths / lengths.sum()), 4, EDGE_SAMPLES)
         lo, hi, edge, side, counts = [], [], [], [], []
         for k in range(len(a)):
             cuts = [0.0, lengths[k]]
@@ -504,7 +514,7 @@ class _PolygonOutline(_Pieces):
                 mid = 0.5 * (cuts[j] + cuts[j + 1])
                 side.append(1.0 if mid >= tau_f[k] else -1.0)
                 frac = (cuts[j + 1] - cuts[j]) / lengths[k]
-                counts.append(max(2, int(round(EDGE_SAMPLES * frac)) + 1))
+                counts.append(max(2, int(round(per_edge[k] * frac)) + 1))
         self.piece_lo = np.array(lo)
         self.piece_hi = np.array(hi)
         self.piece_edge = np.array(edge, dtype=int)
@@ -751,26 +761,6 @@ def _residual(cols, weights, pm_cols, pm_x):
     return float(np.sum(np.abs(lhs - _B)))
 
 
-def _reduce_support(cols, weights, drop_rel: float = 1e-12):
-    """Caratheodory reduction: move along null vectors of 6 active columns at a time until
-    at most 5 weights are positive, keeping cols @ weights unchanged. Weights below
-    ``drop_rel`` times the largest are dropped first (the polish restores the equations)."""
-    w = np.where(weights > drop_rel * float(np.max(weights, initial=0.0)), weights, 0.0)
-    active = np.nonzero(w > 0.0)[0]
-    while active.size > 5:
-        idx = active[:6]
-        v = np.linalg.svd(cols[:, idx])[2][-1]
-        if not np.any(v > 0.0):
-            v = -v
-        pos = v > 0.0
-        ratios = np.where(pos, w[idx] / np.where(pos, v, 1.0), np.inf)
-        j = int(np.argmin(ratios))
-        w[idx] = np.clip(w[idx] - ratios[j] * v, 0.0, None)
-        w[idx[j]] = 0.0
-        active = np.nonzero(w > 0.0)[0]
-    return w
-
-
 def _pm_basis(r, s, pm_x, variant: str):
     """The point mass at r as extra columns and coordinates: "free" (P0, z) with |z| <= P0,
     or "cone" (P0 alone, z = P0 zhat fixed on the cone's boundary)."""
@@ -821,38 +811,37 @@ def _polish_once(cols, weights, pm_cols, pm_coords, variant):
 
 
 def _exact_witness(cols, weights, r, s, pm_x, in_f: bool):
-    """Turn the master's approximate support into an exact one: polish (least-norm
-    correction), Caratheodory reduction to at most 5 support points plus the point mass,
-    and a final polish. Tries the point mass free, on its cone's boundary, and absent.
-    Returns (weights, pm_x, residual) of the best result (possibly the input)."""
-    w0 = np.where(weights > 1e-12 * float(np.max(weights, initial=0.0)), weights, 0.0)
+    """Turn the master's approximate support into an exact, small one.
+
+    With the point mass held at the master's value, non-negative least squares (Lawson and
+    Hanson's active set, which ends on at most 5 linearly independent columns) picks the
+    support; a least-norm correction of those weights and of the point mass (free, on its
+    cone's boundary, or absent) then makes the membership equations hold to rounding. If
+    that fails, the correction is tried on all the master's positive weights. Returns
+    (weights, pm_x, residual) of the best result (possibly the input)."""
     pm_full = _pm_columns(r, s) if in_f else None
     best = (weights, pm_x, _residual(cols, weights, pm_full, pm_x))
     variants = ("free", "cone", "none") if in_f else ("none",)
+    dense = np.where(weights > 1e-12 * float(np.max(weights, initial=0.0)), weights, 0.0)
     for variant in variants:
         if variant == "none":
             pm_cols, coords = None, np.zeros(0)
+            target = _B
         else:
             pm_cols, coords = _pm_basis(r, s, pm_x, variant)
-        out = _polish_once(cols, w0, pm_cols, coords, variant)
-        if out is None:
-            continue
-        w1, c1 = out
-        reduced = _reduce_support(cols, w1)
-        out2 = _polish_once(cols, reduced, pm_cols, c1, variant)
-        if out2 is not None:
-            w2, c2 = out2
-            pm2 = _pm_back(pm_x, c2, variant) if pm_cols is not None else np.zeros(3)
-            res2 = _residual(cols, w2, pm_full, pm2)
-        else:
-            res2 = math.inf
-        pm1 = _pm_back(pm_x, c1, variant) if pm_cols is not None else np.zeros(3)
-        res1 = _residual(cols, w1, pm_full, pm1)
-        cand = (w2, pm2, res2) if res2 <= max(10.0 * res1, 1e-15) else (w1, pm1, res1)
-        if cand[2] < best[2]:
-            best = cand
-        if best[2] <= 1e-14:
-            break
+            target = _B - pm_cols @ coords
+        basic = nnls(cols, target)[0]
+        for start in (basic, dense):
+            out = _polish_once(cols, start, pm_cols, coords, variant)
+            if out is None:
+                continue
+            w1, c1 = out
+            pm1 = _pm_back(pm_x, c1, variant) if pm_cols is not None else np.zeros(3)
+            res1 = _residual(cols, w1, pm_full, pm1)
+            if res1 < best[2]:
+                best = (w1, pm1, res1)
+            if best[2] <= 1e-14:
+                return best
     return best
 
 
@@ -871,11 +860,11 @@ def _forward_cor(scene: PushScene, points_world: np.ndarray, weights: np.ndarray
 # The query
 
 
-def _initial_columns(pieces: _Pieces, outline: Outline, gp, gt, warm_points):
-    """Columns at the pricing grid's distinct points (not r itself) and at up to
-    MAX_WARM_POINTS caller-supplied points (world frame, on the outline)."""
+def _initial_columns(pieces: _Pieces, outline: Outline, gp, gt, warm_points, min_rho: float):
+    """Columns at the pricing grid's distinct points farther than ``min_rho`` from r and at
+    up to MAX_WARM_POINTS caller-supplied points (world frame, on the outline)."""
     w_all, rho_all, u_all = pieces.geom(gp, gt)
-    usable = rho_all > 0.0
+    usable = rho_all > min_rho
     pts = w_all[usable]
     cols = pieces.columns(pts, rho_all[usable], u_all[usable])
     _, uniq = np.unique(np.round(pts, 14), axis=0, return_index=True)
@@ -885,7 +874,7 @@ def _initial_columns(pieces: _Pieces, outline: Outline, gp, gt, warm_points):
         wp = outline.to_local(np.asarray(warm_points, dtype=float).reshape(-1, 2)[:MAX_WARM_POINTS])
         e = wp - pieces.r
         rho = np.hypot(e[:, 0], e[:, 1])
-        ok = rho > ON_BOUNDARY_REL
+        ok = rho > max(min_rho, ON_BOUNDARY_REL)
         if np.any(ok):
             pts = np.vstack([pts, wp[ok]])
             cols = np.hstack([cols, pieces.columns(wp[ok], rho[ok], e[ok] / rho[ok][:, None])])
@@ -925,7 +914,10 @@ def membership(
     s = float(alpha @ (c - r))
     pieces = _pieces_for(outline, r, alpha, s, on_outline)
     gp, gt = pieces.grid()
-    pts, cols = _initial_columns(pieces, outline, gp, gt, warm_points)
+    # With r in F, support points within POINT_MASS_RADIUS of r are left to the point mass
+    # (their columns are within that distance of point-mass elements).
+    min_rho = POINT_MASS_RADIUS if in_f else 0.0
+    pts, cols = _initial_columns(pieces, outline, gp, gt, warm_points, min_rho)
 
     pm_cols = _pm_columns(r, s) if in_f else None
     status, kind, message = "undecided", "none", ""
@@ -1012,7 +1004,7 @@ def membership(
                 message = "no improving column found"
                 break
         nw, nrho, nu = pieces.geom(new_p, new_t)
-        ok = nrho > 0.0
+        ok = nrho > min_rho
         if not np.any(ok):
             message = "pricing points coincide with the candidate"
             break
