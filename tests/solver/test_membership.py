@@ -282,6 +282,8 @@ def test_point_mass_exists_only_inside_the_footprint():
 
 
 def test_candidate_within_rounding_of_the_outline_is_moved_onto_it():
+    """A candidate within ON_BOUNDARY_REL L of dF is decided on dF, where (3.8)'s direction
+    (w - r)/|w - r| has closed-form one-sided limits; 1e-6 a away it is not moved."""
     sc = scene_for_mu(0.9, **FRAME)
     a = sc.disk_radius
     direction = np.array([math.cos(0.7), math.sin(0.7)])
@@ -344,6 +346,8 @@ def test_l_shape_locus():
 
 
 def test_footprint_with_another_centre_of_mass_is_refused():
+    """3.1.5: the pressure's centroid is the CM, so a footprint whose CM is not the scene's
+    describes another problem."""
     sc = scene_for_mu(0.3, cm=(0.1, 0.0))
     with pytest.raises(InvalidInput) as err:
         membership(sc, [0.0, 0.0], SQUARE)
@@ -388,6 +392,8 @@ def test_invariance_under_similarity(kind):
 
 
 def test_grid_mode_is_not_a_certificate_and_time_limit_gives_undecided():
+    """A point far beyond the tip (3.37) is outside; without the branch and bound the dual of
+    (3.8) is only checked on a grid and the result says it is no certificate."""
     sc = scene_for_mu(0.3)
     far = sc.center_of_mass + 5.0 * sc.axis
     grid = membership(sc, far, certify=False)
@@ -398,18 +404,31 @@ def test_grid_mode_is_not_a_certificate_and_time_limit_gives_undecided():
     assert late.status == "undecided" and "time limit" in late.message
 
 
-def test_strict_residual_rejects_a_loose_witness():
-    """A tighter membership_residual never turns an outside point inside, and a point 1e-3 a
-    inside stays inside (its polished witness satisfies (3.8) to rounding)."""
-    sc = scene_for_mu(0.3)
+def test_default_residual_tolerance_admits_points_just_beyond_the_tip():
+    """The tip (3.37) for |alpha . c| = 0.05 a: 5e-7 a beyond it, the default
+    membership_residual (1e-8) accepts a witness whose residual is ~1e-9 and whose own
+    forward COR is visibly not r; a strict residual certifies the point outside, and the
+    point 5e-7 a inside still has an exact witness."""
+    sc = scene_for_mu(0.05)
+    a = sc.disk_radius
+    ring = cd.disk_cor_locus(sc, n_points=64).boundary
+    tangent = ring[1] - ring[-1]
+    nu = np.array([tangent[1], -tangent[0]]) / np.linalg.norm(tangent)
+    beyond = ring[0] + 5e-7 * a * nu
+    loose = membership(sc, beyond)
+    assert loose.status == "inside"
+    assert 1e-12 < loose.witness_residual <= TOL.membership_residual
+    assert loose.witness_forward_cor_error > 1e-7
     strict = dataclasses.replace(TOL, membership_residual=1e-13)
-    ring = cd.disk_cor_locus(sc, n_points=16).boundary
-    cm = sc.center_of_mass
-    res = membership(sc, cm + 0.999 * (ring[5] - cm), tol=strict)
-    assert res.status == "inside" and res.witness_residual <= 1e-13
+    check_dual(sc, membership(sc, beyond, tol=strict), disk_samples(sc), a)
+    inner = membership(sc, ring[0] - 5e-7 * a * nu, tol=strict)
+    assert inner.status == "inside" and inner.witness_residual <= 1e-13
+    assert inner.witness_forward_cor_error <= 1e-9
 
 
 def test_conic_solver_failure_is_a_solver_error(monkeypatch):
+    """A failure of the restricted master's conic solve becomes the project's SolverError."""
+
     def broken(*args, **kwargs):
         raise cp.error.SolverError("boom")
 
