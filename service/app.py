@@ -7,7 +7,7 @@ import logging
 from fastapi import FastAPI
 
 from service import __version__, errors
-from service.routes import cor, health
+from service.routes import cor, health, mpp
 from service.settings import Settings
 
 DESCRIPTION = """\
@@ -27,6 +27,7 @@ def create_app() -> FastAPI:
     errors.install(app)
     app.include_router(health.router)
     app.include_router(cor.router)
+    app.include_router(mpp.router)
     return app
 
 

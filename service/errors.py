@@ -9,6 +9,10 @@
   echoed ``input``/``ctx`` turned into strings so the body stays valid JSON;
 * ``models.errors.InvalidInput(field, reason)``: ``loc`` ["body", field], type
   ``value_error``;
+* :class:`FieldError` (an ``InvalidInput`` located inside a nested field, e.g. the
+  weights of the third support of a batch): ``loc`` ["body", *path], type ``value_error``;
+* ``solver.errors.SolverError`` (an optimisation back end failed or ended with an
+  unusable status): ``loc`` ["body"], type ``solver_error``;
 * any other ``models.errors.ModelError`` (e.g. a boundary solve that missed its
   tolerance): ``loc`` ["body"], type ``model_error``;
 * :class:`NonFiniteResult`: the input is valid but so extreme that a result overflowed;
@@ -32,6 +36,7 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from models.errors import InvalidInput, ModelError
+from solver.errors import SolverError
 
 log = logging.getLogger("service")
 
@@ -44,6 +49,16 @@ class NonFiniteResult(Exception):
     def __init__(self, what: str) -> None:
         super().__init__(what)
         self.what = what
+
+
+class FieldError(Exception):
+    """An input problem at a nested place of the body: ``loc`` is the path below "body"
+    (e.g. ("supports", 2, "weights")), ``reason`` what is wrong."""
+
+    def __init__(self, loc: tuple[str | int, ...], reason: str) -> None:
+        super().__init__(f"{'.'.join(map(str, loc))}: {reason}")
+        self.loc = tuple(loc)
+        self.reason = reason
 
 
 def error_body(loc: list[str | int], msg: str, type_: str) -> dict[str, Any]:
@@ -87,6 +102,26 @@ async def _invalid_input(request: Request, exc: InvalidInput) -> JSONResponse:
     )
 
 
+async def _field_error(request: Request, exc: FieldError) -> JSONResponse:
+    return JSONResponse(
+        status_code=UNPROCESSABLE,
+        content=error_body(["body", *exc.loc], exc.reason, "value_error"),
+    )
+
+
+async def _solver_error(request: Request, exc: SolverError) -> JSONResponse:
+    log.warning("solver error on %s: %s", request.url.path, exc)
+    return JSONResponse(
+        status_code=UNPROCESSABLE,
+        content=error_body(
+            ["body"],
+            f"the optimisation failed: {exc}. Try another method, or a smaller or better "
+            "conditioned problem",
+            "solver_error",
+        ),
+    )
+
+
 async def _model_error(request: Request, exc: ModelError) -> JSONResponse:
     log.warning("model error on %s: %s", request.url.path, exc)
     return JSONResponse(
@@ -121,5 +156,7 @@ def install(app: FastAPI) -> None:
     app.add_exception_handler(StarletteHTTPException, _http_exception)
     app.add_exception_handler(RequestValidationError, _request_validation)
     app.add_exception_handler(InvalidInput, _invalid_input)
+    app.add_exception_handler(FieldError, _field_error)
+    app.add_exception_handler(SolverError, _solver_error)
     app.add_exception_handler(ModelError, _model_error)
     app.add_exception_handler(NonFiniteResult, _non_finite)

@@ -36,3 +36,82 @@ CONTACT_IN_DISK_REL = 1e-9
 """A contact point farther than (1 + CONTACT_IN_DISK_REL) * a from the centre of mass lies
 outside the bounding disk; this is reported in ``warnings`` (the book assumes the disk
 bounds the whole workpiece, contact included)."""
+
+# ---------------------------------------------------------------------------------------
+# The minimum-power engine (issue 3): sizes that bound the work of one request. Measured
+# on one core (docs/api.md): a Newton solve of 25 000 points takes ~10 ms, a batch of
+# 10 000 tripods ~0.1 s; Clarabel (cvxpy) ~0.05 s and IPOPT (casadi) ~0.2 s for 256
+# points, plus a one-off compilation per new support size.
+# ---------------------------------------------------------------------------------------
+
+MAX_MU_C = 1e6
+"""Largest pusher friction coefficient mu_c (beyond it the friction cone is a half
+plane to within 1e-12 rad)."""
+
+MAX_WEIGHT = 1e12
+"""Largest single support weight (weights are normalised; the cap keeps their sum finite)."""
+
+MAX_SUPPORT_POINTS = 25_000
+"""Points of one support with method "newton" (also the cells of a uniform pressure)."""
+
+MAX_SUPPORT_POINTS_SLOW = 256
+"""Points of one support with methods "cvxpy" and "casadi" (conic / interior-point
+solvers, compiled per support size)."""
+
+MAX_BATCH = 10_000
+"""Supports in one batch (``supports``) with method "newton"."""
+
+MAX_BATCH_SLOW = 16
+"""Supports in one batch with methods "cvxpy" and "casadi" (solved one by one)."""
+
+MAX_BATCH_POINTS = 200_000
+"""Total points over all supports of one batch."""
+
+DEFAULT_PRESSURE_RESOLUTION = 32
+MAX_PRESSURE_RESOLUTION = 64
+"""Rings of the uniform disk discretisation (6 n^2 cells) or subdivisions per triangle of a
+polygon (n^2 cells per triangle); the cell count must also stay within the method's
+support-point limit."""
+
+MAX_PRESSURE_FOOTPRINT_VERTICES = 64
+"""Vertices of a uniform-pressure polygon footprint (its triangulation is O(n^3))."""
+
+SUPPORT_IN_DISK_REL = 1e-9
+"""An explicit disk_radius must be at least (1 - SUPPORT_IN_DISK_REL) times the largest
+distance of a support point from the centre of mass."""
+
+DEFAULT_TIME_LIMIT_S = 10.0
+MAX_TIME_LIMIT_S = 30.0
+"""time_limit_s of certificate searches (membership, certified loci): default and cap.
+The solvers check it between rounds, so an answer may take a little longer."""
+
+PARTICLE_MIN_MAGNITUDE = 1e-6
+PARTICLE_MAX_MAGNITUDE = 1e6
+"""Range of v_x, mg and eta of the particle example (book 2.5). Within it (and n <= 10)
+every quantity of the answer is a finite float."""
+
+PARTICLE_MAX_EXPONENT = 10.0
+"""Largest exponent n of the dissipative force eta |v|^n of the particle example."""
+
+AGREEMENT_REL = 1e-9
+"""Newton's and the minimum-power answer of the particle example are reported as agreeing
+when their relative difference is at most this."""
+
+MAX_TRIPODS = 100_000
+"""Random tripods of one tripod-statistics request."""
+
+MAX_TRIPOD_CORS = 20_000
+"""Largest sample whose CORs are returned one by one (``include_cors``)."""
+
+MIN_FOOTPRINT_FILL = 0.01
+"""Smallest area / bounding-box area of a tripod-statistics footprint: tripods are drawn
+by rejection from the bounding box, whose cost grows like 1 / fill (100 000 tripods in a
+1 % triangle take ~3 s; a 0.05 % sliver 13 s for only 1000)."""
+
+SAMPLING_MIN_SIZE = 1e-100
+SAMPLING_MIN_SIZE_REL = 1e-9
+"""Tripod statistics: the disk radius (or the footprint's circumradius) must be at least
+SAMPLING_MIN_SIZE and SAMPLING_MIN_SIZE_REL times the largest |coordinate| of the centre
+of mass; below that random points coincide in floating point and no tripod is balanced."""
+
+MAX_HISTOGRAM_BINS = 1000

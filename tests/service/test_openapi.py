@@ -11,6 +11,10 @@ import yaml
 
 from service.app import app
 from service.limits import (
+    MAX_BATCH,
+    MAX_MU_C,
+    MAX_SUPPORT_POINTS,
+    MAX_WEIGHT,
     MAX_ABS_ANGLE,
     MAX_ABS_COORDINATE,
     MAX_DISK_RADIUS,
@@ -63,7 +67,13 @@ def test_stable_operation_ids():
         for path, item in app.openapi()["paths"].items()
         for method, op in item.items()
     }
-    assert ops == {("/healthz", "get"): "healthz", ("/v1/cor/locus", "post"): "cor_locus"}
+    assert ops == {
+        ("/healthz", "get"): "healthz",
+        ("/v1/cor/locus", "post"): "cor_locus",
+        ("/v1/cor/solve", "post"): "cor_solve",
+        ("/v1/cor/tripod-statistics", "post"): "cor_tripod_statistics",
+        ("/v1/mpp/particle", "post"): "mpp_particle",
+    }
 
 
 def test_both_media_types_and_errors_are_documented():
@@ -95,3 +105,19 @@ def test_limits_are_in_the_schema():
     assert props["edge_angle"]["maximum"] == MAX_ABS_ANGLE
     assert set(req["required"]) == {"contact_point", "edge_angle"}
     assert [branch["required"] for branch in req["oneOf"]] == [["disk_radius"], ["workpiece"]]
+
+
+def test_minimum_power_limits_are_in_the_schema():
+    schemas = app.openapi()["components"]["schemas"]
+    solve = schemas["CorSolveRequest"]
+    assert solve["additionalProperties"] is False
+    assert [branch["required"] for branch in solve["oneOf"]] == [["support"], ["supports"], ["pressure"]]
+    assert solve["properties"]["mu_c"]["minimum"] == 0 and solve["properties"]["mu_c"]["maximum"] == MAX_MU_C
+    assert solve["properties"]["method"]["enum"] == ["newton", "cvxpy", "casadi"]
+    assert solve["properties"]["supports"]["anyOf"][0]["maxItems"] == MAX_BATCH
+    support = schemas["SupportIn"]["properties"]
+    assert support["points"]["minItems"] == 1 and support["points"]["maxItems"] == MAX_SUPPORT_POINTS
+    assert support["weights"]["items"]["minimum"] == 0 and support["weights"]["items"]["maximum"] == MAX_WEIGHT
+    for op in ("/v1/cor/solve", "/v1/cor/tripod-statistics", "/v1/mpp/particle"):
+        responses = app.openapi()["paths"][op]["post"]["responses"]
+        assert responses["422"]["content"]["application/json"]["schema"] == {"$ref": "#/components/schemas/ErrorResponse"}
