@@ -30,13 +30,16 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import nnls
 
 from models.cor_disk import disk_cor_locus
 from models.errors import InvalidInput
 from models.footprint import Footprint
 from models.mpp import membership_columns
 from models.scene import PushScene
+from models.support import Support, uniform_polygon_support
 from models.tolerances import SOLVER_DEFAULT, SolverTolerances
+from solver.forward import solve_forward
 from solver.membership import MembershipResult, membership, outline_of
 
 STRICT_WITNESS_RESIDUAL = 1e-12
@@ -200,7 +203,8 @@ class RayCrossing:
     probe pattern (True = inside) at ``scan_t`` (distances / L); ``crossings`` counts its
     inside-to-outside changes (more than one: the locus is not star-shaped from the
     centre along this ray, as far as the uncertified scan can tell). ``inner``/``outer``
-    certify the final bracket around the outermost crossing."""
+    certify the final bracket [t_in, t_out] (/ L) around the outermost crossing; ``point``
+    is its midpoint (world), NaN unless the verdict is "bracketed"."""
 
     direction: np.ndarray
     scan_t: np.ndarray
@@ -208,6 +212,7 @@ class RayCrossing:
     crossings: int
     t_in: float
     t_out: float
+    point: np.ndarray
     inner: MembershipResult | None
     outer: MembershipResult | None
     verdict: str
@@ -249,21 +254,23 @@ def _ray_exit(ring: np.ndarray, centre: np.ndarray, direction: np.ndarray) -> fl
 
 
 def _centre(scene: PushScene, footprint: Footprint, tol: SolverTolerances):
-    """A certified inside point: the CM if it is a COR, else the forward COR of the
-    vertices weighted to put their centroid at the CM (3.1.5)."""
+    """A certified inside point: the CM if it is a COR (always when the CM lies in the
+    footprint: a point mass there), else the forward COR (3.7) of uniform pressure (when
+    the CM is the area centroid) or of the vertices weighted by non-negative least squares
+    to put their centroid at the CM (3.1.5)."""
     strict = _strict(tol)
     res = membership(scene, scene.center_of_mass, footprint, tol=strict, verify_witness=False)
     if res.status == "inside":
         return res
-    import cvxpy as cp
-
-    from solver.min_power import solve_cor
-
-    v = footprint.vertices - scene.center_of_mass
-    p = cp.Variable(len(v), nonneg=True)
-    cp.Problem(cp.Minimize(cp.sum_squares(p)), [cp.sum(p) == 1, v.T @ p == 0]).solve(solver=cp.CLARABEL)
-    weights = np.clip(np.asarray(p.value, dtype=float), 0.0, None)
-    cor = solve_cor(scene, footprint.vertices, weights).cor
+    try:
+        # uniform pressure (CM at the area centroid): its COR lies well inside the locus
+        support = uniform_polygon_support(footprint, subdivisions=4)
+    except InvalidInput:
+        v = footprint.vertices - scene.center_of_mass
+        balance = np.vstack([np.ones(len(v)), v.T / footprint.circumradius])
+        weights = nnls(balance, np.array([1.0, 0.0, 0.0]))[0]
+        support = Support.create(footprint.vertices, weights, scene.center_of_mass, tol)
+    cor = solve_forward(scene, support, tol=tol).cor
     if cor is None:
         raise InvalidInput("contact_point", "the push translates the part: no bounded COR locus to trace")
     res = membership(scene, cor, footprint, tol=strict, verify_witness=False)
@@ -387,6 +394,87 @@ def _refine_crossing(
     return t_in, t_out
 
 
+@dataclass(frozen=True)
+class PolygonTrace:
+    """What tracing rays of one polygon's locus needs: the certified centre, the
+    circumscribing disk's analytic boundary (outer bound, 7.5), widths and tolerances.
+    Build it with :func:`polygon_trace`."""
+
+    scene: PushScene
+    footprint: Footprint
+    length_scale: float
+    width: float
+    centre: np.ndarray
+    centre_result: MembershipResult
+    disk_ring: np.ndarray
+    tol: SolverTolerances
+    scan_points: int
+
+
+def polygon_trace(
+    scene: PushScene, footprint: Footprint, tol: SolverTolerances = SOLVER_DEFAULT, scan_points: int = SCAN_POINTS
+) -> PolygonTrace:
+    """Prepare :func:`trace_ray` for ``footprint`` (its CM must be the scene's)."""
+    if scene.is_translation:
+        raise InvalidInput("contact_point", "the line of force passes through the CM: the only COR is at infinity")
+    ell = outline_of(scene, footprint, tol).length
+    centre_res = _centre(scene, footprint, tol)
+    disk_scene = PushScene.create(
+        ell, scene.contact_point, scene.edge_angle, scene.push_direction, scene.center_of_mass, scene.tolerances
+    )
+    ring = disk_cor_locus(disk_scene, outputs=["boundary"], n_points=DISK_REFERENCE_POINTS).boundary
+    return PolygonTrace(scene, footprint, ell, tol.boundary_bracket * ell, centre_res.cor, centre_res, ring, tol,
+                        scan_points)
+
+
+def trace_ray(trace: PolygonTrace, direction, warm_points=None) -> RayCrossing:
+    """The certified crossing of the locus boundary along the ray from ``trace.centre`` in
+    ``direction`` (world unit vector): scan, refine (:func:`_refine_crossing`), certify the
+    final pair (widened up to ``MAX_WIDENINGS`` times if needed)."""
+    scene, footprint, ell, width = trace.scene, trace.footprint, trace.length_scale, trace.width
+    centre = trace.centre
+    direction = np.asarray(direction, dtype=float) / float(np.linalg.norm(direction))
+    strict = _strict(trace.tol)
+    scan_tol = dataclasses.replace(trace.tol, max_cg_iter=1)
+    t_disk = _ray_exit(trace.disk_ring, centre, direction)
+    t_max = (t_disk if math.isfinite(t_disk) else 2.0 * ell) + 4.0 * width
+    scan_t = t_max * np.arange(1, trace.scan_points + 1) / trace.scan_points
+    scan = np.array([
+        membership(scene, centre + t * direction, footprint, tol=scan_tol, verify_witness=False,
+                   certify=False).status == "inside"
+        for t in scan_t
+    ])
+    pattern = np.concatenate([[True], scan])  # the centre is inside
+    crossings = int(np.sum(pattern[:-1] & ~pattern[1:]))
+    last_in = int(np.nonzero(pattern)[0][-1])
+    all_t = np.concatenate([[0.0], scan_t])
+    prober = _RayProber(scene, footprint, centre, direction, strict,
+                        _stack(trace.centre_result.witness_points, warm_points))
+    prober.count = trace.scan_points
+    nan_point = np.full(2, np.nan)
+    if last_in == len(all_t) - 1:
+        # inside up to beyond the circumscribing disk's locus: impossible by 7.5
+        return RayCrossing(direction, scan_t / ell, scan, crossings, all_t[-1] / ell, math.nan, nan_point,
+                           None, None, "undecided", prober.count)
+    t_in, t_out = _refine_crossing(prober, ell, all_t[last_in], all_t[last_in + 1], width)
+    mid = 0.5 * (t_in + t_out)
+    half = 0.5 * max(t_out - t_in, width)
+    for attempt in range(MAX_WIDENINGS + 1):
+        if attempt:
+            half *= 2.0
+        inner = membership(scene, centre + (mid - half) * direction, footprint, tol=strict,
+                           warm_points=prober.warm, verify_witness=False)
+        outer = membership(scene, centre + (mid + half) * direction, footprint, tol=strict,
+                           warm_points=_stack(_warm(inner), prober.warm), verify_witness=False)
+        prober.count += 2
+        verdict = _verdict(inner, outer)
+        if verdict == "bracketed":
+            break
+    point = centre + mid * direction if verdict == "bracketed" else nan_point
+    return RayCrossing(direction, scan_t / ell, scan, crossings, (mid - half) / ell, (mid + half) / ell, point,
+                       inner, outer, verdict, prober.count)
+
+
 def certified_polygon_boundary(
     scene: PushScene,
     footprint: Footprint,
@@ -400,78 +488,28 @@ def certified_polygon_boundary(
     from the circumscribing disk's analytic locus (which contains this one, 7.5) bounds it;
     ``scan_points`` one-round probes on restricted columns give the in/out pattern; the
     outermost inside-to-outside change is narrowed with uncertified column-generation
-    probes (secant steps on the outside residual, which grows linearly past the boundary,
-    with bisection as a fallback) to ``tol.boundary_bracket`` * L, and the final pair is
-    certified. A failed certification widens the pair (up to ``MAX_WIDENINGS`` times).
+    probes (:func:`_refine_crossing`: Newton-type estimates from the residual past the
+    boundary, bisection as a fallback) to ``tol.boundary_bracket`` * L, and the final pair
+    is certified. A failed certification widens the pair (up to ``MAX_WIDENINGS`` times).
+    The result is honest about non-star-shaped loci only as far as the scan can see.
     """
     t_start = time.perf_counter()
-    if scene.is_translation:
-        raise InvalidInput("contact_point", "the line of force passes through the CM: the only COR is at infinity")
-    outline = outline_of(scene, footprint, tol)
-    ell = outline.length
-    width = tol.boundary_bracket * ell
-    centre_res = _centre(scene, footprint, tol)
-    centre = centre_res.cor
-    disk_scene = PushScene.create(
-        ell, scene.contact_point, scene.edge_angle, scene.push_direction, scene.center_of_mass, scene.tolerances
-    )
-    ring = disk_cor_locus(disk_scene, outputs=["boundary"], n_points=DISK_REFERENCE_POINTS).boundary
-    strict = _strict(tol)
-    scan_tol = dataclasses.replace(tol, max_cg_iter=1)
+    trace = polygon_trace(scene, footprint, tol, scan_points)
     rays = []
-    boundary = np.full((n_rays, 2), np.nan)
     warm_prev = None  # support points near the previous ray's crossing
     for k in range(n_rays):
         ang = 2.0 * math.pi * k / n_rays
-        direction = np.array([math.cos(ang), math.sin(ang)])
-        t_disk = _ray_exit(ring, centre, direction)
-        t_max = (t_disk if math.isfinite(t_disk) else 2.0 * ell) + 4.0 * width
-        scan_t = t_max * np.arange(1, scan_points + 1) / scan_points
-        scan = np.array([
-            membership(scene, centre + t * direction, footprint, tol=scan_tol, verify_witness=False,
-                       certify=False).status == "inside"
-            for t in scan_t
-        ])
-        pattern = np.concatenate([[True], scan])  # the centre is inside
-        crossings = int(np.sum(pattern[:-1] & ~pattern[1:]))
-        last_in = int(np.nonzero(pattern)[0][-1])
-        all_t = np.concatenate([[0.0], scan_t])
-        prober = _RayProber(scene, footprint, centre, direction, strict, _stack(centre_res.witness_points, warm_prev))
-        prober.count = scan_points
-        if last_in == len(all_t) - 1:
-            # inside up to beyond the circumscribing disk's locus: impossible by 7.5
-            rays.append(RayCrossing(direction, scan_t / ell, scan, crossings, all_t[-1] / ell, math.nan, None, None,
-                                    "undecided", prober.count))
-            continue
-        t_in, t_out = _refine_crossing(prober, ell, all_t[last_in], all_t[last_in + 1], width)
-        # certify the final pair, widening if needed
-        inner = outer = None
-        verdict = "undecided"
-        mid = 0.5 * (t_in + t_out)
-        half = 0.5 * max(t_out - t_in, width)
-        for _ in range(MAX_WIDENINGS + 1):
-            inner = membership(scene, centre + (mid - half) * direction, footprint, tol=strict,
-                               warm_points=prober.warm, verify_witness=False)
-            outer = membership(scene, centre + (mid + half) * direction, footprint, tol=strict,
-                               warm_points=_stack(_warm(inner), prober.warm), verify_witness=False)
-            prober.count += 2
-            verdict = _verdict(inner, outer)
-            if verdict == "bracketed":
-                boundary[k] = centre + mid * direction
-                break
-            half *= 2.0
-        warm_prev = _warm(inner, outer)
-        rays.append(RayCrossing(direction, scan_t / ell, scan, crossings, (mid - half) / ell, (mid + half) / ell,
-                                inner, outer, verdict, prober.count))
-    n_ok = sum(r.verdict == "bracketed" for r in rays)
+        ray = trace_ray(trace, np.array([math.cos(ang), math.sin(ang)]), warm_prev)
+        warm_prev = _warm(ray.inner, ray.outer)
+        rays.append(ray)
     return CertifiedPolygonBoundary(
-        centre=centre,
-        centre_result=centre_res,
-        boundary=boundary,
+        centre=trace.centre,
+        centre_result=trace.centre_result,
+        boundary=np.array([r.point for r in rays]),
         rays=tuple(rays),
-        width=width,
-        length_scale=ell,
-        n_certified=n_ok,
+        width=trace.width,
+        length_scale=trace.length_scale,
+        n_certified=sum(r.verdict == "bracketed" for r in rays),
         multi_crossing_rays=tuple(i for i, r in enumerate(rays) if r.crossings > 1),
         uncertified_rays=tuple(i for i, r in enumerate(rays) if r.verdict != "bracketed"),
         solve_time_s=time.perf_counter() - t_start,

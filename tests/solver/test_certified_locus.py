@@ -23,10 +23,13 @@ from solver.certified_locus import (
     certified_disk_boundary,
     certified_polygon_boundary,
     certify_brackets,
+    polygon_trace,
+    trace_ray,
 )
 from solver.forward import solve_forward_batch
-from tests.scenes import SEED, circle_radius, distance_to_polyline, point_in_polygon, scene_for_mu
-from tests.solver.test_membership import FRAME, SQUARE, check_dual, disk_samples, equations_residual
+from tests.scenes import SEED, point_in_polygon, scene_for_mu
+from solver.membership import membership
+from tests.solver.test_membership import FRAME, SQUARE, check_dual, disk_samples, equations_residual, polygon_samples
 
 TOL = SOLVER_DEFAULT
 
@@ -92,6 +95,16 @@ def test_translation_scene_has_no_boundary_to_certify():
 # --- polygons (7.5, figure 3-6) -----------------------------------------------------------------
 
 
+def assert_inside_own_rays(sc, footprint, cors, traced):
+    """Each COR lies no farther from the centre than the certified crossing on its own ray
+    (trace_ray), i.e. inside the locus as traced exactly along that ray."""
+    trace = polygon_trace(sc, footprint)
+    for cor in cors:
+        ray = trace_ray(trace, cor - traced.centre)
+        assert ray.verdict == "bracketed"
+        assert np.linalg.norm(cor - traced.centre) <= ray.t_out * traced.length_scale
+
+
 def _disk_scene(sc: PushScene, radius: float) -> PushScene:
     return PushScene.create(radius, sc.contact_point, sc.edge_angle, sc.push_direction, sc.center_of_mass)
 
@@ -137,25 +150,17 @@ def test_square_locus_lies_between_its_inscribed_and_circumscribed_disks(square_
 
 def test_random_tripod_cors_fall_inside_the_traced_square_locus(square_trace):
     """3.3.3 / figure 3-6: CORs of random tripods on the square (forward Newton solves) lie
-    inside the traced boundary, up to the traced polygon's chord error, estimated from the
-    circles through consecutive traced points."""
+    inside the traced boundary; one that falls outside the traced polygon (a chord cutting
+    the boundary) must lie inside the certified crossing of its own ray."""
     sc, tr = square_trace
     rng = np.random.default_rng(SEED)
     pts, wts = random_balanced_tripods(rng, 5000, SQUARE.circumradius, footprint=SQUARE)
     out = solve_forward_batch(sc, pts, wts)
     cors = out.cor[out.converged & ~np.isnan(out.cor[:, 0])]
     assert len(cors) > 4000
-    b = tr.boundary
-    sag = []
-    for i in range(len(b)):
-        p0, p1, p2 = b[i - 1], b[i], b[(i + 1) % len(b)]
-        half = 0.5 * np.linalg.norm(p2 - p1)
-        rad = max(circle_radius(p0, p1, p2), half)
-        sag.append(rad - math.sqrt(rad * rad - half * half))
-    tolerance = 2.0 * max(sag) + tr.width
-    inside = point_in_polygon(cors, b)
-    if np.any(~inside):
-        assert distance_to_polyline(cors[~inside], b).max() <= tolerance
+    outside_polygon = cors[~point_in_polygon(cors, tr.boundary)]
+    assert len(outside_polygon) < 0.01 * len(cors)
+    assert_inside_own_rays(sc, SQUARE, outside_polygon, tr)
 
 
 def test_regular_polygon_locus_is_squeezed_between_two_disks():
@@ -174,3 +179,28 @@ def test_regular_polygon_locus_is_squeezed_between_two_disks():
     t_out = np.array([r.t_out for r in tr.rays]) * tr.length_scale
     assert np.all(t_in <= outer * (1 + 1e-5))
     assert np.all(t_out >= inner * (1 - 1e-5))
+
+
+def test_u_shape_whose_centre_of_mass_is_not_a_cor():
+    """A U whose CM lies in its notch, off the footprint: no point mass can sit at the CM,
+    and the CM is certified not a COR (dual checked on a dense grid of the U, 3.8). The trace
+    then starts from the certified COR of uniform pressure (3.7) and still certifies every
+    ray; CORs of random tripods on the U fall inside the traced 12-gon or, where a chord cuts
+    the boundary, inside the certified crossing of their own ray."""
+    u_shape = Footprint.create([(0, 0), (3, 0), (3, 3), (2, 3), (2, 1), (1, 1), (1, 3), (0, 3)])
+    ell = u_shape.circumradius
+    sc = scene_for_mu(0.4, a=ell, cm=u_shape.center_of_mass)
+    at_cm = membership(sc, sc.center_of_mass, u_shape)
+    assert not at_cm.in_footprint
+    check_dual(sc, at_cm, polygon_samples(u_shape), ell)
+    tr = certified_polygon_boundary(sc, u_shape, n_rays=12)
+    assert np.linalg.norm(tr.centre - sc.center_of_mass) > 0.1 * ell
+    assert tr.centre_result.status == "inside"
+    assert tr.n_certified == 12
+    rng = np.random.default_rng(SEED + 5)
+    pts, wts = random_balanced_tripods(rng, 1000, ell, footprint=u_shape)
+    out = solve_forward_batch(sc, pts, wts)
+    cors = out.cor[out.converged & ~np.isnan(out.cor[:, 0])]
+    outside_polygon = cors[~point_in_polygon(cors, tr.boundary)]
+    assert len(outside_polygon) < 0.05 * len(cors)
+    assert_inside_own_rays(sc, u_shape, outside_polygon, tr)
