@@ -48,8 +48,11 @@ from service.schemas_mpp import (
     BatchSummaryOut,
     CorSolveRequest,
     CorSolveResponse,
+    DualOut,
     HistogramOut,
     ImpactOut,
+    MembershipRequest,
+    MembershipResponse,
     MotionOut,
     ParticleRequest,
     ParticleResponse,
@@ -57,8 +60,10 @@ from service.schemas_mpp import (
     SupportIn,
     TripodStatisticsRequest,
     TripodStatisticsResponse,
+    WitnessOut,
 )
 from solver.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch
+from solver.membership import membership
 from solver.particle import solve_particle
 from solver.statistics import sticking_line_histogram, tripod_sample, uniform_pressure_cor
 
@@ -519,5 +524,57 @@ def tripod_statistics_response(req: TripodStatisticsRequest) -> TripodStatistics
         mode_counts=modes,
         histogram=hist,
         solve_time_ms=solve_s * 1e3,
+        elapsed_ms=(time.perf_counter() - t_start) * 1e3,
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# POST /v1/cor/membership
+# ---------------------------------------------------------------------------------------
+
+
+def membership_response(req: MembershipRequest) -> MembershipResponse:
+    t_start = time.perf_counter()
+    scene, footprint = _disk_or_footprint(req)
+    with located():
+        res = membership(scene, req.cor, footprint, time_limit_s=req.time_limit_s)
+    witness = dual = None
+    if res.status == "inside":
+        witness = WitnessOut(
+            points=_v(res.witness_points, "witness.points"),
+            weights=_v(res.witness_weights, "witness.weights"),
+            point_mass_at_cor=_f(res.point_mass_at_cor, "witness.point_mass_at_cor"),
+            point_mass_subgradient=_v(res.point_mass_subgradient, "witness.point_mass_subgradient"),
+            residual=_f(res.witness_residual, "witness.residual"),
+            forward_cor_error=(
+                None if res.witness_forward_cor_error is None
+                else _f(res.witness_forward_cor_error, "witness.forward_cor_error")
+            ),
+        )
+    if res.dual is not None and res.status != "inside":
+        dual = DualOut(
+            vector=_v(res.dual, "dual.vector"),
+            lower_bound=None if res.dual_lower_bound is None else _f(res.dual_lower_bound, "dual.lower_bound"),
+            margin=None if res.dual_margin is None else _f(res.dual_margin, "dual.margin"),
+            lower_bound_method=res.lower_bound_method,
+        )
+    return MembershipResponse(
+        status=res.status,
+        certificate_kind=res.certificate_kind,
+        cor=_v(res.cor, "cor"),
+        cor_query=[float(x) for x in req.cor],
+        in_footprint=bool(res.in_footprint),
+        witness=witness,
+        dual=dual,
+        residual=_f(res.witness_residual, "residual") if math.isfinite(res.witness_residual) else None,
+        length_scale=_f(res.length_scale, "length_scale"),
+        disk_radius=_f(scene.disk_radius, "disk_radius"),
+        center_of_mass=_v(scene.center_of_mass, "center_of_mass"),
+        iterations=int(res.iterations),
+        n_columns=int(res.n_columns),
+        bnb_intervals=int(res.bnb_intervals),
+        message=res.message,
+        time_limit_s=float(req.time_limit_s),
+        solve_time_ms=res.solve_time_s * 1e3,
         elapsed_ms=(time.perf_counter() - t_start) * 1e3,
     )

@@ -367,6 +367,10 @@ class WitnessOut(_Out):
     points: list[Vec2] = Field(description="Support points (world frame) on the outline of the footprint.")
     weights: list[float] = Field(description="Their weights; with `point_mass_at_cor` they sum to 1.")
     point_mass_at_cor: float = Field(description="Weight of a point mass at the COR itself.")
+    point_mass_subgradient: Vec2 = Field(
+        description="z with |z| <= point_mass_at_cor: the point mass contributes -s z / L to (3.8) "
+        "(the subgradient of |w - r| at w = r, times the mass)."
+    )
     residual: float = Field(description="L1 residual of the membership equations (3.8) (dimensionless).")
     forward_cor_error: float | None = Field(
         description="|COR of this support by the forward solver - cor| / L: the re-verification."
@@ -374,9 +378,9 @@ class WitnessOut(_Out):
 
 
 class DualOut(_Out):
-    vector: list[float] = Field(
-        description="Separating functional y (5 numbers, |y| <= 1) on the columns (1, w/L, g_r(w)/L), "
-        "CM frame, lengths / L."
+    vector: Annotated[list[float], Field(min_length=5, max_length=5)] = Field(
+        description="Separating functional y on the columns G(w) = (1, w/L, g_r(w)/L) of (3.8) "
+        "(world-aligned CM frame, lengths / L; |y_0| <= 1, |y_w|, |y_g| <= sqrt 2)."
     )
     lower_bound: float | None = Field(description="Lower bound m_F of y . G over the footprint.")
     margin: float | None = Field(description="m_F - y . b: > 0 proves the candidate outside.")
@@ -393,8 +397,10 @@ class MembershipResponse(_Out):
     in_footprint: bool = Field(description="Whether the COR lies in the closed footprint (a point mass there is allowed).")
     witness: WitnessOut | None = Field(description="For 'inside': a support whose COR is `cor`.")
     dual: DualOut | None = Field(description="For 'outside' (and 'undecided'): the separating functional.")
-    residual: float = Field(
-        description="L1 residual of the restricted master (0 up to tolerance for 'inside')."
+    residual: float | None = Field(
+        description="L1 residual of the membership equations for the best support found (0 up to "
+        "rounding for 'inside'; for 'outside' an upper bound of the distance to feasibility); null "
+        "when no round ran (time limit)."
     )
     length_scale: float = Field(description="L: the disk radius or the polygon's circumradius.")
     disk_radius: float

@@ -10,11 +10,18 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 
-from service.convert_mpp import particle_response, solve_response, tripod_statistics_response
+from service.convert_mpp import (
+    membership_response,
+    particle_response,
+    solve_response,
+    tripod_statistics_response,
+)
 from service.schemas import ErrorResponse
 from service.schemas_mpp import (
     CorSolveRequest,
     CorSolveResponse,
+    MembershipRequest,
+    MembershipResponse,
     ParticleRequest,
     ParticleResponse,
     TripodStatisticsRequest,
@@ -39,6 +46,24 @@ def cor_solve(req: CorSolveRequest) -> CorSolveResponse:
     minimises the frictional power (book 3.2-3.3.3; with pusher friction mu_c, 4.1), for
     one support, a batch of supports, or a modelled uniform pressure (figure 7-1)."""
     return solve_response(req)
+
+
+@router.post(
+    "/v1/cor/membership",
+    operation_id="cor_membership",
+    tags=["cor"],
+    summary="Can r be the COR of this push? With a certificate",
+    response_model=MembershipResponse,
+    responses=ERRORS,
+)
+def cor_membership(req: MembershipRequest) -> MembershipResponse:
+    """Decides whether the point `cor` is the centre of rotation of the push for some
+    pressure distribution on the disk (or the polygon `footprint`), frictionless pusher
+    (book 3.3.2-3.3.13). 'inside' comes with a witness support (re-verified by the forward
+    solver), 'outside' with a dual functional and a branch-and-bound lower bound over the
+    whole outline; 'undecided' when the time limit or the iteration caps are reached, or
+    the point is within the tolerances of the locus boundary."""
+    return membership_response(req)
 
 
 @router.post(

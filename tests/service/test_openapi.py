@@ -14,6 +14,7 @@ from service.limits import (
     MAX_BATCH,
     MAX_MU_C,
     MAX_SUPPORT_POINTS,
+    MAX_TIME_LIMIT_S,
     MAX_WEIGHT,
     MAX_ABS_ANGLE,
     MAX_ABS_COORDINATE,
@@ -71,6 +72,7 @@ def test_stable_operation_ids():
         ("/healthz", "get"): "healthz",
         ("/v1/cor/locus", "post"): "cor_locus",
         ("/v1/cor/solve", "post"): "cor_solve",
+        ("/v1/cor/membership", "post"): "cor_membership",
         ("/v1/cor/tripod-statistics", "post"): "cor_tripod_statistics",
         ("/v1/mpp/particle", "post"): "mpp_particle",
     }
@@ -118,6 +120,7 @@ def test_minimum_power_limits_are_in_the_schema():
     support = schemas["SupportIn"]["properties"]
     assert support["points"]["minItems"] == 1 and support["points"]["maxItems"] == MAX_SUPPORT_POINTS
     assert support["weights"]["items"]["minimum"] == 0 and support["weights"]["items"]["maximum"] == MAX_WEIGHT
-    for op in ("/v1/cor/solve", "/v1/cor/tripod-statistics", "/v1/mpp/particle"):
+    assert schemas["MembershipRequest"]["properties"]["time_limit_s"]["maximum"] == MAX_TIME_LIMIT_S
+    for op in ("/v1/cor/solve", "/v1/cor/membership", "/v1/cor/tripod-statistics", "/v1/mpp/particle"):
         responses = app.openapi()["paths"][op]["post"]["responses"]
         assert responses["422"]["content"]["application/json"]["schema"] == {"$ref": "#/components/schemas/ErrorResponse"}
