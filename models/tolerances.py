@@ -97,7 +97,7 @@ class SolverTolerances:
     conic_gap: float = 1e-11
     casadi_tol: float = 1e-12
     nlp_feasibility: float = 1e-8
-    membership_residual: float = 1e-8
+    membership_residual: float = 1e-12
     witness_cor_rel: float = 1e-6
     certificate_margin: float = 1e-9
     pricing_tol: float = 1e-10

@@ -82,11 +82,10 @@ Observations (tests/solver/test_membership.py)
   cover half of it. Where the locus reaches the outline (the disk's perimeter arcs for
   |alpha . c| >= a/sqrt 2, a square's vertex) points just beyond are outside by a wide
   margin.
-* ``membership_residual`` = 1e-8 is a tolerance, not an exact test: where (3.8) is
-  insensitive to r (near the tip for small |alpha . c|/a) a witness with residual 5e-9 can
-  belong to a point 5e-7 L outside the locus (its forward COR error then says so).
-  Polished witnesses of points inside reach about 1e-16; solver/certified_locus.py uses a
-  strict residual.
+* ``membership_residual`` is a tolerance, not an exact test: where (3.8) is insensitive
+  to r (near the tip for small |alpha . c|/a) a witness with residual 5e-9 can belong to a
+  point 5e-7 L outside the locus (its forward COR error then says so). Polished witnesses
+  of points inside reach about 1e-16, so the default is strict (1e-12).
 """
 
 from __future__ import annotations
