@@ -1,13 +1,14 @@
 """Benchmark (not a test): certified membership "can r be a COR?" and certified loci
 (solver/membership.py, solver/certified_locus.py; book 3.3, 3.3.13, 7.5).
 
-Prints a markdown table (it does not write docs/benchmarks.md): the time of one
+Writes its section of docs/benchmarks.md: the time of one
 membership query near the analytic disk boundary (inside and outside, median and p95),
 the certified 64-point disk boundary (time, pairs certified, bracket) and exact polygon
-loci traced by certified brackets. Run with `pytest tests/benchmarks --run-benchmarks -s`."""
+loci traced by certified brackets. Run with `make bench` or `pytest tests/benchmarks --run-benchmarks`."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import platform
 import statistics
@@ -21,6 +22,7 @@ from models.footprint import Footprint
 from models.tolerances import SOLVER_DEFAULT
 from solver.certified_locus import _outward_normals, certified_disk_boundary, certified_polygon_boundary
 from solver.membership import membership
+from tests.benchmarks._docs import write_section
 from tests.scenes import scene_for_mu
 
 pytestmark = pytest.mark.benchmark
@@ -51,8 +53,6 @@ def test_membership_and_certified_loci():
     certified_disk_boundary(scene_for_mu(0.3), n_points=8)
 
     lines = [
-        "## Certified membership and certified COR loci (frictionless, book 3.3, 3.3.13, 7.5)",
-        "",
         f"`solver/membership.py`, `solver/certified_locus.py`; {platform.machine()}, Python "
         f"{platform.python_version()}, one core. Times in ms unless marked.",
         "",
@@ -104,6 +104,19 @@ def test_membership_and_certified_loci():
         )
     lines += [
         "",
+        "Speed against error of the certified disk boundary (mu = 0.3, 64 points): the bracket",
+        "width boundary_bracket (the certified error bound is half of it, times a).",
+        "",
+        "| boundary_bracket | time (s) | pairs certified | error bound / a |",
+        "|---:|---:|---:|---:|",
+    ]
+    for bracket in (1e-3, 1e-4, 1e-6, 1e-8):
+        tol = dataclasses.replace(SOLVER_DEFAULT, boundary_bracket=bracket)
+        res = certified_disk_boundary(scene_for_mu(0.3), n_points=64, tol=tol)
+        bound = "-" if res.max_error_bound is None else f"{res.max_error_bound:.1e}"
+        lines.append(f"| {bracket:g} | {res.solve_time_s:.2f} | {res.n_certified}/{len(res.pairs)} | {bound} |")
+    lines += [
+        "",
         "Exact polygon loci (`certified_polygon_boundary`): rays from the CM, each crossing",
         f"bracketed to boundary_bracket L = {SOLVER_DEFAULT.boundary_bracket:g} L and certified.",
         "",
@@ -121,7 +134,7 @@ def test_membership_and_certified_loci():
             f"| {name} | {mu:g} | {rays} | {res.solve_time_s:.1f} | {res.n_certified}/{rays} | "
             f"{len(res.multi_crossing_rays)} | {probes:.1f} |"
         )
-    print("\n" + "\n".join(lines) + "\n")
+    write_section("Certified membership and certified COR loci (issue 3, book 3.3, 3.3.13, 7.5)", lines)
     # generous guards: the figures themselves are the point
     assert statistics.median(all_in) < 0.2 and statistics.median(all_out) < 0.2
     assert max(disk_times) < 20.0
