@@ -19,6 +19,7 @@ from models.scene import PushScene
 from service.errors import NonFiniteResult
 from service.limits import CONTACT_IN_DISK_REL, CONTACT_ON_OUTLINE_REL
 from service.schemas import (
+    CertifiedLocusOut,
     CorLocusRequest,
     CorLocusResponse,
     CurvaturesOut,
@@ -28,6 +29,10 @@ from service.schemas import (
     TipLineOut,
     TipOut,
 )
+
+
+SHAPE_FIELDS = ("disk_radius", "workpiece", "footprint")
+"""The ways of giving the workpiece's shape, exactly one per request."""
 
 
 @dataclass(frozen=True)
@@ -44,13 +49,20 @@ class PreparedPush:
 
 def prepare(req: CorLocusRequest, extra_outputs: tuple[str, ...] = ()) -> PreparedPush:
     """Build the scene. Raises ``InvalidInput`` (-> 422) for inconsistent input."""
-    if req.disk_radius is None and req.workpiece is None:
-        raise InvalidInput("disk_radius", "give either disk_radius or workpiece (exactly one of them)")
-    if req.disk_radius is not None and req.workpiece is not None:
-        raise InvalidInput("workpiece", "give either disk_radius or workpiece, not both")
+    given = [name for name in SHAPE_FIELDS if getattr(req, name) is not None]
+    if not given:
+        raise InvalidInput("disk_radius", "give either disk_radius or footprint (or workpiece): exactly one of them")
+    if len(given) > 1:
+        raise InvalidInput(given[1], f"give exactly one of disk_radius, workpiece and footprint, not both {given[0]} and {given[1]}")
     footprint = None
-    if req.workpiece is not None:
-        footprint = Footprint.create(req.workpiece, req.center_of_mass)
+    polygon_field = given[0] if given[0] != "disk_radius" else None
+    if polygon_field is not None:
+        try:
+            footprint = Footprint.create(getattr(req, polygon_field), req.center_of_mass)
+        except InvalidInput as exc:
+            if exc.field == "workpiece":  # Footprint.create's name for the polygon
+                raise InvalidInput(polygon_field, exc.reason) from exc
+            raise
         radius = footprint.circumradius
         cm = footprint.center_of_mass
     else:
@@ -110,7 +122,13 @@ def translation_message(locus: DiskCorLocus) -> str:
     )
 
 
-def locus_response(prep: PreparedPush, locus: DiskCorLocus, elapsed_ms: float) -> CorLocusResponse:
+def locus_response(
+    prep: PreparedPush,
+    locus: DiskCorLocus,
+    elapsed_ms: float,
+    method: str = "analytic",
+    certified: CertifiedLocusOut | None = None,
+) -> CorLocusResponse:
     """The response schema for ``locus``; raises :class:`NonFiniteResult` rather than
     letting a NaN or infinity through."""
     scene = prep.scene
@@ -183,5 +201,8 @@ def locus_response(prep: PreparedPush, locus: DiskCorLocus, elapsed_ms: float) -
             else _f(prep.contact_distance_to_outline, "contact_distance_to_outline")
         ),
         warnings=list(prep.warnings),
+        method=method,
+        locus_of="disk" if prep.footprint is None else "circumscribing_disk",
+        certified=certified,
         elapsed_ms=elapsed_ms,
     )

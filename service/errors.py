@@ -52,13 +52,14 @@ class NonFiniteResult(Exception):
 
 
 class FieldError(Exception):
-    """An input problem at a nested place of the body: ``loc`` is the path below "body"
-    (e.g. ("supports", 2, "weights")), ``reason`` what is wrong."""
+    """An input problem at a nested place of the request: ``loc`` is the path below
+    ``where`` ("body" or "query"), e.g. ("supports", 2, "weights"); ``reason`` what is wrong."""
 
-    def __init__(self, loc: tuple[str | int, ...], reason: str) -> None:
+    def __init__(self, loc: tuple[str | int, ...], reason: str, where: str = "body") -> None:
         super().__init__(f"{'.'.join(map(str, loc))}: {reason}")
         self.loc = tuple(loc)
         self.reason = reason
+        self.where = where
 
 
 def error_body(loc: list[str | int], msg: str, type_: str) -> dict[str, Any]:
@@ -105,7 +106,7 @@ async def _invalid_input(request: Request, exc: InvalidInput) -> JSONResponse:
 async def _field_error(request: Request, exc: FieldError) -> JSONResponse:
     return JSONResponse(
         status_code=UNPROCESSABLE,
-        content=error_body(["body", *exc.loc], exc.reason, "value_error"),
+        content=error_body([exc.where, *exc.loc], exc.reason, "value_error"),
     )
 
 

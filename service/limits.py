@@ -80,6 +80,15 @@ SUPPORT_IN_DISK_REL = 1e-9
 """An explicit disk_radius must be at least (1 - SUPPORT_IN_DISK_REL) times the largest
 distance of a support point from the centre of mass."""
 
+MIN_CERTIFIED_POINTS = 4
+MAX_CERTIFIED_POINTS = 256
+DEFAULT_CERTIFIED_POINTS = 64
+"""Boundary points (disk) or rays (polygon) of a certified COR locus. Each costs two or
+more membership queries: ~25 ms per disk point, ~0.25 s per polygon ray (measured)."""
+
+CERTIFIED_CHUNK = 4
+"""Disk points certified between two checks of the time limit."""
+
 DEFAULT_TIME_LIMIT_S = 10.0
 MAX_TIME_LIMIT_S = 30.0
 """time_limit_s of certificate searches (membership, certified loci): default and cap.

@@ -17,7 +17,12 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from models.cor_disk import OUTPUTS
 from service.limits import (
+    DEFAULT_CERTIFIED_POINTS,
     DEFAULT_N_POINTS,
+    DEFAULT_TIME_LIMIT_S,
+    MAX_CERTIFIED_POINTS,
+    MAX_TIME_LIMIT_S,
+    MIN_CERTIFIED_POINTS,
     MAX_ABS_ANGLE,
     MAX_ABS_COORDINATE,
     MAX_DISK_RADIUS,
@@ -58,22 +63,24 @@ OUTPUT_NAMES: tuple[str, ...] = OutputName.__args__  # type: ignore[attr-defined
 assert set(OUTPUT_NAMES) == set(OUTPUTS), "OutputName must list models.cor_disk.OUTPUTS"
 
 ResponseFormat = Literal["json", "svg"]
+LocusMethod = Literal["analytic", "certified"]
 
 
 class CorLocusRequest(BaseModel):
     """One push of a sliding workpiece by a frictionless pusher (book 3.1.9).
 
-    Give the workpiece either as its bounding disk (``disk_radius``) or as a polygon
-    (``workpiece``), exactly one of them.
+    Give the workpiece as its bounding disk (``disk_radius``) or as a polygon
+    (``footprint``, or its older name ``workpiece``), exactly one of them.
     """
 
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            # Exactly one of disk_radius / workpiece (null counts as absent).
+            # Exactly one of disk_radius / workpiece / footprint (null counts as absent).
             "oneOf": [
                 {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
                 {"required": ["workpiece"], "properties": {"workpiece": {"type": "array"}}},
+                {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
             ],
             "examples": [
                 {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966},
@@ -94,7 +101,20 @@ class CorLocusRequest(BaseModel):
             "The workpiece's outline as a simple polygon, vertices [x, y] in order (either "
             f"orientation), {MIN_POLYGON_VERTICES}..{MAX_POLYGON_VERTICES} vertices. "
             "The disk radius a used is the largest distance from the centre of mass to a "
-            "vertex. Give this or `disk_radius`."
+            "vertex. Give this, `footprint` or `disk_radius`. Older name of `footprint`, "
+            "with the same meaning."
+        ),
+        json_schema_extra={"deprecated": True},
+    )
+    footprint: Polygon | None = Field(
+        default=None,
+        description=(
+            "The workpiece's outline as a simple polygon (either orientation, "
+            f"{MIN_POLYGON_VERTICES}..{MAX_POLYGON_VERTICES} vertices) whose locus is wanted. "
+            "Method 'analytic' bounds it by its circumscribing disk (a = the largest distance "
+            "from the centre of mass to a vertex, 3.1.8): the answer is that disk's locus, "
+            "which contains the polygon's (7.5). Method 'certified' also traces the polygon's "
+            "exact locus. Give this, `workpiece` or `disk_radius`."
         ),
     )
     center_of_mass: Point | None = Field(
@@ -123,6 +143,24 @@ class CorLocusRequest(BaseModel):
         description="Parts of the locus to compute, each at most once (default: all). "
         "Parts not asked for come back as null.",
         json_schema_extra={"uniqueItems": True, "default": list(OUTPUT_NAMES)},
+    )
+
+    method: LocusMethod = Field(
+        default="analytic",
+        description="'analytic' (default): the closed forms of the disk locus (3.3). 'certified': "
+        "also certified brackets of the boundary by minimum-power membership queries: for the disk "
+        "at each analytic boundary point (a check of the closed forms), for a footprint polygon "
+        "along rays from an inside point (its exact locus). JSON only.",
+    )
+    n_certified: Annotated[int, Field(strict=True, ge=MIN_CERTIFIED_POINTS, le=MAX_CERTIFIED_POINTS)] = Field(
+        default=DEFAULT_CERTIFIED_POINTS,
+        description=f"Method 'certified': boundary points (disk) or rays (polygon), "
+        f"{MIN_CERTIFIED_POINTS}..{MAX_CERTIFIED_POINTS}.",
+    )
+    time_limit_s: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_TIME_LIMIT_S)] = Field(
+        default=DEFAULT_TIME_LIMIT_S,
+        description=f"Method 'certified': time budget in seconds, (0, {MAX_TIME_LIMIT_S:g}]. Points "
+        "or rays not reached in time are reported as not done.",
     )
 
     @field_validator("outputs")
@@ -185,6 +223,51 @@ class DiskCrossingsOut(_Out):
     )
 
 
+class BracketOut(_Out):
+    """One certified bracket: `inner` proven inside the locus (a witness support), `outer`
+    proven outside (a dual with a positive branch-and-bound margin)."""
+
+    point: Vec2 | None = Field(
+        description="Disk: the analytic boundary point checked. Polygon: the bracket's midpoint on "
+        "the ray (null unless bracketed)."
+    )
+    inner: Vec2 | None = Field(description="The inner end of the bracket (null when the ray could not be bracketed).")
+    outer: Vec2 | None = Field(description="The outer end.")
+    inner_status: Literal["inside", "outside", "undecided"] | None
+    outer_status: Literal["inside", "outside", "undecided"] | None
+    verdict: Literal["bracketed", "both_inside", "both_outside", "reversed", "undecided"] = Field(
+        description="'bracketed': the true boundary crosses [inner, outer]. 'both_inside' / "
+        "'both_outside' / 'reversed' at a disk point: the analytic boundary is wrong there."
+    )
+    crossings: int | None = Field(
+        default=None,
+        description="Polygon: inside-to-outside changes seen by the uncertified scan along the ray "
+        "(more than 1: the locus is not star-shaped from the centre there).",
+    )
+
+
+class CertifiedLocusOut(_Out):
+    """Certified brackets of the COR locus boundary (method 'certified')."""
+
+    region: Literal["disk", "polygon"]
+    n_requested: int = Field(description="Boundary points (disk) or rays (polygon) asked for.")
+    n_done: int = Field(description="Of them examined before the time limit.")
+    n_certified: int = Field(description="Of them bracketed.")
+    complete: bool = Field(description="Whether all were examined (false: the time limit was reached).")
+    boundary: list[Vec2 | None] = Field(
+        description="Disk: the analytic boundary points examined, CCW from the tip. Polygon: the "
+        "certified boundary points, CCW by ray angle (null where a ray was not bracketed)."
+    )
+    brackets: list[BracketOut]
+    bracket_width: float = Field(description="Distance between the two ends of a bracket (length).")
+    wrong: list[int] = Field(description="Disk: indices where the analytic boundary is proven wrong.")
+    undecided: list[int] = Field(description="Indices not bracketed (undecided ends, or rays that failed).")
+    multi_crossing: list[int] = Field(description="Polygon: rays with more than one crossing in the scan.")
+    centre: Vec2 | None = Field(description="Polygon: the certified inside point the rays start from.")
+    time_limit_s: float
+    solve_time_ms: float
+
+
 class CorLocusResponse(_Out):
     """The locus of centres of rotation (COR) of the pushed workpiece, world frame."""
 
@@ -217,6 +300,15 @@ class CorLocusResponse(_Out):
         description="With `workpiece`: distance from the contact point to the polygon outline."
     )
     warnings: list[str] = Field(description="Non-fatal remarks about the input.")
+    method: LocusMethod = Field(default="analytic", description="The method asked for.")
+    locus_of: Literal["disk", "circumscribing_disk"] = Field(
+        default="disk",
+        description="What the analytic fields describe: the given disk, or the circumscribing disk "
+        "of the polygon (an outer bound of the polygon's locus, 7.5).",
+    )
+    certified: CertifiedLocusOut | None = Field(
+        default=None, description="Method 'certified': the certified brackets (null for a translation)."
+    )
     elapsed_ms: float = Field(description="Time spent computing, milliseconds.")
 
 

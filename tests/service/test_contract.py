@@ -4,6 +4,9 @@ and media type it answers is documented, and that bodies conform to their schema
 
 Bounded in time: derandomized (seeded) Hypothesis, a few dozen examples per operation
 and generation mode (positive data from the schema and negative data that violates it).
+Valid time budgets of the certificate searches (``time_limit_s``, default 10 s) are cut to
+CONTRACT_TIME_LIMIT_S so that one example cannot take seconds; everything else is as
+generated.
 """
 
 from __future__ import annotations
@@ -21,10 +24,13 @@ from schemathesis.specs.openapi.checks import (
 )
 
 from service.app import app
+from service.limits import MAX_TIME_LIMIT_S
 
 MAX_EXAMPLES = int(os.environ.get("CONTRACT_MAX_EXAMPLES", "40"))
 """Per operation and generation mode; raise it (e.g. CONTRACT_MAX_EXAMPLES=400) for a
 deeper, slower search."""
+
+CONTRACT_TIME_LIMIT_S = 0.2
 
 schema = schemathesis.openapi.from_asgi("/openapi.json", app)
 schema.config.generation.update(
@@ -54,4 +60,17 @@ def test_every_operation_is_covered() -> None:
     suppress_health_check=list(hypothesis.HealthCheck),
 )
 def test_api_contract(case: schemathesis.Case) -> None:
+    _cap_time_limit(case)
     case.call_and_validate(checks=CHECKS)
+
+
+def _cap_time_limit(case: schemathesis.Case) -> None:
+    body = case.body
+    if not isinstance(body, dict) or case.path not in ("/v1/cor/locus", "/v1/cor/membership"):
+        return
+    if case.path == "/v1/cor/locus" and body.get("method") != "certified":
+        return
+    limit = body.get("time_limit_s", MAX_TIME_LIMIT_S)  # absent: the default, at most the maximum
+    valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and limit <= MAX_TIME_LIMIT_S
+    if valid and limit > CONTRACT_TIME_LIMIT_S:
+        body["time_limit_s"] = CONTRACT_TIME_LIMIT_S

@@ -106,7 +106,9 @@ def test_limits_are_in_the_schema():
     assert (props["n_points"]["minimum"], props["n_points"]["maximum"]) == (MIN_N_POINTS, MAX_N_POINTS)
     assert props["edge_angle"]["maximum"] == MAX_ABS_ANGLE
     assert set(req["required"]) == {"contact_point", "edge_angle"}
-    assert [branch["required"] for branch in req["oneOf"]] == [["disk_radius"], ["workpiece"]]
+    assert [branch["required"] for branch in req["oneOf"]] == [["disk_radius"], ["workpiece"], ["footprint"]]
+    assert props["workpiece"]["deprecated"] is True
+    assert props["method"]["enum"] == ["analytic", "certified"] and props["method"]["default"] == "analytic"
 
 
 def test_minimum_power_limits_are_in_the_schema():
