@@ -346,7 +346,7 @@ def solve_response(req: CorSolveRequest) -> CorSolveResponse:
             for idx in groups.values():
                 pts = np.stack([users[i].support.points for i in idx])
                 wts = np.stack([users[i].support.weights for i in idx])
-                with located(("supports",)):
+                with located(("supports",), rename={"mu_c": ("mu_c",)}):
                     br = solve_forward_batch(scene, pts, wts, mu_c=mu_c, check_centroid=False)
                 fallbacks += int(br.fallbacks)
                 solve_s += br.solve_time_s
@@ -361,6 +361,13 @@ def solve_response(req: CorSolveRequest) -> CorSolveResponse:
             support_sizes=sorted({len(u.support.points) for u in users}),
         )
 
+    all_motions = motions if motions is not None else [motion]
+    bad = sum(m.status != "optimal" for m in all_motions)
+    if bad:
+        notes.append(
+            f"{bad} of {len(all_motions)} motions are not optimal (status not_converged or inconsistent): "
+            "see their kkt_residual; another method may do better"
+        )
     return CorSolveResponse(
         input=which,
         disk_radius=_f(scene.disk_radius, "disk_radius"),
