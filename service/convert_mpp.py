@@ -519,6 +519,8 @@ def tripod_statistics_response(req: TripodStatisticsRequest) -> TripodStatistics
         )
         solve_s += h.solve_time_s
     return TripodStatisticsResponse(
+        status="optimal" if bool(np.all(b.converged)) else "not_converged",
+        max_kkt_residual=_f(np.max(b.kkt_residual), "max_kkt_residual"),
         n_tripods=req.n_tripods,
         seed=req.seed,
         disk_radius=_f(scene.disk_radius, "disk_radius"),

@@ -424,6 +424,10 @@ class HistogramOut(_Out):
 
 
 class TripodStatisticsResponse(_Out):
+    status: Literal["optimal", "not_converged"] = Field(
+        description="'optimal' when every tripod's solve converged (KKT residual within tolerance)."
+    )
+    max_kkt_residual: float = Field(description="Largest KKT residual over the sample (dimensionless).")
     n_tripods: int
     seed: int
     disk_radius: float

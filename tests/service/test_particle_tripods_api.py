@@ -122,6 +122,8 @@ def test_tripod_sample_is_the_domain_answer_and_reproducible(client):
     cors = np.array([c if c is not None else [np.nan, np.nan] for c in got["cors"]])
     np.testing.assert_array_equal(cors, want.batch.cor)
     assert got["converged"] == int(want.batch.converged.sum()) == 300
+    assert got["status"] == "optimal"
+    assert got["max_kkt_residual"] == float(want.batch.kkt_residual.max()) <= 1e-9
     assert sum(got["mode_counts"].values()) == 300
     assert got["histogram"] is None
     other = client.post(TRIPODS, json={**body, "seed": 43}).json()

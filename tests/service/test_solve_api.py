@@ -18,7 +18,7 @@ from models.inertia import impact_cor, polygon_radius_of_gyration, support_radiu
 from models.mpp import mason_sense
 from models.scene import PushScene
 from models.support import Support, random_balanced_tripods
-from service.limits import MAX_BATCH_SLOW, MAX_MU_C, MAX_SUPPORT_POINTS_SLOW
+from service.limits import MAX_BATCH, MAX_BATCH_SLOW, MAX_MU_C, MAX_SUPPORT_POINTS_SLOW
 from solver.errors import SolverError
 from solver.forward import solve_forward
 from solver.statistics import uniform_pressure_cor
@@ -352,6 +352,13 @@ def test_invalid_input_is_422_naming_the_field(client, case):
     assert any(d_loc[: len(loc)] == loc for d_loc in locs), locs
     for d in detail:
         assert d["msg"] and d["type"] and "Traceback" not in d["msg"]
+
+
+def test_newton_batch_size_limit(client):
+    r = client.post(URL, json={**PUSH, "supports": [{"points": [[0, 0]], "weights": [1]}] * (MAX_BATCH + 1)})
+    assert r.status_code == 422
+    assert r.json()["detail"][0]["loc"] == ["body", "supports"]
+    assert r.json()["detail"][0]["type"] == "too_long"
 
 
 def test_batch_size_limits(client, monkeypatch):
