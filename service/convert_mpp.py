@@ -16,6 +16,7 @@ from contextlib import contextmanager
 
 import numpy as np
 
+from models import particle
 from models.errors import InvalidInput
 from models.footprint import Footprint, area_centroid
 from models.inertia import (
@@ -25,7 +26,6 @@ from models.inertia import (
     polygon_radius_of_gyration,
     support_radius_of_gyration,
 )
-from models import particle
 from models.mpp import mason_sense, point_velocities
 from models.scene import PushScene
 from models.support import Support

@@ -16,7 +16,9 @@
 * any other ``models.errors.ModelError`` (e.g. a boundary solve that missed its
   tolerance): ``loc`` ["body"], type ``model_error``;
 * :class:`NonFiniteResult`: the input is valid but so extreme that a result overflowed;
-  ``loc`` ["body"], type ``numeric_range``.
+  ``loc`` ["body"], type ``numeric_range``. Python's own ``ArithmeticError`` (a float
+  division by zero or an overflow deep in a computation on such inputs) is answered the
+  same way, and logged with its traceback.
 
 Anything else is a bug: HTTP 500 with a short JSON body (type ``internal_error``); the
 traceback goes to the ``service`` log only, never to the client.
@@ -143,6 +145,11 @@ async def _non_finite(request: Request, exc: NonFiniteResult) -> JSONResponse:
     )
 
 
+async def _arithmetic(request: Request, exc: ArithmeticError) -> JSONResponse:
+    log.warning("arithmetic error on %s %s", request.method, request.url.path, exc_info=exc)
+    return await _non_finite(request, NonFiniteResult(f"a computation ({type(exc).__name__})"))
+
+
 async def _unexpected(request: Request, exc: Exception) -> JSONResponse:
     log.exception("unexpected error on %s %s", request.method, request.url.path)
     return JSONResponse(
@@ -161,3 +168,4 @@ def install(app: FastAPI) -> None:
     app.add_exception_handler(SolverError, _solver_error)
     app.add_exception_handler(ModelError, _model_error)
     app.add_exception_handler(NonFiniteResult, _non_finite)
+    app.add_exception_handler(ArithmeticError, _arithmetic)

@@ -31,6 +31,7 @@ from matplotlib.patches import Polygon as PolygonPatch
 
 from models.cor_disk import DiskCorLocus
 from service.convert import PreparedPush
+from service.errors import NonFiniteResult
 
 MAX_TIP_IN_VIEW = 6.0
 """Largest r_tip / a for which the whole locus is drawn; beyond it the view is clipped."""
@@ -39,6 +40,8 @@ VIEW_MARGIN = 1.15
 FIGSIZE_IN = 6.4
 ORIGIN_SHIFT_RATIO = 1e3
 """Draw relative to the CM when |CM| exceeds this many view half-widths."""
+MIN_DRAWABLE_HALF_WIDTH = 1e-300
+"""Narrower views (subnormal sizes) have no representable unit 10^k: refused (HTTP 422)."""
 PLAIN_UNITS = (1e-3, 1e4)
 """Views of half-width in this range are drawn in the client's units, others in 10^k."""
 
@@ -132,6 +135,8 @@ def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
     half_world = VIEW_MARGIN * max(float(np.max(np.abs(p))) for p in must_see)
 
     # Drawing units: the client's, or 10^k when the view is very small or very large.
+    if not half_world >= MIN_DRAWABLE_HALF_WIDTH:
+        raise NonFiniteResult("the picture's scale (a view narrower than 1e-300)")
     unit_exp = 0
     if not PLAIN_UNITS[0] <= half_world <= PLAIN_UNITS[1]:
         unit_exp = int(math.floor(math.log10(half_world)))

@@ -515,6 +515,19 @@ def test_other_model_errors_are_422(client, monkeypatch):
     assert d["loc"] == ["body"] and d["type"] == "model_error" and "did not converge" in d["msg"]
 
 
+def test_float_arithmetic_errors_are_422(client, monkeypatch):
+    import service.routes.cor as cor
+
+    def overflow(*args, **kwargs):
+        raise OverflowError("math range error")
+
+    monkeypatch.setattr(cor, "disk_cor_locus", overflow)
+    r = post(client, BASE)
+    assert r.status_code == 422
+    d = r.json()["detail"][0]
+    assert d["loc"] == ["body"] and d["type"] == "numeric_range" and "Traceback" not in d["msg"]
+
+
 def test_unexpected_errors_are_500_without_traceback(client, monkeypatch):
     import service.routes.cor as cor
 
@@ -544,6 +557,14 @@ def test_tiny_disk_radius_is_not_a_server_error(client):
     r = post(client, {"disk_radius": 1e-200, "contact_point": [-0.5, -0.3], "edge_angle": HALF_PI})
     assert r.status_code == 422, r.text
     assert r.json()["detail"][0]["loc"][-1] == "disk_radius"
+
+
+def test_subnormal_disk_svg_is_422_not_500(client):
+    """Found by the contract test: a view of width 1e-323 has no unit 10^k to draw in."""
+    r = post(client, {"contact_point": [0.0, 0.0], "disk_radius": 5e-324, "edge_angle": 1.0},
+             params={"format": "svg"})
+    assert r.status_code == 422, r.text
+    assert r.json()["detail"][0]["type"] == "numeric_range"
 
 
 def test_json_safe_replaces_non_finite_numbers():

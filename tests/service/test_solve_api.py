@@ -384,6 +384,15 @@ def test_solver_errors_are_422_not_500(client, monkeypatch):
     assert d["loc"] == ["body"] and d["type"] == "solver_error" and "infeasible" in d["msg"]
 
 
+def test_subnormal_disk_is_422_not_500(client):
+    """Found by the contract test: uniform pressure on a disk of radius 5e-324 divided by
+    zero inside the discretisation."""
+    r = client.post(URL, json={"contact_point": [0.0, 0.0], "edge_angle": 1.0, "disk_radius": 5e-324,
+                               "pressure": {"kind": "uniform"}})
+    assert r.status_code == 422, r.text
+    assert r.json()["detail"][0]["type"] in ("numeric_range", "value_error")
+
+
 def test_degenerate_inputs_are_not_server_errors(client):
     for body in (
         {"contact_point": [0, 0], "edge_angle": HALF_PI, "support": {"points": [[0, 0]], "weights": [1]}},
