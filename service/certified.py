@@ -1,14 +1,6 @@
 """Method 'certified' of ``POST /v1/cor/locus``: certified brackets of the COR locus
-boundary (solver.certified_locus), run under the request's time limit.
-
-The solver's ``certified_disk_boundary`` and ``certified_polygon_boundary`` run to the end;
-to answer within ``time_limit_s`` this module runs the same steps with the solver's
-public building blocks (``certify_brackets`` on chunks of the analytic ring;
-``polygon_trace`` + ``trace_ray`` ray by ray), checking the clock in between, with the
-same warm starts, so a run that finishes in time gives exactly the solver's answer
-(tests/service/test_locus_certified.py checks that). Points or rays not reached are
-reported as not done.
-"""
+boundary (solver.certified_locus), under the request's time limit. Points or rays not
+reached in time are reported as not done."""
 
 from __future__ import annotations
 
@@ -17,17 +9,11 @@ import time
 
 import numpy as np
 
-from models.cor_disk import disk_cor_locus
 from models.footprint import Footprint
 from models.scene import PushScene
-from models.tolerances import SOLVER_DEFAULT
 from service.convert import _f, _v
-from service.limits import CERTIFIED_CHUNK
 from service.schemas import BracketOut, CertifiedLocusOut
-
-# No public equivalents yet: the solver's outward normals of the analytic ring and its
-# warm-start selection, so that the chunked run equals certified_*_boundary exactly.
-from solver.certified_locus import _outward_normals, _warm, certify_brackets, polygon_trace, trace_ray
+from solver.certified_locus import certified_disk_boundary, certified_polygon_boundary
 
 
 def _point(p) -> list[float] | None:
@@ -36,26 +22,16 @@ def _point(p) -> list[float] | None:
 
 
 def certified_disk(scene: PushScene, n_points: int, time_limit_s: float) -> CertifiedLocusOut:
-    """certified_disk_boundary(scene, n_points), chunk by chunk until the time limit."""
+    """certified_disk_boundary(scene, n_points) under the time limit."""
     t0 = time.perf_counter()
-    deadline = t0 + time_limit_s
-    tol = SOLVER_DEFAULT
-    ring = disk_cor_locus(scene, outputs=["boundary"], n_points=n_points).boundary
-    normals = _outward_normals(ring)
-    delta = 0.5 * tol.boundary_bracket * scene.disk_radius
-    pairs = []
-    for start in range(0, len(ring), CERTIFIED_CHUNK):
-        if pairs and time.perf_counter() > deadline:
-            break
-        stop = start + CERTIFIED_CHUNK
-        pairs.extend(certify_brackets(scene, ring[start:stop], normals[start:stop], delta, None, tol))
-    verdicts = [p.verdict for p in pairs]
+    res = certified_disk_boundary(scene, n_points=n_points, time_limit_s=time_limit_s)
+    ring, pairs, delta = res.boundary, res.pairs, res.delta
     return CertifiedLocusOut(
         region="disk",
         n_requested=len(ring),
         n_done=len(pairs),
-        n_certified=verdicts.count("bracketed"),
-        complete=len(pairs) == len(ring),
+        n_certified=res.n_certified,
+        complete=res.complete,
         boundary=[_v(p.point, "certified.boundary") for p in pairs],
         brackets=[
             BracketOut(
@@ -69,8 +45,8 @@ def certified_disk(scene: PushScene, n_points: int, time_limit_s: float) -> Cert
             for p in pairs
         ],
         bracket_width=_f(2.0 * delta, "certified.bracket_width"),
-        wrong=[i for i, v in enumerate(verdicts) if v in ("both_inside", "both_outside", "reversed")],
-        undecided=[i for i, v in enumerate(verdicts) if v == "undecided"],
+        wrong=list(res.wrong),
+        undecided=list(res.undecided),
         multi_crossing=[],
         centre=None,
         time_limit_s=time_limit_s,
@@ -79,20 +55,11 @@ def certified_disk(scene: PushScene, n_points: int, time_limit_s: float) -> Cert
 
 
 def certified_polygon(scene: PushScene, footprint: Footprint, n_rays: int, time_limit_s: float) -> CertifiedLocusOut:
-    """certified_polygon_boundary(scene, footprint, n_rays), ray by ray until the time limit."""
+    """certified_polygon_boundary(scene, footprint, n_rays) under the time limit."""
     t0 = time.perf_counter()
-    deadline = t0 + time_limit_s
-    trace = polygon_trace(scene, footprint, SOLVER_DEFAULT)
-    rays = []
-    warm_prev = None
-    for k in range(n_rays):
-        if time.perf_counter() > deadline:
-            break
-        ang = 2.0 * math.pi * k / n_rays
-        ray = trace_ray(trace, np.array([math.cos(ang), math.sin(ang)]), warm_prev)
-        warm_prev = _warm(ray.inner, ray.outer)
-        rays.append(ray)
-    centre = trace.centre
+    res = certified_polygon_boundary(scene, footprint, n_rays=n_rays, time_limit_s=time_limit_s)
+    rays = list(res.rays)
+    centre = res.centre
     brackets = []
     for ray in rays:
         ok = math.isfinite(ray.t_in) and math.isfinite(ray.t_out) and ray.inner is not None
@@ -113,7 +80,7 @@ def certified_polygon(scene: PushScene, footprint: Footprint, n_rays: int, time_
         complete=len(rays) == n_rays,
         boundary=[_point(r.point) for r in rays],
         brackets=brackets,
-        bracket_width=_f(trace.width, "certified.bracket_width"),
+        bracket_width=_f(res.width, "certified.bracket_width"),
         wrong=[],
         undecided=[i for i, r in enumerate(rays) if r.verdict != "bracketed"],
         multi_crossing=[i for i, r in enumerate(rays) if r.crossings > 1],

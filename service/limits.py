@@ -86,9 +86,6 @@ DEFAULT_CERTIFIED_POINTS = 64
 """Boundary points (disk) or rays (polygon) of a certified COR locus. Each costs two or
 more membership queries: ~25 ms per disk point, ~0.25 s per polygon ray (measured)."""
 
-CERTIFIED_CHUNK = 4
-"""Disk points certified between two checks of the time limit."""
-
 DEFAULT_TIME_LIMIT_S = 10.0
 MAX_TIME_LIMIT_S = 30.0
 """time_limit_s of certificate searches (membership, certified loci): default and cap.

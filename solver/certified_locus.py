@@ -129,6 +129,7 @@ class CertifiedDiskBoundary:
     undecided: tuple[int, ...]
     max_error_bound: float | None
     solve_time_s: float
+    complete: bool = True
 
 
 def _outward_normals(ring: np.ndarray) -> np.ndarray:
@@ -145,14 +146,19 @@ def certify_brackets(
     delta: float,
     footprint: Footprint | None = None,
     tol: SolverTolerances = SOLVER_DEFAULT,
+    deadline: float | None = None,
 ) -> tuple[BracketPair, ...]:
     """Certify r_in = p - delta nu and r_out = p + delta nu for each claimed boundary point
     p (world) with unit outward normal nu. Consecutive queries are warm-started with the
-    heaviest support points of the previous pair, and the compiled master is reused."""
+    heaviest support points of the previous pair, and the compiled master is reused.
+    ``deadline`` (a time.perf_counter() value): stop before a new point once it has passed
+    (at least one point is always done); the pairs done so far are returned."""
     strict = _strict(tol)
     pairs = []
     prev_in = prev_out = None
     for b, nu in zip(np.asarray(points, dtype=float), np.asarray(normals, dtype=float)):
+        if pairs and deadline is not None and time.perf_counter() > deadline:
+            break
         inner = membership(scene, b - delta * nu, footprint, tol=strict, warm_points=_warm(prev_in, prev_out),
                            verify_witness=False)
         outer = membership(scene, b + delta * nu, footprint, tol=strict, warm_points=_warm(inner, prev_out),
@@ -163,19 +169,22 @@ def certify_brackets(
 
 
 def certified_disk_boundary(
-    scene: PushScene, n_points: int = 64, tol: SolverTolerances = SOLVER_DEFAULT
+    scene: PushScene, n_points: int = 64, tol: SolverTolerances = SOLVER_DEFAULT, time_limit_s: float | None = None
 ) -> CertifiedDiskBoundary:
     """Certify the analytic frictionless-disk boundary of ``scene`` at ``n_points`` points
     (book (3.30), (3.35) and the perimeter arcs; see :mod:`models.cor_disk`), with
-    delta = ``tol.boundary_bracket`` * a / 2 on either side along the polyline's normal."""
+    delta = ``tol.boundary_bracket`` * a / 2 on either side along the polyline's normal.
+    With ``time_limit_s`` the points not reached in time are left out (``complete`` False;
+    ``pairs`` cover the first points of ``boundary``)."""
     t0 = time.perf_counter()
+    deadline = None if time_limit_s is None else t0 + time_limit_s
     if scene.is_translation:
         raise InvalidInput("contact_point", "the line of force passes through the CM: the only COR is at infinity")
     ring = disk_cor_locus(scene, outputs=["boundary"], n_points=n_points).boundary
     normals = _outward_normals(ring)
     ell = scene.disk_radius
     delta = 0.5 * tol.boundary_bracket * ell
-    pairs = certify_brackets(scene, ring, normals, delta, None, tol)
+    pairs = certify_brackets(scene, ring, normals, delta, None, tol, deadline)
     verdicts = [p.verdict for p in pairs]
     n_ok = verdicts.count("bracketed")
     return CertifiedDiskBoundary(
@@ -189,6 +198,7 @@ def certified_disk_boundary(
         wrong=tuple(i for i, v in enumerate(verdicts) if v in ("both_inside", "both_outside", "reversed")),
         undecided=tuple(i for i, v in enumerate(verdicts) if v == "undecided"),
         max_error_bound=delta if n_ok else None,
+        complete=len(pairs) == len(ring),
         solve_time_s=time.perf_counter() - t0,
     )
 
@@ -238,6 +248,8 @@ class CertifiedPolygonBoundary:
     multi_crossing_rays: tuple[int, ...]
     uncertified_rays: tuple[int, ...]
     solve_time_s: float
+    n_requested: int = 0
+    complete: bool = True
 
 
 def _ray_exit(ring: np.ndarray, centre: np.ndarray, direction: np.ndarray) -> float:
@@ -481,6 +493,7 @@ def certified_polygon_boundary(
     n_rays: int = 64,
     tol: SolverTolerances = SOLVER_DEFAULT,
     scan_points: int = SCAN_POINTS,
+    time_limit_s: float | None = None,
 ) -> CertifiedPolygonBoundary:
     """Trace the exact COR locus of a simple polygon footprint (frictionless pusher).
 
@@ -492,12 +505,15 @@ def certified_polygon_boundary(
     boundary, bisection as a fallback) to ``tol.boundary_bracket`` * L, and the final pair
     is certified. A failed certification widens the pair (up to ``MAX_WIDENINGS`` times).
     The result is honest about non-star-shaped loci only as far as the scan can see.
+    With ``time_limit_s`` the rays not started in time are left out (``complete`` False).
     """
     t_start = time.perf_counter()
     trace = polygon_trace(scene, footprint, tol, scan_points)
     rays = []
     warm_prev = None  # support points near the previous ray's crossing
     for k in range(n_rays):
+        if time_limit_s is not None and time.perf_counter() - t_start > time_limit_s:
+            break
         ang = 2.0 * math.pi * k / n_rays
         ray = trace_ray(trace, np.array([math.cos(ang), math.sin(ang)]), warm_prev)
         warm_prev = _warm(ray.inner, ray.outer)
@@ -513,4 +529,6 @@ def certified_polygon_boundary(
         multi_crossing_rays=tuple(i for i, r in enumerate(rays) if r.crossings > 1),
         uncertified_rays=tuple(i for i, r in enumerate(rays) if r.verdict != "bracketed"),
         solve_time_s=time.perf_counter() - t_start,
+        n_requested=n_rays,
+        complete=len(rays) == n_rays,
     )

@@ -204,3 +204,17 @@ def test_u_shape_whose_centre_of_mass_is_not_a_cor():
     outside_polygon = cors[~point_in_polygon(cors, tr.boundary)]
     assert len(outside_polygon) < 0.05 * len(cors)
     assert_inside_own_rays(sc, u_shape, outside_polygon, tr)
+
+
+def test_time_limits_stop_early_and_say_so():
+    """A certified boundary under a zero time limit does one point (disk) or no ray
+    (polygon) and reports itself incomplete; with no limit it is complete."""
+    sc = scene_for_mu(0.3)
+    disk = certified_disk_boundary(sc, n_points=16, time_limit_s=0.0)
+    assert not disk.complete and len(disk.pairs) == 1 and len(disk.boundary) == 16
+    square = Footprint.create([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
+    sq_scene = scene_for_mu(0.3, a=square.circumradius, cm=square.center_of_mass)
+    poly = certified_polygon_boundary(sq_scene, square, n_rays=8, time_limit_s=0.0)
+    assert not poly.complete and len(poly.rays) == 0 and poly.n_requested == 8
+    full = certified_disk_boundary(sc, n_points=8)
+    assert full.complete and full.n_certified == 8
