@@ -86,8 +86,8 @@ def uniform_disk_support(radius: float, center_of_mass=(0.0, 0.0), rings: int = 
     have about equal areas. Each point is its sector's exact centroid, at distance
     (2/3)(r2^3 - r1^3)/(r2^2 - r1^2) * sin(h)/h from the centre for half-angle h.
     """
-    if not (math.isfinite(radius) and radius > 0.0):
-        raise InvalidInput("disk_radius", "must be a positive number")
+    if not (math.isfinite(radius) and radius > 0.0 and radius * radius > 0.0):
+        raise InvalidInput("disk_radius", "must be a positive number whose square is representable")
     if rings < 1:
         raise InvalidInput("rings", "must be at least 1")
     cm = np.asarray(center_of_mass, dtype=float)
@@ -181,16 +181,27 @@ def uniform_polygon_support(footprint: Footprint, subdivisions: int = 16) -> Sup
     return Support(points=w, weights=p, center_of_mass=cm)
 
 
-def random_balanced_tripods(rng: np.random.Generator, n: int, radius: float, center_of_mass=(0.0, 0.0), footprint: Footprint | None = None):
+def random_balanced_tripods(
+    rng: np.random.Generator,
+    n: int,
+    radius: float,
+    center_of_mass=(0.0, 0.0),
+    footprint: Footprint | None = None,
+    max_draws: int = 200,
+):
     """``n`` random tripods as in the book's figure 3-5 (3.3.3): three points uniform in the
     disk of ``radius`` about the CM (or in ``footprint``), weighted so that their centroid
     is the CM; draws needing a negative weight are discarded, as the book does.
 
     Returns points (n, 3, 2) and weights (n, 3). The caller supplies the seeded generator.
+    Gives up with InvalidInput after ``max_draws`` rounds of candidates (a footprint that
+    fills little of its bounding box, or a CM near the edge of the hull, accept few).
     """
     cm = np.asarray(center_of_mass if footprint is None else footprint.center_of_mass, dtype=float)
     pts_out, wts_out, have = [], [], 0
-    while have < n:
+    for _ in range(max_draws):
+        if have >= n:
+            break
         m = max(64, 6 * (n - have))
         if footprint is None:
             r = radius * np.sqrt(rng.uniform(size=(m, 3)))
@@ -212,6 +223,12 @@ def random_balanced_tripods(rng: np.random.Generator, n: int, radius: float, cen
         pts_out.append(w[ok][good])
         wts_out.append(p[good])
         have += int(good.sum())
+    if have < n:
+        raise InvalidInput(
+            "footprint" if footprint is not None else "center_of_mass",
+            f"random tripods balanced about the centre of mass are too rare here: {have} of {n} "
+            f"found in {max_draws} rounds of draws",
+        )
     return np.concatenate(pts_out)[:n], np.concatenate(wts_out)[:n]
 
 

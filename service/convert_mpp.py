@@ -26,7 +26,7 @@ from models.inertia import (
     polygon_radius_of_gyration,
     support_radius_of_gyration,
 )
-from models.mpp import mason_sense, point_velocities
+from models.mpp import mason_sense
 from models.scene import PushScene
 from models.support import Support
 from service.convert import _f, _v
@@ -209,13 +209,11 @@ def motion_out(scene: PushScene, res: ForwardResult, mu_c: float, cor_on_support
 
 
 def batch_motion_out(scene: PushScene, br: BatchResult, j: int, mu_c: float, cor_on_support: int | None) -> MotionOut:
-    """Row ``j`` of a Newton batch. The batched engine reports no gap, iterations or
-    per-motion time; the slip is the kinematics of the reported twist, alpha . (p - v(c))."""
+    """Row ``j`` of a Newton batch (the batch has no per-motion time)."""
     cor = br.cor[j]
     translation = not bool(np.all(np.isfinite(cor)))
     omega = float(br.omega[j])
     v = br.velocity_cm[j]
-    v_contact = point_velocities(np.r_[v, omega], scene.contact_rel[None, :])[0]
     sense = _sense_of(omega, translation)
     mason = mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c)
     return MotionOut(
@@ -226,16 +224,16 @@ def batch_motion_out(scene: PushScene, br: BatchResult, j: int, mu_c: float, cor
         cor=None if translation else _v(cor, "cor"),
         velocity_cm=_v(v, "velocity_cm"),
         rotation_per_push=_f(omega, "rotation_per_push"),
-        slip_per_push=_f(scene.alpha_hat @ (scene.push_hat - v_contact), "slip_per_push"),
+        slip_per_push=_f(br.slip[j], "slip_per_push"),
         sense=sense,
         mason_sense=mason,
         mason_agrees=mason == sense,
         power=_f(br.power[j], "power"),
         contact_force=_v(br.contact_force[j], "contact_force"),
         kkt_residual=_f(br.kkt_residual[j], "kkt_residual"),
-        gap=None,
+        gap=_f(br.gap[j], "gap"),
         cor_on_support=cor_on_support,
-        iterations=None,
+        iterations=int(br.iterations[j]),
         solve_time_ms=None,
     )
 

@@ -304,14 +304,13 @@ class MotionOut(_Out):
     contact_force: Vec2 = Field(description="Force of the pusher on the workpiece / (mu_s W), world vector.")
     kkt_residual: float = Field(description="Dimensionless KKT residual of the minimum-power problem.")
     gap: float | None = Field(
-        description="power - work rate of the contact force (0 at the optimum); null in newton "
-        "batches (the batched engine does not report it)."
+        description="power - work rate of the contact force on the part (0 at the optimum)."
     )
     cor_on_support: int | None = Field(
         description="Index (into the request's points) of the support point the COR sits on, if any. "
         "For `pressure`: index of the discretisation cell."
     )
-    iterations: int | None = Field(description="Iterations of the solver; null in newton batches.")
+    iterations: int | None = Field(description="Newton iterations (0 for a COR found on a support point, or for the IPOPT back end).")
     solve_time_ms: float | None = Field(description="Solver time of this motion, ms; null in newton batches.")
     raw_twist_error: float | None = Field(
         default=None,

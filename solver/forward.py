@@ -86,7 +86,8 @@ class ForwardResult:
 @dataclass(frozen=True)
 class BatchResult:
     """Arrays over a batch; ``cor`` rows are NaN for translations; ``mode`` holds indices
-    into MODES; ``converged`` is True where kkt <= tol.kkt and the mode was consistent."""
+    into MODES; ``converged`` is True where kkt <= tol.kkt_accept and the mode was
+    consistent. ``slip``, ``gap`` and ``iterations`` as in ForwardResult."""
 
     cor: np.ndarray
     omega: np.ndarray
@@ -98,6 +99,9 @@ class BatchResult:
     cor_on_support: np.ndarray
     converged: np.ndarray
     solve_time_s: float
+    slip: np.ndarray
+    gap: np.ndarray
+    iterations: np.ndarray
     fallbacks: int = 0
 
     MODES = _MODE_NAMES
@@ -108,9 +112,18 @@ class BatchResult:
 
 
 def _length_scale(scene: PushScene, w_rel: np.ndarray) -> np.ndarray:
-    """L per problem: the largest distance of a support point or the contact from the CM."""
+    """L per problem: the largest distance of a support point or the contact from the CM.
+
+    L = 0 (every support point and the contact at the CM) leaves the rotation free: the
+    motion is not determined, which is refused as an input error."""
     lw = np.max(np.linalg.norm(w_rel, axis=-1), axis=-1)
-    return np.maximum(lw, float(np.linalg.norm(scene.contact_rel)))
+    ell = np.maximum(lw, float(np.linalg.norm(scene.contact_rel)))
+    if not np.all(ell > 0.0):
+        raise InvalidInput(
+            "points",
+            "every support point and the contact are at the centre of mass: the rotation is undetermined",
+        )
+    return ell
 
 
 def _rows_frictionless(direction: np.ndarray, c_n: np.ndarray) -> np.ndarray:
@@ -159,8 +172,21 @@ class _NewtonBackend(_Backend):
         return x, mult, kkt, vertex, iters, None
 
 
+def _remember(cache: dict, key, value):
+    """Insert into a per-size cache of compiled problems, evicting the oldest entry beyond
+    _CACHE_SIZE (support sizes are client-chosen)."""
+    if len(cache) >= _CACHE_SIZE:
+        cache.pop(next(iter(cache)))
+    cache[key] = value
+    return value
+
+
+_CACHE_SIZE = 32
+
+
 class _CvxpyBackend(_Backend):
-    """Clarabel on the cone programme, one compiled problem per (k, rows), re-solved."""
+    """Clarabel on the cone programme, one compiled problem per (k, rows), re-solved
+    (the most recent _CACHE_SIZE sizes are kept)."""
 
     name = "cvxpy"
     _cache: dict = {}
@@ -182,7 +208,7 @@ class _CvxpyBackend(_Backend):
             obj = cp.sum(cp.multiply(pw, cp.norm(vel, 2, axis=0)))
             con = m @ x == q
             prob = cp.Problem(cp.Minimize(obj), [con])
-            self._cache[key] = (prob, x, jw, pw, m, q, con)
+            _remember(self._cache, key, (prob, x, jw, pw, m, q, con))
         return self._cache[key]
 
     def solve(self, w, p, m, q, tol):
@@ -260,7 +286,7 @@ class _CasadiBackend(_Backend):
                 "ipopt.sb": "yes",
                 "ipopt.max_iter": 500,
             }
-            self._cache[key] = ca.nlpsol("mpp_dual", "ipopt", nlp, opts)
+            _remember(self._cache, key, ca.nlpsol("mpp_dual", "ipopt", nlp, opts))
         return self._cache[key]
 
     def solve(self, w, p, m, q, tol):
@@ -435,7 +461,8 @@ def _single_result(scene, out, w_rel, p, method, tol, elapsed) -> ForwardResult:
     vc = v + omega * perp(scene.contact_rel)
     force = out["force"][0]
     pw = float(_power_world(out["v"], out["omega"], w_rel, p)[0])
-    gap = pw - float(force @ scene.push_hat) if out["mode"][0] == 1 else pw - float(force @ vc)
+    # The pusher's force does work F . v(c) on the part; the table's friction dissipates it.
+    gap = pw - float(force @ vc)
     status = "optimal" if (kkt <= tol.kkt_accept and out["consistent"][0]) else (
         "inconsistent" if not out["consistent"][0] else "not_converged"
     )
@@ -503,16 +530,21 @@ def solve_forward_batch(
     cor = np.full(v.shape, np.nan)
     rot = ~translation
     cor[rot] = scene.center_of_mass + perp(v[rot]) / omega[rot, None]
+    vc = v + omega[:, None] * perp(scene.contact_rel)[None, :]
+    power = _power_world(v, omega, w_rel, p)
     return BatchResult(
         cor=cor,
         omega=omega,
         velocity_cm=v,
-        power=_power_world(v, omega, w_rel, p),
+        power=power,
         contact_force=out["force"],
         kkt_residual=out["kkt"],
         mode=out["mode"],
         cor_on_support=out["vertex"],
         converged=(out["kkt"] <= tol.kkt_accept) & out["consistent"],
         solve_time_s=elapsed,
+        slip=(scene.push_hat[None, :] - vc) @ scene.alpha_hat,
+        gap=power - np.einsum("bi,bi->b", out["force"], vc),
+        iterations=out["iters"],
         fallbacks=backend.fallbacks,
     )

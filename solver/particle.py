@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import casadi as ca
 
 from models import particle as mp
+from models.errors import InvalidInput
 from models.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.errors import SolverError
 
@@ -71,7 +72,10 @@ def _scales(scene: mp.ParticleScene) -> tuple[float, float]:
     log_k = math.log(scene.mg) - math.log(scene.eta) - scene.n * math.log(scene.v_x)
     k = math.exp(log_k)
     if scene.n == 0.0:
-        return k, k / math.sqrt(1.0 - k)
+        slack = -math.expm1(log_k)  # 1 - K without cancellation
+        if not slack > 0.0:
+            raise InvalidInput("eta", "is indistinguishable from mg in floating point: for n = 0 eta must exceed mg (2.5)")
+        return k, k / math.sqrt(slack)
     return k, math.exp(log_k if log_k <= 0.0 else log_k / scene.n)
 
 

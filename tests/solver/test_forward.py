@@ -336,3 +336,32 @@ def test_large_support_pinned_on_a_heavy_point():
     assert r.status == "optimal" and r.cor_on_support is not None
     assert np.allclose(r.cor, sup.points[r.cor_on_support], atol=1e-14)
     assert np.linalg.norm(twist(r) - twist(ref)) <= 1e-8
+
+
+def test_batch_reports_slip_gap_and_iterations_like_single_solves():
+    rng = np.random.default_rng(SEED + 12)
+    scene = scene_for_mu(0.4)
+    pts, wts = random_balanced_tripods(rng, 30, 1.0)
+    for mu_c in (0.0, 0.5):
+        br = solve_forward_batch(scene, pts, wts, mu_c=mu_c)
+        for i in range(0, 30, 6):
+            r = solve_forward(scene, Support.create(pts[i], wts[i], (0, 0)), mu_c=mu_c)
+            assert math.isclose(br.slip[i], r.slip, rel_tol=1e-9, abs_tol=1e-12)
+            assert abs(br.gap[i]) <= 1e-9 * br.power[i] and abs(r.gap) <= 1e-9 * r.power
+            assert br.iterations[i] == r.iterations
+
+
+def test_undetermined_motion_is_refused():
+    """Every support point and the contact at the CM: the rotation is free."""
+    scene = PushScene.create(1.0, (0.0, 0.0), 0.0, math.pi / 2)
+    with pytest.raises(InvalidInput) as e:
+        solve_forward(scene, Support.create([[0.0, 0.0]], [1.0], (0, 0)))
+    assert e.value.field == "points"
+
+
+def test_tripod_sampling_gives_up_on_a_hopeless_region():
+    from models.footprint import Footprint
+
+    sliver = Footprint.create([[0, 0], [1, 1], [1, 1.001], [0, 0.001]])  # fills 0.1 % of its box
+    with pytest.raises(InvalidInput):
+        random_balanced_tripods(np.random.default_rng(1), 1000, 1.0, footprint=sliver, max_draws=3)
