@@ -960,12 +960,14 @@ def membership(
             lower = float(min(np.min(gf), np.min(lf, initial=math.inf), pm_val))
             margin = lower - yb
             method = "grid"
+            if margin > tol.certificate_margin:
+                # y separates b from every grid column: outside as far as the grid sees
+                # (the certify branch stops on the same margin, bounded soundly).
+                status = "outside"
+                message = "grid pricing separates the candidate (not a certificate)"
+                break
             if not np.any(improving):
-                if margin > tol.certificate_margin:
-                    status = "outside"
-                    message = "grid pricing found no improving column (not a certificate)"
-                else:
-                    message = "restricted master optimal on the grid; residual too small to decide"
+                message = "restricted master optimal on the grid; residual too small to decide"
                 break
             new_p, new_t = lp[improving], lt[improving]
         else:
