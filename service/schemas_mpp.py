@@ -310,7 +310,7 @@ class MotionOut(_Out):
         description="Index (into the request's points) of the support point the COR sits on, if any. "
         "For `pressure`: index of the discretisation cell."
     )
-    iterations: int | None = Field(description="Newton iterations (0 for a COR found on a support point, or for the IPOPT back end).")
+    iterations: int | None = Field(description="Newton iterations (0 for a COR found on a support point), or IPOPT's for method casadi.")
     solve_time_ms: float | None = Field(description="Solver time of this motion, ms; null in newton batches.")
     raw_twist_error: float | None = Field(
         default=None,

@@ -61,6 +61,7 @@ class ForwardResult:
     is zero at the optimum (the pusher does all the work that friction dissipates).
     ``status`` is "optimal" when kkt_residual <= tol.kkt_accept and the mode is consistent.
     ``cor_on_support`` is the index of the support point the COR sits on, if any.
+    ``iterations``: Newton iterations (0 for a COR found on a support point), or IPOPT's.
     ``raw_twist_error`` is, for polished cvxpy results, the distance (normalised units)
     between the conic solver's own answer and the polished one.
     """
@@ -294,6 +295,7 @@ class _CasadiBackend(_Backend):
         rows = m.shape[1]
         solver = self._solver(k, rows, tol)
         xs = np.zeros((b, 3))
+        its = np.zeros(b, dtype=int)
         lbg = np.concatenate([np.zeros(3), np.zeros(k)])
         ubg = np.concatenate([np.zeros(3), np.ones(k)])
         for i in range(b):
@@ -307,9 +309,10 @@ class _CasadiBackend(_Backend):
                 raise SolverError(f"IPOPT ended with {stats.get('return_status')}")
             # Lagrangian f + lam_g . g: the balance multipliers are -x (f = -mu.q).
             xs[i] = np.asarray(res["lam_g"]).reshape(-1)[:3]
+            its[i] = int(stats.get("iter_count", 0))
         xs = _orient(xs, m, q)
         kkt, mult, vtx = _newton.kkt_residual(w, p, m, q, xs)
-        return xs, mult, kkt, vtx, np.zeros(b, dtype=int), None
+        return xs, mult, kkt, vtx, its, None
 
 
 def _orient(xs, m, q):
