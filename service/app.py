@@ -8,6 +8,7 @@ from fastapi import FastAPI
 
 from service import __version__, errors
 from service.routes import cor, health, mpp
+from service.routes import push
 from service.settings import Settings
 
 DESCRIPTION = """\
@@ -28,6 +29,7 @@ def create_app() -> FastAPI:
     app.include_router(health.router)
     app.include_router(cor.router)
     app.include_router(mpp.router)
+    app.include_router(push.router)
     return app
 
 

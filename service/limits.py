@@ -121,3 +121,26 @@ SAMPLING_MIN_SIZE and SAMPLING_MIN_SIZE_REL times the largest |coordinate| of th
 of mass; below that random points coincide in floating point and no tripod is balanced."""
 
 MAX_HISTOGRAM_BINS = 1000
+
+# ---------------------------------------------------------------------------------------
+# Quasi-static validity (book 6.8): POST /v1/push/quasistatic. Within these ranges every
+# speed, ratio and coasting error of the answer is a finite float (checked by the tests).
+# ---------------------------------------------------------------------------------------
+
+QS_MAX_SPEED = 1e12
+"""Largest push speed, in the client's length unit per second."""
+
+QS_MIN_MU_S = 1e-6
+QS_MAX_MU_S = 1e3
+"""Range of the part-table friction coefficient mu_s."""
+
+QS_MIN_GRAVITY = 1e-12
+QS_MAX_GRAVITY = 1e12
+"""Range of an explicit g, in the client's length unit per s^2 (9.81 m/s^2 is 9.81e-3 km/s^2
+and 9.81e9 nm/s^2)."""
+
+QS_MIN_LENGTH = 1e-100
+"""Smallest disk_radius and translational_error (the largest is MAX_DISK_RADIUS)."""
+
+QS_MAX_ANGULAR_ERROR = 6.283185307179586
+"""Largest permissible angular error, radians (one full turn, 2 pi)."""
