@@ -61,8 +61,11 @@ already means coasting of at most 9 % of the part's radius and 0.09 rad (about t
 5-degree example). :class:`QuasiStaticThresholds` names the verdict's boundaries.
 
 These are order-of-magnitude estimates, as the book says ("only an approximate upper
-bound"): they treat spin and slide separately. Sliding friction couples them (a spinning
-part slides farther, 3.1.4); tests/models/test_quasistatic.py measures that effect.
+bound"): they treat spin and slide separately. Sliding friction couples them: a part that
+both spins and slides shares its friction between the two and coasts farther in each
+(a disk released with omega = v/a slides 1.27 times X(v) and turns 1.93 times theta(v),
+measured in tests/models/test_quasistatic.py), so near a characteristic speed the
+permissible error can be exceeded.
 
 Units: any consistent length unit L and seconds. g must be given in L/s^2;
 :func:`gravity` converts the standard 9.81 m/s^2 to a named length unit.
