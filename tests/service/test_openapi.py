@@ -75,6 +75,7 @@ def test_stable_operation_ids():
         ("/v1/cor/membership", "post"): "cor_membership",
         ("/v1/cor/tripod-statistics", "post"): "cor_tripod_statistics",
         ("/v1/mpp/particle", "post"): "mpp_particle",
+        ("/v1/push/quasistatic", "post"): "push_quasistatic",
     }
 
 
