@@ -14,22 +14,32 @@ def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
+def _normalised(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """Vertices about their mean in units of their span (so products of coordinates
+    neither underflow for tiny parts nor overflow for huge ones), the mean, the span."""
+    mean = vertices.mean(axis=0)
+    span = float(np.max(np.ptp(vertices, axis=0)))
+    if not span > 0.0:
+        return vertices - mean, mean, 1.0
+    return (vertices - mean) / span, mean, span
+
+
 def signed_area(vertices: np.ndarray) -> float:
-    """Shoelace area, positive for counter-clockwise vertex order (about the vertex mean,
-    so a small polygon far from the origin keeps its digits)."""
-    v = vertices - vertices.mean(axis=0)
+    """Shoelace area, positive for counter-clockwise vertex order (computed about the vertex
+    mean in units of the span, so a small polygon far from the origin keeps its digits)."""
+    v, _, span = _normalised(vertices)
     x, y = v[:, 0], v[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)) * span * span
 
 
 def area_centroid(vertices: np.ndarray) -> np.ndarray:
     """Centroid of the polygon's area: the CM of a part of uniform density."""
-    v = vertices - vertices.mean(axis=0)  # shift for accuracy far from the origin
+    v, mean, span = _normalised(vertices)
     x, y = v[:, 0], v[:, 1]
     xn, yn = np.roll(x, -1), np.roll(y, -1)
     w = x * yn - xn * y
     a6 = 3.0 * float(np.sum(w))
-    return vertices.mean(axis=0) + np.array([np.sum((x + xn) * w), np.sum((y + yn) * w)]) / a6
+    return mean + span * np.array([np.sum((x + xn) * w), np.sum((y + yn) * w)]) / a6
 
 
 def _segments_cross(vertices: np.ndarray, rel: float) -> bool:
@@ -110,7 +120,8 @@ class Footprint:
         if area < 0.0:
             v = v[::-1].copy()
             area = -area
-        if _segments_cross(v, tolerances.polygon_area_rel):
+        vn, mean, _ = _normalised(v)  # crossing tests in span units: no over/underflow
+        if _segments_cross(vn, tolerances.polygon_area_rel):
             raise InvalidInput("workpiece", "is not a simple polygon: two edges cross or touch")
         if center_of_mass is None:
             cm = area_centroid(v)
@@ -118,7 +129,7 @@ class Footprint:
             cm = np.asarray(center_of_mass, dtype=float)
             if cm.shape != (2,) or not np.all(np.isfinite(cm)):
                 raise InvalidInput("center_of_mass", "must be a finite point [x, y]")
-            if not _inside_convex_hull(v, cm, slack=tolerances.polygon_area_rel * span * span):
+            if not _inside_convex_hull(vn, (cm - mean) / span, slack=tolerances.polygon_area_rel):
                 raise InvalidInput(
                     "center_of_mass",
                     "lies outside the convex hull of the workpiece: no pressure distribution "

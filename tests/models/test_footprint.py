@@ -73,3 +73,13 @@ def test_distance_to_outline():
 def test_small_polygon_far_from_the_origin_keeps_its_area():
     tri = np.array([[0.0, 0.0], [1e-3, 0.0], [0.0, 1e-3]]) + 1e6
     assert Footprint.create(tri).area == pytest.approx(0.5e-6, rel=1e-6)
+
+
+@pytest.mark.parametrize("scale", [1e-110, 1e-6, 1.0, 1e6, 1e120])
+def test_area_and_centroid_at_extreme_scales(scale):
+    """The L shape's centroid (3/4, 5/4) and area 4 at every scale (no underflow of the
+    shoelace products for tiny parts, no overflow for huge ones)."""
+    v = np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, 3], [0, 3]], dtype=float) * scale
+    f = Footprint.create(v)
+    assert np.allclose(f.center_of_mass / scale, [0.75, 1.25], rtol=1e-12)
+    assert math.isclose(f.area / scale / scale, 4.0, rel_tol=1e-12)
