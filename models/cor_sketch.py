@@ -434,3 +434,37 @@ def cor_sketch(scene: PushScene, mu_c: float, n_points: int = 512) -> CorSketch:
         implication=implication,
         allowed_modes=tuple(modes),
     )
+
+
+@dataclass(frozen=True)
+class ExtremeCor:
+    """The consistent COR farthest along a direction: ``point`` (world), ``value`` =
+    direction . point, and ``source``: "sticking", "slipping_up" or "slipping_down"."""
+
+    point: np.ndarray
+    value: float
+    source: str
+
+
+def extreme_cor(sketch: CorSketch, direction) -> ExtremeCor | None:
+    """max over all CORs of the sketch of direction . r (4.2: the COR that makes a gross
+    motion slowest or fastest, e.g. direction -alpha for the longest push of (4.2)).
+
+    The maximum of a linear function over the sketch is attained at a vertex of a
+    slipping-locus polygon or at an end of the sticking segment; None for an empty sketch.
+    """
+    u = np.asarray(direction, dtype=float)
+    u = u / float(np.linalg.norm(u))
+    best: ExtremeCor | None = None
+    candidates = []
+    if sketch.sticking is not None:
+        candidates += [(sketch.sticking.low, "sticking"), (sketch.sticking.high, "sticking")]
+    for polys, name in ((sketch.up_slipping, "slipping_up"), (sketch.down_slipping, "slipping_down")):
+        for poly in polys:
+            k = int(np.argmax(poly @ u))
+            candidates.append((poly[k], name))
+    for point, name in candidates:
+        value = float(point @ u)
+        if best is None or value > best.value:
+            best = ExtremeCor(np.asarray(point, dtype=float).copy(), value, name)
+    return best

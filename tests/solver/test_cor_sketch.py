@@ -195,3 +195,32 @@ def test_invalid_friction_is_refused():
         with pytest.raises(InvalidInput) as e:
             cor_sketch(scene, bad)
         assert e.value.field == "mu_c"
+
+
+@pytest.mark.parametrize("letter, mirrored, params", SKETCH_SCENES[::2])
+def test_extreme_cor_bounds_every_forward_solved_cor(letter, mirrored, params):
+    """4.2: the slowest/fastest COR of a gross motion is the sketch's extreme in some
+    direction; no forward-solved COR goes beyond it (up to the polygon resolution)."""
+    from models.cor_sketch import extreme_cor
+
+    scene, mu_c = scene_of(params), params[3]
+    sk = cor_sketch(scene, mu_c, n_points=1024)
+    br = forward(scene, mu_c, n=600, seed=SEED + 2)
+    cors = br.cor[np.all(np.isfinite(br.cor), axis=1)]
+    for ang in np.linspace(0, 2 * math.pi, 8, endpoint=False):
+        u = np.array([math.cos(ang), math.sin(ang)])
+        ext = extreme_cor(sk, u)
+        assert ext is not None
+        scale = max(1.0, abs(ext.value))
+        assert (cors @ u).max() <= ext.value + 2e-3 * scale
+
+
+def test_extreme_cor_without_friction_is_the_tip():
+    """mu_c -> 0: the COR farthest along -alpha' (the locus axis) is the tip (3.37)."""
+    from models.cor_sketch import extreme_cor
+
+    scene = PushScene.create(1.0, (-0.3, -0.9), math.radians(120), 0.0)
+    sk = cor_sketch(scene, 1e-9, n_points=2048)
+    tip = cd.disk_cor_locus(scene, outputs=["tip"]).tip.point
+    ext = extreme_cor(sk, tip - scene.center_of_mass)
+    assert np.linalg.norm(ext.point - tip) < 1e-3
