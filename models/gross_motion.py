@@ -5,9 +5,19 @@ Book 4.2: to bound a gross motion x while a parameter beta runs from beta_initia
 beta_final, write an *equation of motion* dx = g(r, beta) dbeta for a COR r, pick in every
 COR sketch the COR that makes dx/dbeta largest (or smallest) and integrate. This module
 holds the closed forms the book derives that way, each re-derived (the OCR garbles
-several; the findings are listed in the function docstrings and in
-docs/architecture.md), and a small adaptive Gauss-Kronrod quadrature (numpy only) that
-integrates the same equations of motion for any COR callback.
+several, and a few are wrong in the book itself; every finding is in the docstring of its
+function and pinned by tests/models/test_gross_motion.py), and a small adaptive
+Gauss-Kronrod quadrature (numpy only) that integrates the same equations of motion for
+any COR callback.
+
+Summary of the findings: (4.6) as printed is not the integral of (4.5) (it needs
+alpha_hat . c, not (alpha +- nu)_hat . c, and a factor cos nu on the log); (4.3)'s side
+rule is reversed in the text; the 4.3 example's slipping stretch uses the '+' tip, not
+the printed '-'; (4.15) is 2a dbeta / sin beta; (4.18) is pi/2 - beta_initial; (4.19)
+holds only for sticking, and the rotation rate is -a cos beta / x_COR, not (4.22). The
+tip-line approximations are not upper bounds: tests/solver/test_push_simulation.py finds
+supports whose CORs dip below the tip line and exceed (4.16) and the composite bound of
+4.3 by 1-3 % when mu_c is large.
 
 Frames (the book's, figures 3-20, 4-7 and 4-11; all angles in radians):
 
