@@ -5,7 +5,7 @@ Book 4.2: to bound a gross motion x while a parameter beta runs from beta_initia
 beta_final, write an *equation of motion* dx = g(r, beta) dbeta for a COR r, pick in every
 COR sketch the COR that makes dx/dbeta largest (or smallest) and integrate. This module
 holds the closed forms the book derives that way, each re-derived (the OCR garbles
-several, and a few are wrong in the book itself; every finding is in the docstring of its
+several, and some look wrong in the book itself; every finding is in the docstring of its
 function and pinned by tests/models/test_gross_motion.py), and a small adaptive
 Gauss-Kronrod quadrature (numpy only) that integrates the same equations of motion for
 any COR callback.
