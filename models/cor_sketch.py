@@ -369,8 +369,10 @@ def _slipping_piece(scene: PushScene, locus: ElementaryLocus, sigma: float) -> t
     return (piece,) if len(piece) >= 3 else ()
 
 
-def cor_sketch(scene: PushScene, mu_c: float, n_points: int = 512) -> CorSketch:
-    """The COR sketch of ``scene`` with pusher friction ``mu_c`` (book 4.1)."""
+def cor_sketch(scene: PushScene, mu_c: float, n_points: int = 512, sweep_points: int | None = None) -> CorSketch:
+    """The COR sketch of ``scene`` with pusher friction ``mu_c`` (book 4.1): elementary loci
+    with ``n_points`` boundary points, the sticking sweep's loci with ``sweep_points``
+    (default max(n_points, 1024): the sticking ends are where the sketch is most sensitive)."""
     if not (math.isfinite(mu_c) and mu_c > 0.0):
         raise InvalidInput("mu_c", "must be a positive finite number (mu_c = 0 is the frictionless locus)")
     nu = math.atan(mu_c)
@@ -379,7 +381,8 @@ def cor_sketch(scene: PushScene, mu_c: float, n_points: int = 512) -> CorSketch:
     minus = _elementary(scene, -1.0, mu_c, sense, n_points)
     down = _slipping_piece(scene, plus, 1.0)
     up = _slipping_piece(scene, minus, -1.0)
-    stick = sticking_locus_sweep(scene, mu_c, max(n_points, 1024)) if sense != "none" else None
+    sweep_n = max(n_points, 1024) if sweep_points is None else sweep_points
+    stick = sticking_locus_sweep(scene, mu_c, sweep_n) if sense != "none" else None
     t_tip = tip_line_estimate(scene)
     tip_point = tip_err = None
     if t_tip is not None:

@@ -1,0 +1,178 @@
+"""Exact bounds on gross motions from the exact COR sketch (book 4.2-4.4).
+
+Book 4.2: to bound a quantity x while beta runs from beta_initial to beta_final, take in
+every COR sketch the COR that makes dx/dbeta largest (or smallest) and integrate. The book
+approximates that COR by tips and by the tip line (closed forms in models/gross_motion.py);
+here it is taken from the sketch itself (models/cor_sketch.py): the slipping loci (the
+analytic {COR}_{alpha+-nu} cut by their consistency half-planes) and the sticking segment.
+
+Every rate used here is linear or linear-fractional in the COR (the fence's (4.2) is
+linear; the disk's (4.12) and its rotation rate are ratios with x_COR in the denominator),
+so along each straight edge of a locus polygon it is monotone (while x_COR keeps its sign)
+and its extremes over the sketch are at polygon vertices or at the sticking segment's
+ends: the candidates this module evaluates. The polygons are the analytic boundaries
+sampled at ``n_points`` points, so a bound carries their chord error (it shrinks as
+n_points^-2; the benchmark reports it).
+
+The integral over beta uses Gauss-Legendre nodes (no end points: the disk's beta = pi/2 is
+a grazing push) at ``n_nodes`` and at half as many; their difference is reported as the
+quadrature error estimate. Frames are those of models/gross_motion.py.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from models import gross_motion as gm
+from models.cor_sketch import CorSketch, cor_sketch
+from models.errors import InvalidInput
+from models.scene import PushScene
+
+
+@dataclass(frozen=True)
+class SketchBound:
+    """An integral bound over beta: ``value``, its quadrature error estimate (difference to
+    the half-node rule), the nodes with the extreme rate, COR (frame coordinates) and the
+    locus it came from at each, the book's closed form beside it when it has one, and the
+    time taken."""
+
+    value: float
+    quadrature_error: float
+    betas: np.ndarray
+    rates: np.ndarray
+    cors: np.ndarray
+    sources: tuple[str, ...]
+    book_value: float | None
+    solve_time_s: float
+
+
+def sketch_candidates(sketch: CorSketch) -> tuple[np.ndarray, list[str]]:
+    """Every point where a linear or linear-fractional rate can be extreme over the sketch:
+    the vertices of the slipping polygons and the ends of the sticking segment."""
+    pts, src = [], []
+    if sketch.sticking is not None:
+        pts += [sketch.sticking.low, sketch.sticking.high]
+        src += ["sticking", "sticking"]
+    for polys, name in ((sketch.up_slipping, "slipping_up"), (sketch.down_slipping, "slipping_down")):
+        for poly in polys:
+            pts.extend(poly)
+            src += [name] * len(poly)
+    if not pts:
+        return np.empty((0, 2)), []
+    return np.asarray(pts, dtype=float), src
+
+
+def _extreme(sketch: CorSketch, rate: Callable, largest: bool):
+    pts, src = sketch_candidates(sketch)
+    if len(pts) == 0:
+        raise InvalidInput("mu_c", "the COR sketch is empty here: no consistent motion")
+    vals = np.asarray(rate(pts), dtype=float)
+    k = int(np.nanargmax(vals) if largest else np.nanargmin(vals))
+    return float(vals[k]), pts[k], src[k]
+
+
+def _integrate(f_node: Callable, lo: float, hi: float, n_nodes: int):
+    """Gauss-Legendre with n and n/2 nodes on [lo, hi]; f_node(beta) -> (rate, cor, src)."""
+    if n_nodes < 4:
+        raise InvalidInput("n_nodes", "must be at least 4")
+    results = {}
+    for n in (n_nodes, max(2, n_nodes // 2)):
+        x, w = np.polynomial.legendre.leggauss(n)
+        betas = 0.5 * (hi - lo) * x + 0.5 * (hi + lo)
+        vals = [f_node(float(b)) for b in betas]
+        rates = np.array([v[0] for v in vals])
+        results[n] = (0.5 * (hi - lo) * float(w @ rates), betas, rates, np.array([v[1] for v in vals]),
+                      tuple(v[2] for v in vals))
+    full = results[n_nodes]
+    half = results[max(2, n_nodes // 2)]
+    return full, abs(full[0] - half[0])
+
+
+def fence_push_bound_exact(
+    a: float, c: float, alpha: float, beta_initial: float, beta_final: float, mu_c: float,
+    n_nodes: int = 16, n_points: int = 256, longest: bool = True,
+) -> SketchBound:
+    """The longest (or, ``longest=False``, shortest) push of a fence until the part's edge
+    lies flush (4.3): integral of max (min) over the sketch of (4.2),
+    dx/dbeta = alpha_hat . (c - r) / sin(alpha), the contact at c(-cos beta, sin beta),
+    fence along alpha, push along +x. The book's composite closed form (tips, tip line;
+    models.gross_motion.fence_push_bound) is reported beside the longest one."""
+    t0 = time.perf_counter()
+
+    def node(beta):
+        contact = c * np.array([-math.cos(beta), math.sin(beta)])
+        scene = PushScene.create(a, contact, alpha, 0.0)
+        sk = cor_sketch(scene, mu_c, n_points=n_points, sweep_points=n_points)
+        return _extreme(sk, lambda r: gm.fence_rate(beta, c, alpha, r), longest)
+
+    (value, betas, rates, cors, srcs), err = _integrate(node, beta_initial, beta_final, n_nodes)
+    book = None
+    if longest:
+        try:
+            book = gm.fence_push_bound(a, c, alpha, beta_initial, beta_final, mu_c).total
+        except InvalidInput:
+            book = None
+    return SketchBound(value, err, betas, rates, cors, srcs, book, time.perf_counter() - t0)
+
+
+def _encounter_scene(a: float, beta: float) -> PushScene:
+    """The disk of 4.4 at collision parameter beta: contact a(-cos beta, sin beta), the
+    disk's tangent there as the edge (alpha = pi/2 - beta), push along +x."""
+    contact = a * np.array([-math.cos(beta), math.sin(beta)])
+    return PushScene.create(a, contact, 0.5 * math.pi - beta, 0.0)
+
+
+def encounter_bounds_exact(
+    a: float, beta_initial: float, mu_c: float, beta_final: float = 0.5 * math.pi,
+    n_nodes: int = 16, n_points: int = 256,
+) -> dict[str, SketchBound]:
+    """Greatest and least length of the encounter (4.12) and greatest and least rotation
+    (dxi/dbeta = -a cos beta / x_COR, models.gross_motion.rotation_rate) of a disk pushed
+    aside by a point (4.4), from the exact sketch at every node (one sketch per node serves
+    all four). Keys: "length_max", "length_min", "rotation_max", "rotation_min"; the book's
+    (4.16) and (4.18) are given beside the maxima."""
+    if not 0.0 < beta_initial < beta_final <= 0.5 * math.pi:
+        raise InvalidInput("beta_initial", "must satisfy 0 < beta_initial < beta_final <= pi/2")
+    if n_nodes < 4:
+        raise InvalidInput("n_nodes", "must be at least 4")
+    t0 = time.perf_counter()
+    rates = {
+        "length_max": (lambda b, r: gm.encounter_rate(b, r[:, 0], r[:, 1], a), True),
+        "length_min": (lambda b, r: gm.encounter_rate(b, r[:, 0], r[:, 1], a), False),
+        "rotation_max": (lambda b, r: gm.rotation_rate(b, r[:, 0], r[:, 1], a), True),
+        "rotation_min": (lambda b, r: gm.rotation_rate(b, r[:, 0], r[:, 1], a), False),
+    }
+    rules = {}
+    for n in (n_nodes, max(2, n_nodes // 2)):
+        x, w = np.polynomial.legendre.leggauss(n)
+        betas = 0.5 * (beta_final - beta_initial) * x + 0.5 * (beta_final + beta_initial)
+        per_key = {k: [] for k in rates}
+        for beta in betas:
+            sk = cor_sketch(_encounter_scene(a, float(beta)), mu_c, n_points=n_points, sweep_points=n_points)
+            for k, (rate, largest) in rates.items():
+                per_key[k].append(_extreme(sk, lambda r, rate=rate, beta=beta: rate(beta, r), largest))
+        rules[n] = (betas, w, per_key)
+    elapsed = time.perf_counter() - t0
+    out = {}
+    half = 0.5 * (beta_final - beta_initial)
+    for k in rates:
+        vals = {}
+        for n, (betas, w, per_key) in rules.items():
+            vals[n] = half * float(w @ np.array([v[0] for v in per_key[k]]))
+        betas, _, per_key = rules[n_nodes]
+        book = None
+        if k == "length_max":
+            book = gm.encounter_length_max(beta_initial, a, beta_final)
+        elif k == "rotation_max":
+            book = gm.rotation_max(beta_initial, beta_final)
+        out[k] = SketchBound(
+            vals[n_nodes], abs(vals[n_nodes] - vals[max(2, n_nodes // 2)]), betas,
+            np.array([v[0] for v in per_key[k]]), np.array([v[1] for v in per_key[k]]),
+            tuple(v[2] for v in per_key[k]), book, elapsed,
+        )
+    return out
