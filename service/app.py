@@ -9,6 +9,7 @@ from fastapi import FastAPI
 from service import __version__, errors
 from service.routes import cor, health, mpp
 from service.routes import push
+from service.routes import sketch
 from service.settings import Settings
 
 DESCRIPTION = """\
@@ -30,6 +31,7 @@ def create_app() -> FastAPI:
     app.include_router(cor.router)
     app.include_router(mpp.router)
     app.include_router(push.router)
+    app.include_router(sketch.router)
     return app
 
 

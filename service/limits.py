@@ -144,3 +144,19 @@ QS_MIN_LENGTH = 1e-100
 
 QS_MAX_ANGULAR_ERROR = 6.283185307179586
 """Largest permissible angular error, radians (one full turn, 2 pi)."""
+
+# ---------------------------------------------------------------------------------------
+# The COR sketch with pusher friction (book 4.1): POST /v1/cor/sketch. One sketch costs
+# about 100 locus evaluations of max(n_points, 1024) boundary points (the sticking-locus
+# sweep), measured ~0.2-0.5 s up to n_points 1024, ~1 s at 4096 (one core).
+# ---------------------------------------------------------------------------------------
+
+SKETCH_DEFAULT_N_POINTS = 512
+SKETCH_MAX_N_POINTS = 4096
+"""Boundary points of each elementary locus of a COR sketch (minimum MIN_N_POINTS, as for
+the COR locus; the smaller maximum bounds one request to about a second)."""
+
+SKETCH_MIN_LENGTH = 1e-100
+"""Smallest disk radius (or polygon circumradius) of a COR sketch: the sense of rotation
+(models.mpp.mason_sense) squares lengths, which underflow below about 1e-154 and turn every
+push into a translation."""

@@ -76,6 +76,7 @@ def test_stable_operation_ids():
         ("/v1/cor/tripod-statistics", "post"): "cor_tripod_statistics",
         ("/v1/mpp/particle", "post"): "mpp_particle",
         ("/v1/push/quasistatic", "post"): "push_quasistatic",
+        ("/v1/cor/sketch", "post"): "cor_sketch",
     }
 
 

@@ -1,0 +1,159 @@
+"""Schema <-> domain conversion of ``POST /v1/cor/sketch`` (no mechanics here).
+
+The request becomes a ``PushScene`` exactly as for ``/v1/cor/locus`` (:func:`service.convert.prepare`:
+a disk, or a polygon bounded by its circumscribing disk, with the same warnings);
+:func:`models.cor_sketch.cor_sketch` computes; :func:`sketch_response` turns the
+``CorSketch`` into the response schema with plain floats and no NaN/inf.
+"""
+
+from __future__ import annotations
+
+from models.cor_sketch import CorSketch, ElementaryLocus
+from service.convert import PreparedPush, _f, _v, prepare
+from service.errors import FieldError
+from service.limits import SKETCH_MIN_LENGTH
+from service.schemas import CorLocusRequest
+from service.schemas_sketch import (
+    CorSketchRequest,
+    CorSketchResponse,
+    ElementaryLocusOut,
+    LineOut,
+    StickingLocusOut,
+    TipLineEstimateOut,
+)
+
+IMPLICATION_TEXT = {
+    "must_slip_up": "the part must slip up relative to the pusher",
+    "must_slip_down": "the part must slip down relative to the pusher",
+    "stick_or_slip_up": "the part must stick to the pusher or slip up",
+    "stick_or_slip_down": "the part must stick to the pusher or slip down",
+    "must_stick": "the part must stick to the pusher",
+    "anything": "sticking and either slipping are possible, depending on the pressure distribution",
+}
+"""The implications of 4.1.6 in words."""
+
+
+def prepare_sketch(req: CorSketchRequest) -> PreparedPush:
+    """The scene of the request, built and checked as for ``/v1/cor/locus``."""
+    as_locus = CorLocusRequest.model_construct(
+        disk_radius=req.disk_radius,
+        workpiece=req.workpiece,
+        footprint=req.footprint,
+        center_of_mass=req.center_of_mass,
+        contact_point=req.contact_point,
+        edge_angle=req.edge_angle,
+        push_direction=req.push_direction,
+        n_points=req.n_points,
+        outputs=[],
+    )
+    prep = prepare(as_locus)
+    if prep.footprint is not None and not prep.scene.disk_radius >= SKETCH_MIN_LENGTH:
+        field = "footprint" if req.footprint is not None else "workpiece"
+        raise FieldError(
+            (field,),
+            f"is too small: its circumradius {prep.scene.disk_radius:.6g} is below {SKETCH_MIN_LENGTH:g} "
+            "(lengths squared would underflow)",
+        )
+    return prep
+
+
+def _elementary(loc: ElementaryLocus, sigma: float, nu: float) -> ElementaryLocusOut:
+    name = loc.label
+    return ElementaryLocusOut(
+        label=loc.label,
+        force_direction=_v(loc.force, f"{name}.force_direction"),
+        force_angle=sigma * nu,
+        boundary=None if loc.boundary is None else _v(loc.boundary, f"{name}.boundary"),
+        tip=None if loc.tip is None else _v(loc.tip, f"{name}.tip"),
+        moment_sign=int(loc.moment_sign),
+        configuration=loc.configuration,
+        crosses_sticking_line=bool(loc.crosses_sticking_line),
+        tip_on_cm_side=None if loc.tip_on_cm_side is None else bool(loc.tip_on_cm_side),
+    )
+
+
+def is_translation(sk: CorSketch) -> bool:
+    """Mason's rule (with the cone) gave no sense of rotation: no sketch."""
+    return sk.sense == "none"
+
+
+def sketch_message(prep: PreparedPush, sk: CorSketch) -> str:
+    of = "" if prep.footprint is None else " of the polygon's circumscribing disk"
+    if is_translation(sk):
+        if not any(prep.scene.contact_rel):
+            return (
+                "the contact is at the centre of mass: every pusher force passes through it and the "
+                "part translates (the COR is at infinity); there is no sketch"
+            )
+        return (
+            "Mason's rule gives no sense of rotation (1.6.2): the line of pushing passes through the "
+            "centre of mass inside the friction cone, so for every pressure distribution the part "
+            "translates along the push with the contact sticking (the COR is at infinity); there is "
+            "no sketch"
+        )
+    configs = f"{{COR}}_(alpha+nu) {sk.plus.configuration}, {{COR}}_(alpha-nu) {sk.minus.configuration}"
+    if sk.sketch is None:
+        return (
+            f"the COR sketch{of} matches none of the nine sketches of figure 4-6 ({configs}; e.g. a "
+            "friction-cone edge pointing back against the push, which the book never draws); "
+            f"allowed modes, from the non-empty loci: {', '.join(sk.allowed_modes) or 'none'}"
+        )
+    mirror = ", mirrored" if sk.mirrored else ""
+    where = "" if prep.footprint is None else " (the polygon's circumscribing disk)"
+    return f"sketch {sk.sketch} of figure 4-6{mirror}{where}: {IMPLICATION_TEXT[sk.implication]} ({configs})"
+
+
+def sketch_response(prep: PreparedPush, sk: CorSketch, elapsed_ms: float) -> CorSketchResponse:
+    """The response schema for ``sk``; raises ``NonFiniteResult`` rather than letting a NaN
+    or infinity through."""
+    scene = prep.scene
+    sticking = None
+    if sk.sticking is not None:
+        s = sk.sticking
+        sticking = StickingLocusOut(
+            t_low=_f(s.t_low, "sticking.t_low"),
+            t_high=_f(s.t_high, "sticking.t_high"),
+            low=_v(s.low, "sticking.low"),
+            high=_v(s.high, "sticking.high"),
+            phi_low=_f(s.phi_low, "sticking.phi_low"),
+            phi_high=_f(s.phi_high, "sticking.phi_high"),
+        )
+    tip_line = None
+    if sk.tip_line_t is not None:
+        tip_line = TipLineEstimateOut(
+            point=_v(sk.tip_line_low, "tip_line_estimate.point"),
+            t=_f(sk.tip_line_t, "tip_line_estimate.t"),
+            error=None if sk.tip_line_error is None else _f(sk.tip_line_error, "tip_line_estimate.error"),
+        )
+    return CorSketchResponse(
+        kind="translation" if is_translation(sk) else "sketch",
+        message=sketch_message(prep, sk),
+        mu_c=_f(sk.mu_c, "mu_c"),
+        nu=_f(sk.nu, "nu"),
+        sense=sk.sense,
+        disk_radius=_f(scene.disk_radius, "disk_radius"),
+        center_of_mass=_v(scene.center_of_mass, "center_of_mass"),
+        sketch_of="disk" if prep.footprint is None else "circumscribing_disk",
+        sticking_line=LineOut(
+            point=_v(sk.sticking_line_point, "sticking_line.point"),
+            direction=_v(sk.sticking_line_direction, "sticking_line.direction"),
+        ),
+        edge_normal_direction=_v(sk.edge_normal_direction, "edge_normal_direction"),
+        plus=_elementary(sk.plus, 1.0, sk.nu),
+        minus=_elementary(sk.minus, -1.0, sk.nu),
+        down_slipping=[_v(p, "down_slipping") for p in sk.down_slipping],
+        up_slipping=[_v(p, "up_slipping") for p in sk.up_slipping],
+        sticking=sticking,
+        tip_line_estimate=tip_line,
+        sketch=sk.sketch,
+        mirrored=bool(sk.mirrored),
+        implication=sk.implication,
+        allowed_modes=list(sk.allowed_modes),
+        n_points=prep.n_points,
+        contact_distance_to_outline=(
+            None if prep.contact_distance_to_outline is None
+            else _f(prep.contact_distance_to_outline, "contact_distance_to_outline")
+        ),
+        warnings=list(prep.warnings),
+        elapsed_ms=elapsed_ms,
+    )
