@@ -544,7 +544,8 @@ class _Query:
         else:
             self.pieces = _PolygonPieces(r, geo.outline.vertices, on_outline)
         self.r_norm = float(np.hypot(r[0], r[1]))
-        self.far = self.abs_s > 2.0 * geo.reach
+        # (a candidate snapped off the line, rc[0] != 0, keeps the plain form u - d0)
+        self.far = self.abs_s > 2.0 * geo.reach and self.rc[0] == 0.0
 
     def delta(self, w, u, rho):
         """d - d0 for points w with d = u = (w - r)/rho."""
@@ -1535,15 +1536,20 @@ def _bracket_end(search: _LineSearch, side: str, s_in: float, s_out: float, out_
 
     ``out_kind``: "probe" (s_out was decided outside, possibly by grid pricing only),
     "contact" (s_out = 0, the contact point) or "limit" (s_out is the search cap).
-    An outside end too close to the boundary to certify (its dual margin below
-    tol.certificate_margin) is moved outwards by a quarter of the width, twice, then the
-    bracket is doubled (status "wide" when it ends wider than the target)."""
+    A probe within rounding of the end (undecided) is stepped around by a quarter and a
+    half of the target width. An outside end too close to the end to certify (its dual
+    margin below tol.certificate_margin) is moved outwards by a quarter of the width,
+    twice, then the bracket is doubled (status "wide" when it ends wider than the target).
+    When the certified query finds the grid's "outside" end inside, the grid is no longer
+    trusted for this end: certified probes step outwards, doubling, to a certified outside
+    point, and the bisection continues with certified probes."""
     geo = search.geo
     target = search.tol.boundary_bracket
     outward = 1.0 if side == "upper" else -1.0
     res_in = res_out = None
     status = "undecided"
     nudges = widenings = rounds = 0
+    trust_grid = True
     bisecting = True
     while rounds < MAX_BRACKET_ROUNDS and not search.expired():
         rounds += 1
@@ -1552,8 +1558,8 @@ def _bracket_end(search: _LineSearch, side: str, s_in: float, s_out: float, out_
             if mid in (s_in, s_out, 0.0):
                 bisecting = False
                 continue
-            res = search(mid)
-            if res.status == "undecided":
+            res = search(mid, certify=not trust_grid)
+            if res.status == "undecided" and trust_grid:
                 res = search(mid, certify=True)
             sm = _local_position(geo, res)
             if res.status == "inside":
@@ -1566,14 +1572,14 @@ def _bracket_end(search: _LineSearch, side: str, s_in: float, s_out: float, out_
                 for frac in (0.25, 0.5):
                     s_try = mid + outward * frac * target
                     if (s_try - mid) * (s_out - s_try) > 0.0:
-                        r_try = search(s_try)
+                        r_try = search(s_try, certify=not trust_grid)
                         if r_try.status == "outside":
                             s_out, out_kind, moved = _local_position(geo, r_try), "probe", True
                             break
                 for frac in (0.25, 0.5):
                     s_try = mid - outward * frac * target
                     if (s_try - s_in) * (mid - s_try) > 0.0:
-                        r_try = search(s_try)
+                        r_try = search(s_try, certify=not trust_grid)
                         if r_try.status == "inside":
                             s_in, moved = _local_position(geo, r_try), True
                             break
@@ -1595,12 +1601,22 @@ def _bracket_end(search: _LineSearch, side: str, s_in: float, s_out: float, out_
                 s_in, res_in = s_out, search(s_out, certify=True, verify=True)
                 status = "search_limit"
                 break
-            # grid pricing's "outside" was wrong: start again from here, farther out
-            step = max(target, 2.0 * abs(s_out - s_in))
+            # the grid's "outside" was wrong: certified steps outwards, doubling
+            trust_grid = False
+            step = max(target, abs(s_out - s_in))
             s_in = s_out
-            s_out = s_in + outward * step
-            if (s_out > 0.0) != (s_in > 0.0):
-                s_out, out_kind = 0.0, "contact"
+            for _ in range(64):
+                s_try = s_in + outward * step
+                if (s_try > 0.0) != (s_in > 0.0):
+                    s_out, out_kind = 0.0, "contact"
+                    break
+                r_try = search(s_try, certify=True)
+                if r_try.status == "inside":
+                    s_in = _local_position(geo, r_try)
+                    step *= 2.0
+                    continue
+                s_out, out_kind = _local_position(geo, r_try), "probe"
+                break
             nudges = widenings = 0
             bisecting = True
             continue
@@ -1723,6 +1739,8 @@ def sticking_locus(
             time_limited = True
             break
         res = search(float(s))
+        if res.status == "undecided":
+            res = search(float(s), certify=True)
         scan_s.append(_local_position(geo, res))
         scan_st.append(res.status)
     order = np.argsort(scan_s)
@@ -1758,10 +1776,19 @@ def sticking_locus(
             s_out_hi = above[0]
         else:
             kind_hi, s_out_hi = ("limit", hi_p) if capped else ("probe", hi_p)
+        if intervals and intervals[-1].upper.feasible_position is not None and (
+            intervals[-1].upper.feasible_position >= marks[i][0] * ell
+        ):
+            continue  # the previous interval's upper end was found beyond this run already
         lower_end = _bracket_end(search, "lower", marks[i][0], s_out_lo, kind_lo)
         upper_end = _bracket_end(search, "upper", marks[j][0], s_out_hi, kind_hi)
-        intervals.append(StickingInterval(lower_end, upper_end))
-        if lower_end.status == "undecided" or upper_end.status == "undecided":
+        if intervals and lower_end.feasible_position <= intervals[-1].upper.feasible_position:
+            # one interval split by an undecided or wrongly graded probe: merge
+            intervals[-1] = StickingInterval(intervals[-1].lower, upper_end)
+        else:
+            intervals.append(StickingInterval(lower_end, upper_end))
+    for iv in intervals:
+        if iv.lower.status == "undecided" or iv.upper.status == "undecided":
             incomplete = True
     time_limited = time_limited or search.expired()
     if not intervals:

@@ -7,6 +7,7 @@ geometry of the book's sticking-locus experiment (6.3)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
@@ -667,3 +668,69 @@ def test_conic_solver_failure_is_a_solver_error(monkeypatch):
     monkeypatch.setattr(cp.Problem, "solve", boom)
     with pytest.raises(SolverError):
         sticking_feasibility(sc, sticking_point(sc, -3.0), mu_c)
+
+
+def test_wrongly_graded_scan_probes_do_not_split_or_shorten_the_locus(monkeypatch):
+    """Grid pricing ("outside" without a certificate) can be wrong: a probe graded outside
+    (or undecided) in the middle of the locus splits the scan's run; the certified brackets
+    step past it and the pieces are merged into the one true interval."""
+    sc, mu_c = near_scene("oblique_a")
+    ref = sticking_locus(sc, mu_c, scan_points=48, seed_tripods=0)
+    lo, hi = ref.lower.position, ref.upper.position
+    window = (lo + 0.4 * (hi - lo), lo + 0.6 * (hi - lo))
+    real = st._decide
+
+    def lying(geo, r_local, tol, deadline, warm, verify, certify, t0, tl):
+        res = real(geo, r_local, tol, deadline, warm, verify, certify, t0, tl)
+        s = res.position
+        if not certify and window[0] <= s <= window[1]:
+            return dataclasses.replace(res, status="outside" if s < 0.5 * sum(window) else "undecided")
+        return res
+
+    monkeypatch.setattr(st, "_decide", lying)
+    loc = sticking_locus(sc, mu_c, scan_points=48, seed_tripods=0)
+    assert len(loc.intervals) == 1 and loc.status == "found"
+    assert abs(loc.lower.position - lo) < 1e-6 and abs(loc.upper.position - hi) < 1e-6
+
+
+def test_agrees_with_the_cor_sketch_force_angle_sweep():
+    """models/cor_sketch.py computes the sticking locus of a disk by the book's construction
+    (a sweep of force angles over the analytic loci, refined by golden section): the ends
+    agree to its boundary resolution (1024-point polygons). Where the sweep reaches beyond a
+    certified end (contact_inside: 3.8e-6 a, a chord across a concave stretch of the locus
+    boundary), frictionless membership at the sweep's own force angle certifies the sweep's
+    point outside, and a 65536-point boundary moves the crossing back inside the bracket."""
+    from models.cor_sketch import force_scene, sticking_locus_sweep
+
+    for name in sorted(NEAR_SCENES):
+        sc, mu_c = near_scene(name)
+        loc = sticking_locus(sc, mu_c, scan_points=48, seed_tripods=64, seed=SEED)
+        sw = sticking_locus_sweep(sc, mu_c)
+        assert abs(sw.t_low - loc.lower.position) < 5e-5 and abs(sw.t_high - loc.upper.position) < 5e-5
+        if name == "contact_inside":
+            assert sw.t_low < loc.lower.infeasible_position  # beyond the certified outside end
+            turned, _ = force_scene(sc, sw.phi_low)
+            res = membership(turned, sticking_point(sc, sw.t_low))
+            assert res.status == "outside" and res.certificate_kind == "dual"
+            fine = cd.disk_cor_locus(turned, outputs=("boundary",), n_points=65536).boundary
+            b = fine - sc.contact_point
+            x, y = b @ sc.push_hat, b @ perp(sc.push_hat)
+            x2, y2 = np.roll(x, -1), np.roll(y, -1)
+            cross = (x > 0) != (x2 > 0)
+            t = x[cross] / (x[cross] - x2[cross])
+            s_fine = float(np.min(y[cross] + t * (y2[cross] - y[cross])))
+            assert loc.lower.infeasible_position - 1e-8 <= s_fine <= loc.lower.feasible_position + 1e-8
+
+
+def test_the_tip_line_misses_the_end_when_the_cone_is_narrow():
+    """4.1.4's "unstated assumption": the tip line approximates the lower end only when the
+    tips of {COR}_(alpha -+ nu) lie on either side of the sticking line. For a narrow cone
+    (mu_c = 0.05) no tip reaches the line and the exact lower end is 2.85 a above the tip
+    line; from mu_c = 0.2 on the end dips just below it. The brute-force sweep agrees."""
+    sc, _ = near_scene("near_translation")
+    narrow = sticking_locus(sc, 0.05, scan_points=48, seed_tripods=64, seed=SEED)
+    wide = sticking_locus(sc, 0.2, scan_points=48, seed_tripods=64, seed=SEED)
+    assert 2.8 < narrow.tip_line.error < 2.9 and not narrow.tip_line.beyond
+    assert -0.01 < wide.tip_line.error < 0 and wide.tip_line.beyond
+    (s_lo, s_hi), = sweep_union(sc, 0.05, n_phi=801)
+    assert abs(s_lo - narrow.lower.position) < 2e-3 and abs(s_hi - narrow.upper.position) < 2e-3
