@@ -734,3 +734,44 @@ def test_the_tip_line_misses_the_end_when_the_cone_is_narrow():
     assert -0.01 < wide.tip_line.error < 0 and wide.tip_line.beyond
     (s_lo, s_hi), = sweep_union(sc, 0.05, n_phi=801)
     assert abs(s_lo - narrow.lower.position) < 2e-3 and abs(s_hi - narrow.upper.position) < 2e-3
+
+
+@pytest.mark.parametrize("kind", ["disk", "polygon"])
+def test_branch_and_bound_interval_bounds_are_sound(kind):
+    """Every interval lower bound (Lipschitz, second-order and zeroth-order, in the near and
+    the far form of phi, with the disk's tight |u'| bound) lies below phi sampled densely on
+    the interval, for random functionals and candidates near, on and far from the outline."""
+    rng = np.random.default_rng(SEED + 3)
+    if kind == "disk":
+        sc, mu_c = near_scene("near_translation")
+        fp = None
+    else:
+        sc, mu_c = u_scene()
+        fp = U_SHAPE
+    geo = st._geometry(sc, fp, mu_c, TOL)
+    checked = 0
+    for s in (-0.3, -0.9, 0.2, -2.5, -7.0, -60.0, 35.0):
+        r = geo.point(s)
+        r, on = st._snap_on_line(geo, r)
+        in_f = geo.outline.contains(r, on)
+        if s == 0.0:
+            continue
+        q = st._Query(geo, r, on, in_f)
+        for _ in range(12):
+            y = rng.normal(size=4)
+            lam = np.abs(rng.normal(size=2))
+            piece = int(rng.integers(len(q.pieces.piece_lo)))
+            a, b = q.pieces.piece_lo[piece], q.pieces.piece_hi[piece]
+            for _ in range(4):
+                t0, t1 = np.sort(rng.uniform(a, b, 2))
+                if rng.uniform() < 0.3:
+                    t1 = t0 + (t1 - t0) * 1e-3
+                pc = np.array([piece])
+                f0, e0 = q.evaluate(y, lam, pc, np.array([t0]))
+                f1, e1 = q.evaluate(y, lam, pc, np.array([t1]))
+                lb = q.lower_bounds(y, lam, pc, np.array([t0]), np.array([t1]), f0, f1, e0, e1)[0]
+                ts = np.linspace(t0, t1, 4001)
+                vals = q.evaluate(y, lam, np.full(ts.size, piece), ts)[0]
+                assert vals.min() >= lb - 1e-12 * (1 + abs(vals.min())), (s, piece, t0, t1, vals.min(), lb)
+                checked += 1
+    assert checked > 200
