@@ -23,6 +23,8 @@ and ``v_r`` (3.10). Here ``alpha`` is the unit vector ``J n`` along the edge. Th
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -115,11 +117,14 @@ def mason_sense(contact_rel, normal, push_hat, mu_c: float) -> str:
     n = np.asarray(normal, dtype=float)
     t = perp(n)
     p = np.asarray(push_hat, dtype=float)
-    scale = float(np.linalg.norm(c)) or 1.0
+    # Moments of unit forces about the CM, per unit |c|: c_hat x f_hat (no under- or
+    # overflow of |c| for tiny or huge parts).
+    cn = math.hypot(float(c[0]), float(c[1]))
+    c_hat = c / cn if cn > 0.0 else c
 
     def moment(f):
-        f = f / np.linalg.norm(f)
-        return float(c[0] * f[1] - c[1] * f[0]) / scale
+        f = f / math.hypot(float(f[0]), float(f[1]))
+        return float(c_hat[0] * f[1] - c_hat[1] * f[0])
 
     edges = [moment(n + mu_c * t), moment(n - mu_c * t)]
     eps = 64.0 * np.finfo(float).eps

@@ -365,3 +365,10 @@ def test_tripod_sampling_gives_up_on_a_hopeless_region():
     sliver = Footprint.create([[0, 0], [1, 1], [1, 1.001], [0, 0.001]])  # fills 0.1 % of its box
     with pytest.raises(InvalidInput):
         random_balanced_tripods(np.random.default_rng(1), 1000, 1.0, footprint=sliver, max_draws=3)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1.0, 1e200])
+def test_mason_rule_is_scale_free(scale):
+    """1.6.2 depends on directions only: no under- or overflow at extreme part sizes."""
+    assert mpp.mason_sense(np.array([0.0, -0.5]) * scale, np.array([1.0, 0.0]), np.array([1.0, 0.0]), 0.0) == "ccw"
+    assert mpp.mason_sense(np.array([0.2, 0.5]) * scale, np.array([1.0, 0.0]), np.array([1.0, 0.0]), 0.3) == "cw"
