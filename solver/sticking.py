@@ -67,8 +67,10 @@ m > y0 proves r outside. The L1-residual restricted master
 
     min ||e||_1 + t_+ + t_-,  sum P G + pm_G - e = b,  sum P H + pm_H + t >= 0,  t >= 0,
 
-(cvxpy + Clarabel, compiled once per column capacity with Parameters) has duals with
-y . G_j - lambda . H_j >= 0 on its columns and y0 = -(its optimum); column generation over
+(cvxpy + Clarabel, compiled once per column capacity with Parameters; on rows conditioned
+for far candidates by an equivalent row operation and scaling, see :class:`_Query`) has
+duals with y . G_j - lambda . H_j >= 0 on its columns and y . b = -(its optimum); reported
+duals are converted back to the columns above. Column generation over
 the outline (grid + golden-section refinement) ends with a polished witness (inside), a
 dual whose branch-and-bound bound over the outline separates (outside, certified), or, with
 ``certify=False``, grid pricing only: an "outside" then has ``certificate_kind`` "none" and
@@ -1357,7 +1359,8 @@ class StickingLocus:
     ``intervals``: the feasible intervals found (a scan, then bracketed ends), ordered by
     position; ``lower``/``upper`` the outermost ends; ``multiple_intervals`` when the scan
     found more than one. ``search_range`` (world lengths along J p): a sound outer bound of
-    the locus (``search_bound`` names the bounds that gave it) or the search cap.
+    the locus (``search_bound`` names the bounds that gave it, see
+    :func:`sticking_search_range`) or the search cap.
     ``scan_positions``/``scan_status``: the probes. ``seed_positions``: sticking CORs of
     random tripods and uniform pressure (forward solves) used as feasible seeds.
     ``status``: "found", "empty" (no feasible probe: the scan can miss a locus narrower
@@ -1405,7 +1408,7 @@ def _min_lever(geo: _Geometry) -> float:
     return min(vals)
 
 
-def search_range(geo: _Geometry) -> tuple[float, float, str]:
+def _search_range(geo: _Geometry) -> tuple[float, float, str]:
     """A sound outer bound [lo, hi] (/ L) of the sticking locus along the line.
 
     * footprint: with a point mass at r, r lies in the footprint, inside the unit disk;
@@ -1450,6 +1453,18 @@ def search_range(geo: _Geometry) -> tuple[float, float, str]:
             lo, hi = min(lo, chord[0]), max(hi, chord[1])
         names.append("footprint")
     return lo, hi, "+".join(names)
+
+
+def sticking_search_range(
+    scene: PushScene, mu_c: float, footprint: Footprint | None = None, tol: SolverTolerances = SOLVER_DEFAULT
+) -> tuple[float, float, str]:
+    """A sound outer bound (lo, hi) of the sticking locus's positions s (world lengths along
+    J p from the contact) and the names of the bounds that gave it ("moment", "disk_loci",
+    "footprint", joined by "+"; see :func:`_search_range`), or +-SEARCH_LIMIT L with "cap"
+    when neither the moment nor the disk-loci bound applies."""
+    geo = _geometry(scene, footprint, _check_mu(mu_c), tol)
+    lo, hi, how = _search_range(geo)
+    return lo * geo.length, hi * geo.length, how
 
 
 def _tip_line(scene: PushScene) -> tuple[float | None, np.ndarray | None]:
@@ -1676,7 +1691,7 @@ def sticking_locus(
     """The sticking locus along the sticking line (book 4.1.4), each end bracketed to
     tol.boundary_bracket * L by a (feasible, infeasible) pair of queries.
 
-    1. A sound search range (:func:`search_range`).
+    1. A sound search range (:func:`sticking_search_range`).
     2. Feasible seeds: sticking-mode forward CORs of ``seed_tripods`` random tripods (3.3.3,
        seeded by ``seed``) and of uniform pressure.
     3. A scan of ``scan_points`` uncertified probes over the range plus the seeds; maximal
@@ -1692,7 +1707,7 @@ def sticking_locus(
     geo = _geometry(scene, footprint, mu, tol)
     ell = geo.length
     search = _LineSearch(geo, tol, deadline)
-    lo, hi, bound_name = search_range(geo)
+    lo, hi, bound_name = _search_range(geo)
     s_tip, tip_point = _tip_line(scene)
     e2_world = perp(np.asarray(scene.push_hat))
     # translation along p: friction -p at the CM, balanced by a force along p through c

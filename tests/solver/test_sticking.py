@@ -25,7 +25,7 @@ from models.tolerances import SOLVER_DEFAULT
 from solver import sticking as st
 from solver.forward import solve_forward_batch
 from solver.membership import membership
-from solver.sticking import search_range, sticking_feasibility, sticking_locus, sticking_point
+from solver.sticking import sticking_feasibility, sticking_locus, sticking_point, sticking_search_range
 from tests.scenes import SEED, point_in_polygon, scene_for_mu
 
 TOL = SOLVER_DEFAULT
@@ -342,7 +342,7 @@ def test_mu_c_to_zero_is_frictionless_membership_on_the_line():
     membership (3.3) at the same point of the sticking line; the locus ends converge."""
     for mu in (0.05, 0.3, 0.9):
         sc = scene_for_mu(mu)
-        lo, hi, _ = search_range(st._geometry(sc, None, 0.0, TOL))
+        lo, hi, _ = sticking_search_range(sc, 0.0)
         for s in np.linspace(max(lo, -4.0), min(hi, 1.0), 23):
             if s == 0.0:
                 continue
@@ -545,8 +545,7 @@ def test_the_search_range_is_an_outer_bound():
     certified outside, for a scene where each bound is the tighter one."""
     for name in ("near_translation", "oblique_c"):
         sc, mu_c = near_scene(name)
-        geo = st._geometry(sc, None, mu_c, TOL)
-        lo, hi, how = search_range(geo)
+        lo, hi, how = sticking_search_range(sc, mu_c)
         assert "moment" in how
         for s in (lo * 1.001, hi * 1.001):
             res = sticking_feasibility(sc, sticking_point(sc, s), mu_c)
