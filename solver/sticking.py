@@ -58,8 +58,9 @@ is affine along the ray. Its minimum over the footprint is on the outline or at 
 the point-mass value y0 + y_w . r - |q| (when r is in the footprint); and every column of
 an interior point is a convex combination of the columns of its ray segment's ends. Hence
 supports on the outline plus a point mass at r suffice, and pricing and the dual bound are
-1-D problems over the outline, with the same derivative bounds as membership's (*)
-has the same form as membership's functional, with y_g . alpha -> y_m and -s y_g -> q).
+1-D problems over the outline. (*) has the form of membership's functional (y_g . alpha ->
+y_m, -s y_g -> q), so the same kind of Lipschitz and second-order bounds apply; they are
+re-implemented here in a second form that stays tight for a far r (:meth:`_Query.lower_bounds`).
 
 Certificates (Farkas): if lambda >= 0 and phi >= m on the whole footprint and point-mass
 set, then for any feasible support y . b = y0 = int phi dP + lambda . int H dP >= m; so
@@ -75,6 +76,25 @@ the outline (grid + golden-section refinement) ends with a polished witness (ins
 dual whose branch-and-bound bound over the outline separates (outside, certified), or, with
 ``certify=False``, grid pricing only: an "outside" then has ``certificate_kind`` "none" and
 ``lower_bound_method`` "grid" and is no certificate.
+
+Findings (tests/solver/test_sticking.py, docs/benchmarks.md)
+-----------------------------------------------------------
+* The book's 6.3 experiment (disk, fence at 70 degrees, mu_c = 0.5, contact on the rim so
+  the fence normal passes through the CM): the tip line meets the sticking line at
+  y = -5.506 a (the book: -5.51 a); the exact sticking locus is y in [-5.528 a, -2.481 a].
+* Each {COR}_phi dips below the tip line (4.1.4): the exact lower end lies 0.02 a beyond
+  the tip-line estimate in the book's sketch types g/h. For a narrow cone (no tip reaches
+  the sticking line, the unstated assumption of 4.1.4) the end is far above it (+2.85 a
+  at mu_c = 0.05 for a near-translation push); for polygons the circumscribing disk's tip
+  line is a poor estimate (+0.9 a for a square, +1.2 a for an L shape).
+* The locus can be far away (|s| ~ 65-185 L when the cone nearly holds a line of force
+  through the CM), and it can be two intervals for a non-convex footprint (a U shape).
+* A pure translation along p sticks when the line through c along p passes through the CM
+  and p is in the cone; the finite locus may then be empty (``translation_sticks``).
+* At a COR on a support point (a point mass at r) the forward solver's mode test can
+  reject sticking although a contact force in the cone exists (it tests one element of the
+  set of multipliers); witnesses are then re-verified by a direct minimisation of the power
+  over sticking twists.
 
 Everything is computed in a dimensionless frame: origin at the CM, x along p, y along J p
 (the book's drawing, sticking line vertical), lengths / L (disk radius or the polygon's
