@@ -30,6 +30,7 @@ Work is vectorised over the batch, structure-of-arrays, with closed-form 2x2 alg
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -323,12 +324,15 @@ def _newton_line(wx, wy, p, xp, kdir, kkt_tol, max_iter):
     return x, kkt, iters
 
 
-def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None) -> BatchSolution:
+def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None, cone=None) -> BatchSolution:
     """Solve a batch of minimum-power problems (see the module docstring).
 
     w: (B, k, 2) support points / L (CM at the origin; no two coincident), p: (B, k)
     weights summing to 1, m: (B, rows, 3) constraint rows (rows = 1 or 2), q: (B, rows).
     ``x0``: optional starting twists (B, 3), used by the one-row Newton iteration.
+    ``cone``: (n, t, mu_c) of a sticking contact (two rows: v(c) = p, M = [I, J c]): where
+    the COR sits on a support point the contact force is a set, and the member deepest
+    inside the friction cone is reported (:func:`_vertex_contact_force`).
     """
     w = np.asarray(w, dtype=float)
     p = np.asarray(p, dtype=float)
@@ -392,11 +396,11 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None) -> BatchSolu
         x, kkt, iters = _newton_line(wx, wy, p, xp, kdir, kkt_tol, max_iter)
         g = gradient(x, wx, wy, p)
         mult = np.einsum("bij,bj->bi", np.linalg.pinv(np.swapaxes(m, 1, 2)), g)
-        # Where the optimum is a kink the gradient there is one-sided; the multipliers are
-        # those of the nearest smooth side (the contact force of a COR on a support point).
         d = np.linalg.norm(w - _cor_points(x)[:, None, :], axis=2)
-        near = d.min(axis=1) <= 1e3 * np.finfo(float).eps
+        near = d.min(axis=1) <= 1e3 * np.finfo(float).eps * np.maximum(1.0, np.linalg.norm(w, axis=2).max(axis=1))
         vertex = np.where(near, d.argmin(axis=1), -1)
+        if cone is not None and np.any(near):
+            _vertex_contact_force(w, p, m, x, vertex, mult, cone)
     else:  # pragma: no cover - guarded by callers
         raise ValueError("one or two constraint rows")
     pw = power(x, wx, wy, p)
@@ -456,6 +460,48 @@ def _escape_kinks(wx, wy, p, a, q, x, lam, kkt, vertex, iters, kkt_tol, max_iter
         xs, lm, k_, its = _newton_plane(wx[redo], wy[redo], p[redo], a[redo], q[redo], kkt_tol, max_iter, starts[pos])
         x[redo], lam[redo], kkt[redo] = xs, lm, k_
         iters[redo] += its
+
+
+def _vertex_contact_force(w, p, m, x, vertex, mult, cone):
+    """Sticking with the COR on support point j: stationarity reads
+    g_o + (z, J w_j . z) = (F, J c . F), g_o the gradient of the other terms, |z| <= P_j.
+    So F = g_ov + z with J(w_j - c) . z = J c . g_ov - g_ow: z = z0 + tau e, e along
+    w_j - c, z0 across it, |tau| |e| <= sqrt(P_j^2 - |z0|^2). Among those forces, the one
+    with the largest friction-cone margin mu_c F . n - |F . t| (concave, piecewise linear in
+    tau: its maximum is at an end or where F . t = 0) is written into ``mult``. In place."""
+    n, t, mu_c = cone
+    for b in np.nonzero(vertex >= 0)[0]:
+        j = int(vertex[b])
+        wx, wy = w[b, :, 0][None], w[b, :, 1][None]
+        pj = p[b].copy()
+        pj[j] = 0.0
+        g = gradient(x[b][None], wx, wy, pj[None])[0]
+        jc = m[b, :, 2]  # J c (the third column of [I, J c])
+        c = np.array([jc[1], -jc[0]])
+        dv = w[b, j] - c
+        dn = float(np.hypot(dv[0], dv[1]))
+        if dn == 0.0:
+            continue
+        e = dv / dn
+        jd = np.array([-dv[1], dv[0]])
+        k = float(jc @ g[:2] - g[2])
+        z0 = k * jd / (dn * dn)
+        rem = p[b, j] ** 2 - float(z0 @ z0)
+        if rem < 0.0:
+            continue
+        tm = math.sqrt(rem)
+        base = g[:2] + z0
+        cands = [-tm, tm]
+        et = float(e @ t)
+        if et != 0.0:
+            tau0 = -float(base @ t) / et
+            if -tm < tau0 < tm:
+                cands.append(tau0)
+        if math.isinf(mu_c):
+            best = max(cands, key=lambda tau: float((base + tau * e) @ n))
+        else:
+            best = max(cands, key=lambda tau: mu_c * float((base + tau * e) @ n) - abs(float((base + tau * e) @ t)))
+        mult[b] = base + best * e
 
 
 def _cor_points(x):

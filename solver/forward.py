@@ -158,9 +158,10 @@ class _NewtonBackend(_Backend):
 
     def __init__(self):
         self.fallbacks = 0
+        self.cone = None
 
     def solve(self, w, p, m, q, tol):
-        sol = _newton.solve_batch(w, p, m, q, tol.kkt, tol.max_newton_iter)
+        sol = _newton.solve_batch(w, p, m, q, tol.kkt, tol.max_newton_iter, cone=self.cone)
         x, mult, kkt, vertex, iters = sol.x, sol.multipliers, sol.kkt, sol.vertex, sol.iterations
         # Rare failures (Newton stalled on a kink that is not the optimum) are re-solved by
         # the conic solver, polished; their count is reported.
@@ -194,6 +195,7 @@ class _CvxpyBackend(_Backend):
 
     def __init__(self, polish: bool = True):
         self.polish = polish
+        self.cone = None
 
     def _problem(self, k: int, rows: int):
         key = (k, rows)
@@ -243,7 +245,7 @@ class _CvxpyBackend(_Backend):
             kkt, mult, vtx = _newton.kkt_residual(w, p, m, q, xs)
             return xs, mult, kkt, vtx, np.zeros(b, dtype=int), None
         # Polish: exact KKT steps from the conic answer (vertex test + Newton).
-        sol = _newton.solve_batch(w, p, m, q, tol.kkt, tol.max_newton_iter, x0=xs)
+        sol = _newton.solve_batch(w, p, m, q, tol.kkt, tol.max_newton_iter, x0=xs, cone=self.cone)
         raw = np.linalg.norm(sol.x - xs, axis=1)
         return sol.x, sol.multipliers, sol.kkt, sol.vertex, sol.iterations, raw
 
@@ -379,7 +381,13 @@ def _solve_normalised(scene: PushScene, w_rel, p, mu_c: float, backend: _Backend
         idx = np.arange(b)
         m = _rows_sticking(c_n)
         q = np.broadcast_to(push, (b, 2)).copy()
+        # With the COR on a support point the contact force is a set: the Newton step
+        # reports its member deepest in the cone (IPOPT's dual gives one member only).
+        if hasattr(backend, "cone"):
+            backend.cone = (n, t, mu_c)
         xs, mult, k_, vtx, its, rw = backend.solve(w_n, p, m, q, tol)
+        if hasattr(backend, "cone"):
+            backend.cone = None
         fn = mult @ n
         ft = mult @ t
         in_cone = (fn > 0.0) & (np.abs(ft) <= mu_c * fn * (1.0 + tol.kkt))

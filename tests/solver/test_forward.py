@@ -372,3 +372,45 @@ def test_mason_rule_is_scale_free(scale):
     """1.6.2 depends on directions only: no under- or overflow at extreme part sizes."""
     assert mpp.mason_sense(np.array([0.0, -0.5]) * scale, np.array([1.0, 0.0]), np.array([1.0, 0.0]), 0.0) == "ccw"
     assert mpp.mason_sense(np.array([0.2, 0.5]) * scale, np.array([1.0, 0.0]), np.array([1.0, 0.0]), 0.3) == "cw"
+
+
+def test_sticking_with_the_cor_on_a_support_point_finds_a_force_in_the_cone():
+    """4.1.2: when the sticking COR sits on a support point the contact force is a set (the
+    subgradient of that point's term); sticking is consistent if any member lies in the
+    friction cone. Supports with a heavy point on the sticking line and mu_c large must
+    stick there, as a 1-D brute-force minimisation of the power along the line agrees."""
+    scene = PushScene.create(1.0, (-0.9, 0.2), math.radians(80.0), 0.0)
+    c, jp = scene.contact_point, mpp.perp(scene.push_hat)
+    rng = np.random.default_rng(SEED + 13)
+    checked = 0
+    for _ in range(20):
+        heavy = c + rng.uniform(0.3, 1.2) * jp * rng.choice([-1.0, 1.0])
+        others = rng.uniform(-0.8, 0.8, (3, 2))
+        w = np.vstack([heavy, others])
+        p = np.r_[0.85, rng.uniform(0.02, 0.08, 3)]
+        p /= p.sum()
+        shift = p @ w
+        sup = Support.create(w - shift, p, (0, 0))
+        sc = PushScene.create(1.0, c - shift, scene.edge_angle, 0.0)
+        r = solve_forward(sc, sup, mu_c=1e6)
+        assert r.status == "optimal", r
+        if r.mode != "sticking" or r.cor_on_support is None:
+            continue
+        # brute force: the power of sticking rotations about points of the sticking line
+        ts = np.linspace(-3, 3, 60000)  # even count: t = 0 (r = c) is not a COR
+        cs, jps = sc.contact_point, mpp.perp(sc.push_hat)
+        best = ts[int(np.argmin(_sticking_power(sc, sup, cs + ts[:, None] * jps)))]
+        assert abs(((r.cor - cs) @ jps) - best) <= 2e-4
+        f = r.contact_force
+        assert f @ sc.normal > 0.0
+        checked += 1
+    assert checked >= 5
+
+
+def _sticking_power(sc, sup, r):
+    """Power (3.6) of the rotations about points r (m, 2) of the sticking line that move c
+    with p."""
+    cr = sc.contact_point - r
+    omega = (mpp.perp(cr) @ sc.push_hat) / np.einsum("ij,ij->i", cr, cr)
+    dist = np.linalg.norm(sup.points[None, :, :] - r[:, None, :], axis=2)
+    return np.abs(omega) * (dist @ sup.weights)
