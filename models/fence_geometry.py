@@ -183,7 +183,8 @@ class FenceStage:
 class FenceAlignment:
     """The fence-alignment problem of 3.4/4.3 for a footprint (module docstring).
 
-    ``alpha`` is the book's alpha in the fence frame after the reflection (if
+    ``initial_vertices`` are the footprint's vertices turned by the orientation (world, at
+    first contact). ``alpha`` is the book's alpha in the fence frame after the reflection (if
     ``mirrored``), ``alpha_unmirrored`` before it; ``sense`` the part's sense of turning in
     the world ("none" when an edge is already flush and stable); ``first_contact_index``
     the vertex the fence touches first and ``first_contact_point`` its world position at
@@ -196,6 +197,7 @@ class FenceAlignment:
 
     disk_radius: float
     center_of_mass: np.ndarray
+    initial_vertices: np.ndarray
     alpha: float
     alpha_unmirrored: float
     fence_normal: np.ndarray
@@ -290,7 +292,7 @@ def fence_alignment(
             # The line of force through the CM crosses the edge: no turn at all.
             first = flush_edge[int(np.argmin(np.abs(m_ends)))]
             return FenceAlignment(
-                disk_radius=a, center_of_mass=cm.copy(), alpha=alpha, alpha_unmirrored=alpha0,
+                disk_radius=a, center_of_mass=cm.copy(), initial_vertices=world, alpha=alpha, alpha_unmirrored=alpha0,
                 fence_normal=n_world, sense="none", mirrored=False, first_contact_index=first,
                 first_contact_point=world[first].copy(), initial_flush_edge=flush_edge, stages=(),
                 final_edge=flush_edge, total_rotation=0.0, final_orientation=theta,
@@ -350,7 +352,7 @@ def fence_alignment(
 
     last = stages[-1]
     return FenceAlignment(
-        disk_radius=a, center_of_mass=cm.copy(), alpha=alpha, alpha_unmirrored=alpha0,
+        disk_radius=a, center_of_mass=cm.copy(), initial_vertices=world, alpha=alpha, alpha_unmirrored=alpha0,
         fence_normal=n_world, sense="ccw" if mirrored else "cw", mirrored=mirrored,
         first_contact_index=stages[0].contact_index, first_contact_point=world[stages[0].contact_index].copy(),
         initial_flush_edge=flush_edge, stages=tuple(stages),
