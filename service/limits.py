@@ -160,3 +160,36 @@ SKETCH_MIN_LENGTH = 1e-100
 """Smallest disk radius (or polygon circumradius) of a COR sketch: the sense of rotation
 (models.mpp.mason_sense) squares lengths, which underflow below about 1e-154 and turn every
 push into a translation."""
+
+# ---------------------------------------------------------------------------------------
+# Gross motions (book 3.4, 4.3, 4.4): POST /v1/push/align and POST /v1/push/disk-encounter.
+# An exact bound (models.gross_bounds) builds one COR sketch per Gauss node at n_nodes and
+# at n_nodes // 2 nodes (the error estimate); measured on one core, a sketch takes
+# 0.05-0.09 s at 8 points, 0.09-0.14 s at 256, 0.2-0.3 s at 1024 and 0.55-0.9 s at 4096
+# (sketch points and sticking sweep alike). The cost model below is a little above those
+# numbers; a request whose predicted cost exceeds its time_limit_s is refused (422 at
+# time_limit_s) before any work.
+# ---------------------------------------------------------------------------------------
+
+GROSS_MIN_N_NODES = 4
+GROSS_MAX_N_NODES = 64
+"""Gauss-Legendre nodes of an exact gross-motion bound (models.gross_bounds needs >= 4)."""
+
+ALIGN_DEFAULT_N_NODES = 8
+ENCOUNTER_DEFAULT_N_NODES = 16
+"""Default nodes: the fence push's integrand is smooth (8 nodes: error estimate ~2e-4 of
+the book example); the encounter's has a kink where sketch i begins (16 nodes: ~6e-4)."""
+
+GROSS_DEFAULT_N_POINTS = 256
+"""Boundary points of each elementary locus of the sketches of an exact bound (and of its
+sticking sweep); MIN_N_POINTS..SKETCH_MAX_N_POINTS."""
+
+GROSS_SKETCH_COST_S = 0.1
+GROSS_SKETCH_COST_PER_POINT_S = 2.5e-4
+"""Predicted time of one sketch: GROSS_SKETCH_COST_S + GROSS_SKETCH_COST_PER_POINT_S *
+n_points seconds (an estimate for one core; a slower machine may take longer, and the
+service also stops between exact bounds once time_limit_s is spent)."""
+
+GROSS_MIN_LENGTH = 1e-100
+"""Smallest disk radius (or footprint circumradius) of a gross-motion request: the closed
+forms square lengths and the sketches' sense of rotation underflows below ~1e-154."""

@@ -5,7 +5,11 @@ and media type it answers is documented, and that bodies conform to their schema
 Bounded in time: derandomized (seeded) Hypothesis, a few dozen examples per operation
 and generation mode (positive data from the schema and negative data that violates it).
 Valid time budgets of the certificate searches (``time_limit_s``, default 10 s) are cut to
-CONTRACT_TIME_LIMIT_S so that one example cannot take seconds; everything else is as
+CONTRACT_TIME_LIMIT_S so that one example cannot take seconds. The gross-motion endpoints
+(/v1/push/align, /v1/push/disk-encounter) build a COR sketch per quadrature node: their
+valid n_nodes and n_points are cut to the minimum and their time budget to
+CONTRACT_GROSS_TIME_LIMIT_S, which admits one exact bound of 6 small sketches (~0.5 s) and
+refuses more by the service's cost model (a documented 422). Everything else is as
 generated.
 """
 
@@ -24,13 +28,15 @@ from schemathesis.specs.openapi.checks import (
 )
 
 from service.app import app
-from service.limits import MAX_TIME_LIMIT_S
+from service.limits import GROSS_MAX_N_NODES, GROSS_MIN_N_NODES, MAX_TIME_LIMIT_S, MIN_N_POINTS, SKETCH_MAX_N_POINTS
 
 MAX_EXAMPLES = int(os.environ.get("CONTRACT_MAX_EXAMPLES", "40"))
 """Per operation and generation mode; raise it (e.g. CONTRACT_MAX_EXAMPLES=400) for a
 deeper, slower search."""
 
 CONTRACT_TIME_LIMIT_S = 0.2
+CONTRACT_GROSS_TIME_LIMIT_S = 0.7
+GROSS_PATHS = ("/v1/push/align", "/v1/push/disk-encounter")
 
 schema = schemathesis.openapi.from_asgi("/openapi.json", app)
 schema.config.generation.update(
@@ -48,7 +54,7 @@ CHECKS = [
 def test_every_operation_is_covered() -> None:
     ids = {op.ok().definition.raw.get("operationId") for op in schema.get_all_operations()}
     assert ids == {"healthz", "cor_locus", "cor_solve", "cor_membership", "cor_tripod_statistics", "mpp_particle",
-                   "push_quasistatic", "cor_sketch"}
+                   "push_quasistatic", "cor_sketch", "push_align", "push_disk_encounter"}
 
 
 @schema.parametrize()
@@ -67,6 +73,9 @@ def test_api_contract(case: schemathesis.Case) -> None:
 
 def _cap_time_limit(case: schemathesis.Case) -> None:
     body = case.body
+    if isinstance(body, dict) and case.path in GROSS_PATHS:
+        _cap_gross(body)
+        return
     if not isinstance(body, dict) or case.path not in ("/v1/cor/locus", "/v1/cor/membership"):
         return
     if case.path == "/v1/cor/locus" and body.get("method") != "certified":
@@ -75,3 +84,20 @@ def _cap_time_limit(case: schemathesis.Case) -> None:
     valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and limit <= MAX_TIME_LIMIT_S
     if valid and limit > CONTRACT_TIME_LIMIT_S:
         body["time_limit_s"] = CONTRACT_TIME_LIMIT_S
+
+
+def _is_int(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _cap_gross(body: dict) -> None:
+    """Valid n_nodes / n_points become the minimum, a valid (or absent) time budget at most
+    CONTRACT_GROSS_TIME_LIMIT_S; invalid values stay, for the negative examples."""
+    if _is_int(body.get("n_nodes", GROSS_MIN_N_NODES)) and GROSS_MIN_N_NODES <= body.get("n_nodes", GROSS_MIN_N_NODES) <= GROSS_MAX_N_NODES:
+        body["n_nodes"] = GROSS_MIN_N_NODES
+    if _is_int(body.get("n_points", MIN_N_POINTS)) and MIN_N_POINTS <= body.get("n_points", MIN_N_POINTS) <= SKETCH_MAX_N_POINTS:
+        body["n_points"] = MIN_N_POINTS
+    limit = body.get("time_limit_s", MAX_TIME_LIMIT_S)
+    valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and limit <= MAX_TIME_LIMIT_S
+    if valid and limit > CONTRACT_GROSS_TIME_LIMIT_S:
+        body["time_limit_s"] = CONTRACT_GROSS_TIME_LIMIT_S

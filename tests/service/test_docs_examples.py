@@ -18,7 +18,8 @@ EXAMPLES = [(m.group(1), m.group(2)) for m in CURL.finditer(DOC.read_text(encodi
 def test_the_examples_are_found():
     paths = {url.split("?")[0] for url, _ in EXAMPLES}
     assert paths == {"/v1/cor/locus", "/v1/cor/solve", "/v1/cor/membership", "/v1/cor/tripod-statistics",
-                     "/v1/mpp/particle", "/v1/push/quasistatic", "/v1/cor/sketch"}
+                     "/v1/mpp/particle", "/v1/push/quasistatic", "/v1/cor/sketch", "/v1/push/align",
+                     "/v1/push/disk-encounter"}
 
 
 @pytest.mark.parametrize("url, body", EXAMPLES, ids=[f"{i}:{u}" for i, (u, _) in enumerate(EXAMPLES)])

@@ -77,6 +77,8 @@ def test_stable_operation_ids():
         ("/v1/mpp/particle", "post"): "mpp_particle",
         ("/v1/push/quasistatic", "post"): "push_quasistatic",
         ("/v1/cor/sketch", "post"): "cor_sketch",
+        ("/v1/push/align", "post"): "push_align",
+        ("/v1/push/disk-encounter", "post"): "push_disk_encounter",
     }
 
 
