@@ -16,7 +16,8 @@ n_points^-2; the benchmark reports it).
 
 The integral over beta uses Gauss-Legendre nodes (no end points: the disk's beta = pi/2 is
 a grazing push) at ``n_nodes`` and at half as many; their difference is reported as the
-quadrature error estimate. Frames are those of models/gross_motion.py.
+quadrature error estimate. The disk encounter integrates in u = ln tan(beta/2), where its
+rates, which grow like 1/sin(beta) near beta = 0, become bounded. Frames are those of models/gross_motion.py.
 """
 
 from __future__ import annotations
@@ -147,10 +148,16 @@ def encounter_bounds_exact(
         "rotation_max": (lambda b, r: gm.rotation_rate(b, r[:, 0], r[:, 1], a), True),
         "rotation_min": (lambda b, r: gm.rotation_rate(b, r[:, 0], r[:, 1], a), False),
     }
+    # The rates grow like 1/sin(beta) as beta -> 0 ((4.15): 2a/sin beta), which Gauss-
+    # Legendre in beta underestimates badly for a small beta_initial. In u = ln tan(beta/2),
+    # dbeta = sin(beta) du and the integrand rate * sin(beta) stays bounded.
+    u0, u1 = math.log(math.tan(0.5 * beta_initial)), math.log(math.tan(0.5 * beta_final))
     rules = {}
     for n in (n_nodes, max(2, n_nodes // 2)):
         x, w = np.polynomial.legendre.leggauss(n)
-        betas = 0.5 * (beta_final - beta_initial) * x + 0.5 * (beta_final + beta_initial)
+        us = 0.5 * (u1 - u0) * x + 0.5 * (u1 + u0)
+        betas = 2.0 * np.arctan(np.exp(us))
+        w = w * np.sin(betas)  # dbeta = sin(beta) du
         per_key = {k: [] for k in rates}
         for beta in betas:
             sk = cor_sketch(_encounter_scene(a, float(beta)), mu_c, n_points=n_points, sweep_points=n_points)
@@ -159,11 +166,15 @@ def encounter_bounds_exact(
         rules[n] = (betas, w, per_key)
     elapsed = time.perf_counter() - t0
     out = {}
-    half = 0.5 * (beta_final - beta_initial)
+    half = 0.5 * (u1 - u0)
     for k in rates:
+        # Rotation rates are bounded and equal 1 on the sticking line (rolling without
+        # slip): integrate their deviation from 1 and add beta_final - beta_initial exactly.
+        base = 1.0 if k.startswith("rotation") else 0.0
         vals = {}
         for n, (betas, w, per_key) in rules.items():
-            vals[n] = half * float(w @ np.array([v[0] for v in per_key[k]]))
+            dev = np.array([v[0] for v in per_key[k]]) - base
+            vals[n] = half * float(w @ dev) + base * (beta_final - beta_initial)
         betas, _, per_key = rules[n_nodes]
         book = None
         if k == "length_max":

@@ -84,3 +84,15 @@ def test_bad_ranges_are_refused():
         encounter_bounds_exact(1.0, 1.7, 0.5)
     with pytest.raises(InvalidInput):
         fence_push_bound_exact(mu_c=0.25, n_nodes=2, **BOOK)
+
+
+@pytest.mark.parametrize("beta_deg", [1e-4, 0.5, 5.0])
+def test_small_collision_parameter_is_integrated_accurately(beta_deg):
+    """4.4 near beta_i -> 0 the rates grow like 1/sin(beta) ((4.15)); the exact greatest
+    length must stay within a few percent of (4.16) (which it may exceed only by the dip of
+    the sticking locus) and its quadrature error estimate must be honest."""
+    bi = math.radians(beta_deg)
+    b = encounter_bounds_exact(1.0, bi, 0.5, n_nodes=8, n_points=128)["length_max"]
+    assert b.book_value is not None
+    assert 0.9 * b.book_value < b.value < 1.05 * b.book_value
+    assert b.quadrature_error < 0.02 * b.value
