@@ -121,6 +121,15 @@ def fence_push_bound_exact(
     return SketchBound(value, err, betas, rates, cors, srcs, book, time.perf_counter() - t0)
 
 
+def _log_tan_half(beta: float) -> float:
+    """ln tan(beta/2) without underflow for tiny beta (down to the smallest subnormal):
+    ln(beta) - ln 2 + ln(tan(h)/h), tan(h)/h = 1 + h^2/3 + ... for h = beta/2."""
+    h = 0.5 * beta
+    if h < 1e-8:
+        return math.log(beta) - math.log(2.0) + h * h / 3.0
+    return math.log(math.tan(h))
+
+
 def _encounter_scene(a: float, beta: float) -> PushScene:
     """The disk of 4.4 at collision parameter beta: contact a(-cos beta, sin beta), the
     disk's tangent there as the edge (alpha = pi/2 - beta), push along +x."""
@@ -151,7 +160,7 @@ def encounter_bounds_exact(
     # The rates grow like 1/sin(beta) as beta -> 0 ((4.15): 2a/sin beta), which Gauss-
     # Legendre in beta underestimates badly for a small beta_initial. In u = ln tan(beta/2),
     # dbeta = sin(beta) du and the integrand rate * sin(beta) stays bounded.
-    u0, u1 = math.log(math.tan(0.5 * beta_initial)), math.log(math.tan(0.5 * beta_final))
+    u0, u1 = _log_tan_half(beta_initial), _log_tan_half(beta_final)
     rules = {}
     for n in (n_nodes, max(2, n_nodes // 2)):
         x, w = np.polynomial.legendre.leggauss(n)
@@ -161,6 +170,14 @@ def encounter_bounds_exact(
         per_key = {k: [] for k in rates}
         for beta in betas:
             sk = cor_sketch(_encounter_scene(a, float(beta)), mu_c, n_points=n_points, sweep_points=n_points)
+            if sk.sense == "none" or not sk.allowed_modes:
+                # A head-on push (beta -> 0): the line of force runs through the CM and the
+                # disk only translates; the encounter never ends (4.16 diverges).
+                raise InvalidInput(
+                    "beta_initial",
+                    f"is too close to a head-on push: at beta = {float(beta):.3g} the disk only translates "
+                    "and the encounter length is unbounded",
+                )
             for k, (rate, largest) in rates.items():
                 per_key[k].append(_extreme(sk, lambda r, rate=rate, beta=beta: rate(beta, r), largest))
         rules[n] = (betas, w, per_key)

@@ -96,3 +96,12 @@ def test_small_collision_parameter_is_integrated_accurately(beta_deg):
     assert b.book_value is not None
     assert 0.9 * b.book_value < b.value < 1.05 * b.book_value
     assert b.quadrature_error < 0.02 * b.value
+
+
+def test_head_on_push_is_refused_on_beta_initial():
+    """beta_i = 5e-324 (a subnormal; ln tan(beta/2) must not underflow to log(0)): the
+    push is head-on at the first nodes, the disk only translates and the encounter has no
+    end, which is an input error on beta_initial, not a crash."""
+    with pytest.raises(InvalidInput) as e:
+        encounter_bounds_exact(1.0, 5e-324, 1.0, n_nodes=4, n_points=8)
+    assert e.value.field == "beta_initial"
