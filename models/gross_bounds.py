@@ -121,6 +121,43 @@ def fence_push_bound_exact(
     return SketchBound(value, err, betas, rates, cors, srcs, book, time.perf_counter() - t0)
 
 
+def fence_slip_rate(beta, c: float, alpha: float, cor) -> np.ndarray:
+    """Slip of the pusher along the fence face, relative to the part, per radian of turn:
+    dslip/dbeta for CORs r (k, 2) in the fence frame, positive along alpha_hat (the sign of
+    models.scene.PushScene.slip_per_push). With omega = -sin(alpha)/(alpha . (c - r)) (3.3)
+    and dx/dbeta = -1/omega (4.2): slip per push alpha . (p - omega J (c - r)) times
+    dx/dbeta = cos(alpha) alpha . (c - r)/sin(alpha) + alpha . J(c - r) -- linear in r."""
+    r = np.atleast_2d(np.asarray(cor, dtype=float))
+    cv = c * np.array([-math.cos(beta), math.sin(beta)])
+    ah = np.array([math.cos(alpha), math.sin(alpha)])
+    d = cv[None, :] - r
+    jd = np.stack([-d[:, 1], d[:, 0]], axis=1)
+    return math.cos(alpha) * (d @ ah) / math.sin(alpha) + jd @ ah
+
+
+def fence_slip_bounds_exact(
+    a: float, c: float, alpha: float, beta_initial: float, beta_final: float, mu_c: float,
+    n_nodes: int = 16, n_points: int = 256,
+) -> tuple[SketchBound, SketchBound]:
+    """How far the pusher can slip along the fence face (relative to the part) while the
+    part turns from beta_initial to beta_final (issue 4, 4.3): the integrals of the largest
+    and of the smallest :func:`fence_slip_rate` over the exact sketch at every node, as
+    (most positive, most negative) along alpha_hat. With mu_c > 0 and a sticking-only
+    sketch both are 0."""
+    out = []
+    for largest in (True, False):
+        t0 = time.perf_counter()
+
+        def node(beta, largest=largest):
+            contact = c * np.array([-math.cos(beta), math.sin(beta)])
+            sk = cor_sketch(PushScene.create(a, contact, alpha, 0.0), mu_c, n_points=n_points, sweep_points=n_points)
+            return _extreme(sk, lambda r: fence_slip_rate(beta, c, alpha, r), largest)
+
+        (value, betas, rates, cors, srcs), err = _integrate(node, beta_initial, beta_final, n_nodes)
+        out.append(SketchBound(value, err, betas, rates, cors, srcs, None, time.perf_counter() - t0))
+    return out[0], out[1]
+
+
 def _log_tan_half(beta: float) -> float:
     """ln tan(beta/2) without underflow for tiny beta (down to the smallest subnormal):
     ln(beta) - ln 2 + ln(tan(h)/h), tan(h)/h = 1 + h^2/3 + ... for h = beta/2."""

@@ -105,3 +105,38 @@ def test_head_on_push_is_refused_on_beta_initial():
     with pytest.raises(InvalidInput) as e:
         encounter_bounds_exact(1.0, 5e-324, 1.0, n_nodes=4, n_points=8)
     assert e.value.field == "beta_initial"
+
+
+def test_fence_slip_bounds_hold_every_simulated_support():
+    """How far the pusher slips along the fence: the slip rate of every simulated support's
+    COR (forward solves) lies between the sketch's extremes at that beta; the rate formula
+    equals the scene's own slip per push times dx/dbeta; sticking CORs do not slip."""
+    from models.cor_sketch import cor_sketch
+    from models.gross_bounds import _extreme, fence_slip_bounds_exact, fence_slip_rate
+    from models.scene import PushScene
+
+    geo = dict(a=1.0, c=0.9, alpha=math.radians(60.0), beta_initial=math.radians(35.0), beta_final=math.radians(75.0))
+    mu_c = 0.3
+    hi, lo = fence_slip_bounds_exact(mu_c=mu_c, n_nodes=6, n_points=256, **geo)
+    assert hi.value >= lo.value
+    rng = np.random.default_rng(SEED + 3)
+    pts, wts = random_balanced_tripods(rng, 60, 1.0)
+    sim = simulate_fence_alignment_batch(pts, wts, mu_c=mu_c, n_steps=8, **geo)
+    c, alpha = geo["c"], geo["alpha"]
+    for k in (0, len(sim.beta_nodes) // 2, len(sim.beta_nodes) - 1):
+        beta = float(sim.beta_nodes[k])
+        scene = PushScene.create(1.0, c * np.array([-math.cos(beta), math.sin(beta)]), alpha, 0.0)
+        sk = cor_sketch(scene, mu_c, n_points=1024)
+        top = _extreme(sk, lambda r: fence_slip_rate(beta, c, alpha, r), True)[0]
+        bottom = _extreme(sk, lambda r: fence_slip_rate(beta, c, alpha, r), False)[0]
+        cors = sim.cor[k][np.all(np.isfinite(sim.cor[k]), axis=1)]
+        rates = fence_slip_rate(beta, c, alpha, cors)
+        scale = max(1.0, abs(top), abs(bottom))
+        assert rates.max() <= top + 2e-3 * scale and rates.min() >= bottom - 2e-3 * scale
+        # the formula against the scene: slip per push times dx/dbeta
+        r0 = cors[0]
+        expect = scene.slip_per_push(r0) * gm.fence_rate(beta, c, alpha, r0[None])[0]
+        assert math.isclose(rates[0], expect, rel_tol=1e-9, abs_tol=1e-12)
+        stick = sim.mode[k] == 1
+        if stick.any():
+            assert np.abs(fence_slip_rate(beta, c, alpha, sim.cor[k][stick])).max() < 1e-8
