@@ -127,49 +127,29 @@ from solver.forward import solve_forward, solve_forward_batch
 
 # The footprint frame and the snapping distance are membership's; the outline pieces are
 # re-implemented below with derivative bounds that stay tight for a far candidate.
-from solver.membership import ON_BOUNDARY_REL, Outline
+from solver.membership import (  # the column-generation knobs and point-mass helpers are shared
+    BASE_CAPACITY,
+    CIRCLE_SAMPLES,
+    COLUMNS_PER_ROUND,
+    EDGE_SAMPLES,
+    GOLDEN_ITERATIONS,
+    MAX_WARM_POINTS,
+    MIN_INTERVAL,
+    ON_BOUNDARY_REL,
+    POINT_MASS_RADIUS,
+    POLISH_BELOW,
+    POLYGON_SAMPLES,
+    REPORT_WEIGHT_REL,
+    ROUNDING_ALLOWANCE,
+    Outline,
+    _GOLD,
+    _pm_back,
+    _pm_feasible,
+)
 
 ON_LINE_REL = 1e-9
 """A query point farther than this (/ L) from the sticking line is refused; closer ones are
 projected onto it."""
-
-CIRCLE_SAMPLES = 256
-"""Initial columns (and pricing grid) on the disk's circle."""
-
-EDGE_SAMPLES = 64
-"""Most initial columns (and pricing grid points) per polygon edge, vertices included."""
-
-POLYGON_SAMPLES = 512
-"""Initial columns of a polygon in all, shared among the edges by length."""
-
-COLUMNS_PER_ROUND = 4
-"""Most new columns added per column-generation round."""
-
-POINT_MASS_RADIUS = 1e-7
-"""With r in the footprint, support points closer than this (/ L) to r are left to the
-point mass (their columns are within this distance of point-mass elements)."""
-
-BASE_CAPACITY = 320
-"""Column capacities of the compiled restricted masters are BASE_CAPACITY * 2^k."""
-
-GOLDEN_ITERATIONS = 48
-"""Golden-section steps of the local pricing refinement."""
-
-ROUNDING_ALLOWANCE = 32.0 * np.finfo(float).eps
-"""Relative rounding allowance subtracted from every branch-and-bound lower bound."""
-
-MIN_INTERVAL = 1e-13
-"""Branch-and-bound intervals shorter than this (parameter units) are not split further."""
-
-POLISH_BELOW = 1e-6
-"""The exact witness polish is tried once the master's L1 residual is below this."""
-
-REPORT_WEIGHT_REL = 1e-9
-"""Support points of a non-inside result lighter than this fraction of the heaviest are
-left out of the reported (approximate) support."""
-
-MAX_WARM_POINTS = 64
-"""Most warm-start points taken from a caller."""
 
 STRICT_WITNESS_RESIDUAL = 1e-12
 """Largest witness residual of an inside end of a locus bracket."""
@@ -198,9 +178,6 @@ delta L/|s|; the bracket then ends wider than the target ("wide")."""
 
 WARM_PER_RESULT = 16
 """Support points (heaviest first) passed on from a previous query as warm columns."""
-
-_GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
-
 
 # --------------------------------------------------------------------------------------
 # Results
@@ -907,20 +884,6 @@ def _pm_basis(pmg, pmh, pm_x, variant: str):
     zhat = pm_x[1:] / zn if zn > 0.0 else np.array([1.0, 0.0])
     e = np.array([1.0, zhat[0], zhat[1]])
     return (pmg @ e)[:, None], (pmh @ e)[:, None], np.array([pm_x[0]])
-
-
-def _pm_back(pm_x, coords, variant: str):
-    if variant == "free":
-        return coords
-    zn = math.hypot(pm_x[1], pm_x[2])
-    zhat = pm_x[1:] / zn if zn > 0.0 else np.array([1.0, 0.0])
-    return np.array([coords[0], coords[0] * zhat[0], coords[0] * zhat[1]])
-
-
-def _pm_feasible(coords, variant: str) -> bool:
-    if variant == "free":
-        return coords[0] >= 0.0 and math.hypot(coords[1], coords[2]) <= coords[0]
-    return coords[0] >= 0.0
 
 
 def _polish_once(m, target, weights, pm_cols, pm_coords, variant):
