@@ -94,6 +94,14 @@ def _integrate(f_node: Callable, lo: float, hi: float, n_nodes: int):
     return full, abs(full[0] - half[0])
 
 
+def fence_scene(a: float, c: float, alpha: float, beta: float) -> PushScene:
+    """The fence push at angle beta (fence frame of models/gross_motion.py): CM at the
+    origin, the vertex at c (-cos beta, sin beta), the fence face at angle alpha, pushing
+    along +x."""
+    contact = c * np.array([-math.cos(beta), math.sin(beta)])
+    return PushScene.create(a, contact, alpha, 0.0)
+
+
 def fence_push_bound_exact(
     a: float, c: float, alpha: float, beta_initial: float, beta_final: float, mu_c: float,
     n_nodes: int = 16, n_points: int = 256, longest: bool = True,
@@ -106,9 +114,7 @@ def fence_push_bound_exact(
     t0 = time.perf_counter()
 
     def node(beta):
-        contact = c * np.array([-math.cos(beta), math.sin(beta)])
-        scene = PushScene.create(a, contact, alpha, 0.0)
-        sk = cor_sketch(scene, mu_c, n_points=n_points, sweep_points=n_points)
+        sk = cor_sketch(fence_scene(a, c, alpha, beta), mu_c, n_points=n_points, sweep_points=n_points)
         return _extreme(sk, lambda r: gm.fence_rate(beta, c, alpha, r), longest)
 
     (value, betas, rates, cors, srcs), err = _integrate(node, beta_initial, beta_final, n_nodes)
@@ -149,8 +155,7 @@ def fence_slip_bounds_exact(
         t0 = time.perf_counter()
 
         def node(beta, largest=largest):
-            contact = c * np.array([-math.cos(beta), math.sin(beta)])
-            sk = cor_sketch(PushScene.create(a, contact, alpha, 0.0), mu_c, n_points=n_points, sweep_points=n_points)
+            sk = cor_sketch(fence_scene(a, c, alpha, beta), mu_c, n_points=n_points, sweep_points=n_points)
             return _extreme(sk, lambda r: fence_slip_rate(beta, c, alpha, r), largest)
 
         (value, betas, rates, cors, srcs), err = _integrate(node, beta_initial, beta_final, n_nodes)
@@ -167,9 +172,10 @@ def _log_tan_half(beta: float) -> float:
     return math.log(math.tan(h))
 
 
-def _encounter_scene(a: float, beta: float) -> PushScene:
-    """The disk of 4.4 at collision parameter beta: contact a(-cos beta, sin beta), the
-    disk's tangent there as the edge (alpha = pi/2 - beta), push along +x."""
+def encounter_scene(a: float, beta: float) -> PushScene:
+    """The disk of 4.4 at collision parameter beta (disk-encounter frame): contact
+    a(-cos beta, sin beta), the disk's tangent there as the edge (alpha = pi/2 - beta),
+    push along +x."""
     contact = a * np.array([-math.cos(beta), math.sin(beta)])
     return PushScene.create(a, contact, 0.5 * math.pi - beta, 0.0)
 
@@ -206,7 +212,7 @@ def encounter_bounds_exact(
         w = w * np.sin(betas)  # dbeta = sin(beta) du
         per_key = {k: [] for k in rates}
         for beta in betas:
-            sk = cor_sketch(_encounter_scene(a, float(beta)), mu_c, n_points=n_points, sweep_points=n_points)
+            sk = cor_sketch(encounter_scene(a, float(beta)), mu_c, n_points=n_points, sweep_points=n_points)
             if sk.sense == "none" or not sk.allowed_modes:
                 # A head-on push (beta -> 0): the line of force runs through the CM and the
                 # disk only translates; the encounter never ends (4.16 diverges).

@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from models.errors import InvalidInput
+from models.gross_bounds import encounter_scene, fence_scene
 from models.mpp import perp
 from models.scene import PushScene
 from models.support import Support
@@ -149,13 +150,6 @@ def _fence_checks(a, c, alpha, beta_initial, beta_final):
         raise InvalidInput("alpha", "must lie in (0, pi)")
     if not (0 < beta_initial < beta_final < math.pi - alpha):
         raise InvalidInput("beta_final", "need 0 < beta_initial < beta_final < pi - alpha")
-
-
-def fence_scene(a: float, c: float, alpha: float, beta: float) -> PushScene:
-    """The push at angle beta in the fence frame: CM at the origin, the vertex at
-    c (-cos beta, sin beta), the fence face at angle alpha, pushing along +x."""
-    contact = c * np.array([-math.cos(beta), math.sin(beta)])
-    return PushScene.create(a, contact, alpha, 0.0)
 
 
 def simulate_fence_alignment_batch(
@@ -302,14 +296,6 @@ def simulate_fence_alignment(
 # ---------------------------------------------------------------------------------------
 # A disk pushed aside by a point (4.4)
 # ---------------------------------------------------------------------------------------
-
-
-def encounter_scene(a: float, beta: float) -> PushScene:
-    """The push at collision parameter beta in the encounter frame: the disk's CM at the
-    origin, the pusher point at a (-cos beta, sin beta) moving along +x, the pushed edge
-    the disk's tangent there."""
-    contact = a * np.array([-math.cos(beta), math.sin(beta)])
-    return PushScene.create(a, contact, math.atan2(contact[1], contact[0]) + HALF_PI, 0.0)
 
 
 def _check_disk(a, beta_initial):
