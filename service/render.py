@@ -132,20 +132,7 @@ def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
         must_see.append(rel(locus.tip.point))
     if locus.tip_line is not None and locus.tip_line.distance <= MAX_TIP_IN_VIEW * a_world:
         must_see.append(rel(locus.tip_line.point))
-    half_world = VIEW_MARGIN * max(float(np.max(np.abs(p))) for p in must_see)
-
-    # Drawing units: the client's, or 10^k when the view is very small or very large.
-    if not half_world >= MIN_DRAWABLE_HALF_WIDTH:
-        raise NonFiniteResult("the picture's scale (a view narrower than 1e-300)")
-    unit_exp = 0
-    if not PLAIN_UNITS[0] <= half_world <= PLAIN_UNITS[1]:
-        unit_exp = int(math.floor(math.log10(half_world)))
-    scale = 10.0**unit_exp
-
-    # Drawing origin: the world's, unless the CM is so far away relative to the view that
-    # plotting world coordinates would lose precision; then the CM.
-    far = float(np.max(np.abs(cm_world))) > ORIGIN_SHIFT_RATIO * half_world
-    origin = cm_world if far else np.zeros(2)
+    half_world, unit_exp, scale, origin = _view_frame(must_see, cm_world)
 
     def P(point) -> np.ndarray:
         """World point(s) -> drawing coordinates (from ``origin``, in 10^unit_exp)."""
@@ -251,6 +238,24 @@ def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
     ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.85)
     fig.tight_layout()
     return fig
+
+
+def _view_frame(must_see, cm_world: np.ndarray) -> tuple[float, int, float, np.ndarray]:
+    """Half-width of the view (world units) around the CM holding every point of
+    ``must_see`` (offsets from the CM), the drawing unit 10^unit_exp -- the client's own
+    unless the view is very small or very large -- its scale, and the drawing origin: the
+    world's, unless the CM is so far away relative to the view that plotting world
+    coordinates would lose precision; then the CM."""
+    half_world = VIEW_MARGIN * max(float(np.max(np.abs(p))) for p in must_see)
+    if not half_world >= MIN_DRAWABLE_HALF_WIDTH:
+        raise NonFiniteResult("the picture's scale (a view narrower than 1e-300)")
+    unit_exp = 0
+    if not PLAIN_UNITS[0] <= half_world <= PLAIN_UNITS[1]:
+        unit_exp = int(math.floor(math.log10(half_world)))
+    scale = 10.0**unit_exp
+    far = float(np.max(np.abs(cm_world))) > ORIGIN_SHIFT_RATIO * half_world
+    origin = cm_world if far else np.zeros(2)
+    return half_world, unit_exp, scale, origin
 
 
 def render_locus_svg(prep: PreparedPush, locus: DiskCorLocus) -> bytes:

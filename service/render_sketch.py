@@ -31,16 +31,12 @@ from models.cor_disk import TipLine
 from models.cor_sketch import CorSketch
 from service.convert import PreparedPush
 from service.convert_sketch import IMPLICATION_TEXT, is_translation
-from service.errors import NonFiniteResult
 from service.render import (
     FIGSIZE_IN,
-    MIN_DRAWABLE_HALF_WIDTH,
-    ORIGIN_SHIFT_RATIO,
-    PLAIN_UNITS,
-    VIEW_MARGIN,
     _axis_label,
     _clip_line_to_box,
     _clip_polygon_to_box,
+    _view_frame,
 )
 
 MAX_IN_VIEW = 6.0
@@ -132,15 +128,7 @@ def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | N
         near = r[np.hypot(r[:, 0], r[:, 1]) <= reach]
         if len(near):
             must_see.append(near)
-    half_world = VIEW_MARGIN * max(float(np.max(np.abs(p))) for p in must_see)
-    if not half_world >= MIN_DRAWABLE_HALF_WIDTH:
-        raise NonFiniteResult("the picture's scale (a view narrower than 1e-300)")
-    unit_exp = 0
-    if not PLAIN_UNITS[0] <= half_world <= PLAIN_UNITS[1]:
-        unit_exp = int(math.floor(math.log10(half_world)))
-    scale = 10.0**unit_exp
-    far = float(np.max(np.abs(cm_world))) > ORIGIN_SHIFT_RATIO * half_world
-    origin = cm_world if far else np.zeros(2)
+    half_world, unit_exp, scale, origin = _view_frame(must_see, cm_world)
 
     def P(points) -> np.ndarray:
         return (np.asarray(points, dtype=float) - origin) / scale
