@@ -75,6 +75,17 @@ def _error_speed(cs: qs.CharacteristicSpeed, name: str) -> ErrorSpeedOut:
     )
 
 
+
+def _quasi_static_parameter(res: qs.QuasiStaticAssessment) -> QuasiStaticParameterOut:
+    """(6.7): the characteristic speed of the quasi-static parameter and the ratio to it."""
+    return QuasiStaticParameterOut(
+        characteristic_speed=_f(res.quasi_static.characteristic_speed, "quasi_static.characteristic_speed"),
+        ratio=_f(res.quasi_static.ratio, "quasi_static.ratio"),
+        equation=res.quasi_static.equation,
+        section=res.quasi_static.section,
+        formula=res.quasi_static.formula,
+    )
+
 def _message(res: qs.QuasiStaticAssessment, unit: str | None) -> str:
     r = res.quasi_static.ratio
     t = res.thresholds
@@ -136,13 +147,7 @@ def quasistatic_response(req: PushQuasistaticRequest) -> PushQuasistaticResponse
         ),
         angular=_error_speed(res.angular, "angular"),
         translational=_error_speed(res.translational, "translational"),
-        quasi_static=QuasiStaticParameterOut(
-            characteristic_speed=_f(res.quasi_static.characteristic_speed, "quasi_static.characteristic_speed"),
-            ratio=_f(res.quasi_static.ratio, "quasi_static.ratio"),
-            equation=res.quasi_static.equation,
-            section=res.quasi_static.section,
-            formula=res.quasi_static.formula,
-        ),
+        quasi_static=_quasi_static_parameter(res),
         thresholds=ThresholdsOut(
             quasi_static_max_ratio=res.thresholds.quasi_static_max_ratio,
             inertial_min_ratio=res.thresholds.inertial_min_ratio,
@@ -264,13 +269,7 @@ def quasi_static_check(qin: QuasiStaticIn | None, part: qs.PartGeometry) -> Quas
         g=_f(res.g, "quasi_static.g"),
         g_source=given[0],
         length_unit=qin.length_unit,
-        quasi_static=QuasiStaticParameterOut(
-            characteristic_speed=_f(res.quasi_static.characteristic_speed, "quasi_static.characteristic_speed"),
-            ratio=_f(res.quasi_static.ratio, "quasi_static.ratio"),
-            equation=res.quasi_static.equation,
-            section=res.quasi_static.section,
-            formula=res.quasi_static.formula,
-        ),
+        quasi_static=_quasi_static_parameter(res),
         angular=_error_speed(res.angular, "quasi_static.angular"),
         translational=_error_speed(res.translational, "quasi_static.translational"),
     )
