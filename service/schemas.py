@@ -66,6 +66,14 @@ ResponseFormat = Literal["json", "svg"]
 LocusMethod = Literal["analytic", "certified"]
 
 
+ONE_SHAPE_OF = [
+    {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
+    {"required": ["workpiece"], "properties": {"workpiece": {"type": "array"}}},
+    {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
+]
+"""JSON-schema: exactly one of disk_radius / workpiece / footprint (null counts as absent)."""
+
+
 class CorLocusRequest(BaseModel):
     """One push of a sliding workpiece by a frictionless pusher (book 3.1.9).
 
@@ -76,12 +84,7 @@ class CorLocusRequest(BaseModel):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            # Exactly one of disk_radius / workpiece / footprint (null counts as absent).
-            "oneOf": [
-                {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
-                {"required": ["workpiece"], "properties": {"workpiece": {"type": "array"}}},
-                {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
-            ],
+            "oneOf": ONE_SHAPE_OF,
             "examples": [
                 {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966},
             ],

@@ -26,7 +26,7 @@ from service.limits import (
     SKETCH_MAX_N_POINTS,
     SKETCH_MIN_LENGTH,
 )
-from service.schemas import Angle, Point, Polygon, ResponseFormat, Vec2
+from service.schemas import ONE_SHAPE_OF, Angle, Point, Polygon, ResponseFormat, Vec2
 
 __all__ = ["CorSketchRequest", "CorSketchResponse", "ResponseFormat"]
 
@@ -54,11 +54,7 @@ class CorSketchRequest(BaseModel):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "oneOf": [
-                {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
-                {"required": ["workpiece"], "properties": {"workpiece": {"type": "array"}}},
-                {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
-            ],
+            "oneOf": ONE_SHAPE_OF,
             "examples": [
                 {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966,
                  "mu_c": 0.3},
