@@ -53,18 +53,6 @@ def power(x: np.ndarray, w: np.ndarray, weights: np.ndarray) -> float:
     return float(np.asarray(weights) @ np.linalg.norm(point_velocities(x, w), axis=1))
 
 
-def cor_of_twist(x: np.ndarray) -> np.ndarray:
-    """r = J v / omega (3.1.4); the caller decides when omega is too small (translation)."""
-    x = np.asarray(x, dtype=float)
-    return perp(x[:2]) / x[2]
-
-
-def twist_about(r: np.ndarray, omega: float) -> np.ndarray:
-    """The twist of a rotation at rate ``omega`` about ``r``: v = -omega J r."""
-    r = np.asarray(r, dtype=float)
-    return np.concatenate([-omega * perp(r), [omega]])
-
-
 def lever(contact_rel: np.ndarray, alpha_hat: np.ndarray, r: np.ndarray) -> float:
     """s = alpha . (c - r), the book's moment arm of (3.3) for a COR ``r``."""
     return float(np.asarray(alpha_hat) @ (np.asarray(contact_rel) - np.asarray(r)))

@@ -431,15 +431,6 @@ def _power_world(v, omega, w_rel, p):
     return np.einsum("bk,bk->b", p, np.linalg.norm(vel, axis=2))
 
 
-def _cor_world(scene, v, omega, tol):
-    speed = np.linalg.norm(v, axis=1)
-    ell_omega = np.abs(omega)
-    cor = np.full(v.shape, np.nan)
-    rot = ell_omega > 0.0
-    cor[rot] = scene.center_of_mass + perp(v[rot]) / omega[rot, None]
-    return cor, speed
-
-
 def solve_forward(
     scene: PushScene,
     support: Support,
