@@ -259,7 +259,6 @@ def fence_alignment(
     cm = np.asarray(footprint.center_of_mass, dtype=float)
     a = float(footprint.circumradius)
     verts = np.asarray(footprint.vertices, dtype=float)
-    nv = len(verts)
     world = cm + (verts - cm) @ _rotation(theta).T  # the turned footprint, world frame
     q = (verts - cm) @ _rotation(theta - phi).T  # fence frame: CM at 0, push along +x
     alpha = alpha0

@@ -15,7 +15,6 @@ from models.errors import InvalidInput
 from models.support import Support
 from solver.forward import solve_forward
 from tests.scenes import (
-    MU_ON_DISK,
     MU_OUTER_INNER,
     MU_WITH_ARC,
     SEED,
