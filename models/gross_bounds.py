@@ -30,6 +30,7 @@ from typing import Callable
 import numpy as np
 
 from models import gross_motion as gm
+from models.cor_disk import disk_cor_locus
 from models.cor_sketch import CorSketch, cor_sketch
 from models.errors import InvalidInput
 from models.scene import PushScene
@@ -69,7 +70,11 @@ def sketch_candidates(sketch: CorSketch) -> tuple[np.ndarray, list[str]]:
 
 
 def _extreme(sketch: CorSketch, rate: Callable, largest: bool):
-    pts, src = sketch_candidates(sketch)
+    return _extreme_of(sketch_candidates(sketch), rate, largest)
+
+
+def _extreme_of(candidates: tuple[np.ndarray, list[str]], rate: Callable, largest: bool):
+    pts, src = candidates
     if len(pts) == 0:
         raise InvalidInput("mu_c", "the COR sketch is empty here: no consistent motion")
     vals = np.asarray(rate(pts), dtype=float)
@@ -102,29 +107,97 @@ def fence_scene(a: float, c: float, alpha: float, beta: float) -> PushScene:
     return PushScene.create(a, contact, alpha, 0.0)
 
 
+FENCE_BOUNDS = ("push_max", "push_min", "slip_max", "slip_min")
+"""Keys of :func:`fence_bounds_exact`."""
+
+
+def check_deadline(deadline: float | None, t0: float, before: str) -> None:
+    """Raise InvalidInput on ``time_limit_s`` when ``deadline`` (a time.perf_counter()
+    value) has passed, saying how far the computation got."""
+    if deadline is not None and time.perf_counter() > deadline:
+        raise InvalidInput(
+            "time_limit_s",
+            f"ran out after {time.perf_counter() - t0:.3g} s before {before}: lower n_nodes or n_points, "
+            "or raise time_limit_s",
+        )
+
+
+def frictionless_candidates(scene: PushScene, n_points: int) -> tuple[np.ndarray, list[str]]:
+    """mu_c = 0: the candidates of a linear rate are the vertices of the frictionless locus
+    {COR}_alpha (3.30, 3.35 sampled at ``n_points``); a linear function over a region is
+    extreme on its boundary."""
+    loc = disk_cor_locus(scene, outputs=("boundary",), n_points=n_points)
+    if loc.boundary is None:
+        raise InvalidInput("alpha", "the line of force passes through the CM: the part only translates")
+    return loc.boundary, ["frictionless"] * len(loc.boundary)
+
+
+def fence_bounds_exact(
+    a: float, c: float, alpha: float, beta_initial: float, beta_final: float, mu_c: float,
+    n_nodes: int = 16, n_points: int = 256, which: tuple[str, ...] = FENCE_BOUNDS,
+    deadline: float | None = None,
+) -> dict[str, SketchBound]:
+    """Bounds of the fence-alignment push (4.3) from one exact sketch per quadrature node
+    (the nodes are shared, so every bound reuses the same sketches):
+
+    * "push_max" / "push_min": the longest / shortest push until the edge lies flush,
+      integral of max (min) over the sketch of (4.2), dx/dbeta = alpha_hat . (c - r) / sin(alpha);
+    * "slip_max" / "slip_min": how far the fence face slips past the contact vertex (along
+      alpha_hat, positive or negative) meanwhile, integral of :func:`fence_slip_rate`.
+
+    Contact at c(-cos beta, sin beta), fence along alpha, push along +x. mu_c = 0 takes the
+    frictionless locus {COR}_alpha. The book's composite closed form
+    (models.gross_motion.fence_push_bound) is reported beside "push_max". ``deadline``
+    (time.perf_counter() value) is checked before every sketch (:func:`check_deadline`)."""
+    unknown = [k for k in which if k not in FENCE_BOUNDS]
+    if unknown:
+        raise InvalidInput("which", f"unknown bounds {unknown}; choose from {list(FENCE_BOUNDS)}")
+    t0 = time.perf_counter()
+    cache: dict[float, tuple[np.ndarray, list[str]]] = {}
+
+    def candidates(beta: float):
+        if beta not in cache:
+            check_deadline(deadline, t0, f"the sketch at beta = {beta:.6g} ({len(cache)} of "
+                           f"{n_nodes + max(2, n_nodes // 2)} done)")
+            scene = fence_scene(a, c, alpha, beta)
+            if mu_c == 0.0:
+                cache[beta] = frictionless_candidates(scene, n_points)
+            else:
+                cache[beta] = sketch_candidates(cor_sketch(scene, mu_c, n_points=n_points, sweep_points=n_points))
+        return cache[beta]
+
+    rates = {
+        "push_max": (lambda beta, r: gm.fence_rate(beta, c, alpha, r), True),
+        "push_min": (lambda beta, r: gm.fence_rate(beta, c, alpha, r), False),
+        "slip_max": (lambda beta, r: fence_slip_rate(beta, c, alpha, r), True),
+        "slip_min": (lambda beta, r: fence_slip_rate(beta, c, alpha, r), False),
+    }
+    out = {}
+    for key in which:
+        rate, largest = rates[key]
+
+        def node(beta, rate=rate, largest=largest):
+            return _extreme_of(candidates(beta), lambda r: rate(beta, r), largest)
+
+        (value, betas, vals, cors, srcs), err = _integrate(node, beta_initial, beta_final, n_nodes)
+        book = None
+        if key == "push_max":
+            try:
+                book = gm.fence_push_bound(a, c, alpha, beta_initial, beta_final, mu_c).total
+            except InvalidInput:
+                book = None
+        out[key] = SketchBound(value, err, betas, vals, cors, srcs, book, time.perf_counter() - t0)
+    return out
+
+
 def fence_push_bound_exact(
     a: float, c: float, alpha: float, beta_initial: float, beta_final: float, mu_c: float,
     n_nodes: int = 16, n_points: int = 256, longest: bool = True,
 ) -> SketchBound:
     """The longest (or, ``longest=False``, shortest) push of a fence until the part's edge
-    lies flush (4.3): integral of max (min) over the sketch of (4.2),
-    dx/dbeta = alpha_hat . (c - r) / sin(alpha), the contact at c(-cos beta, sin beta),
-    fence along alpha, push along +x. The book's composite closed form (tips, tip line;
-    models.gross_motion.fence_push_bound) is reported beside the longest one."""
-    t0 = time.perf_counter()
-
-    def node(beta):
-        sk = cor_sketch(fence_scene(a, c, alpha, beta), mu_c, n_points=n_points, sweep_points=n_points)
-        return _extreme(sk, lambda r: gm.fence_rate(beta, c, alpha, r), longest)
-
-    (value, betas, rates, cors, srcs), err = _integrate(node, beta_initial, beta_final, n_nodes)
-    book = None
-    if longest:
-        try:
-            book = gm.fence_push_bound(a, c, alpha, beta_initial, beta_final, mu_c).total
-        except InvalidInput:
-            book = None
-    return SketchBound(value, err, betas, rates, cors, srcs, book, time.perf_counter() - t0)
+    lies flush (4.3); see :func:`fence_bounds_exact`."""
+    key = "push_max" if longest else "push_min"
+    return fence_bounds_exact(a, c, alpha, beta_initial, beta_final, mu_c, n_nodes, n_points, (key,))[key]
 
 
 def fence_slip_rate(beta, c: float, alpha: float, cor) -> np.ndarray:
@@ -146,21 +219,11 @@ def fence_slip_bounds_exact(
     n_nodes: int = 16, n_points: int = 256,
 ) -> tuple[SketchBound, SketchBound]:
     """How far the pusher can slip along the fence face (relative to the part) while the
-    part turns from beta_initial to beta_final (issue 4, 4.3): the integrals of the largest
-    and of the smallest :func:`fence_slip_rate` over the exact sketch at every node, as
-    (most positive, most negative) along alpha_hat. With mu_c > 0 and a sticking-only
-    sketch both are 0."""
-    out = []
-    for largest in (True, False):
-        t0 = time.perf_counter()
-
-        def node(beta, largest=largest):
-            sk = cor_sketch(fence_scene(a, c, alpha, beta), mu_c, n_points=n_points, sweep_points=n_points)
-            return _extreme(sk, lambda r: fence_slip_rate(beta, c, alpha, r), largest)
-
-        (value, betas, rates, cors, srcs), err = _integrate(node, beta_initial, beta_final, n_nodes)
-        out.append(SketchBound(value, err, betas, rates, cors, srcs, None, time.perf_counter() - t0))
-    return out[0], out[1]
+    part turns from beta_initial to beta_final (issue 4, 4.3): (most positive, most
+    negative) along alpha_hat; see :func:`fence_bounds_exact`. With mu_c > 0 and a
+    sticking-only sketch both are 0."""
+    out = fence_bounds_exact(a, c, alpha, beta_initial, beta_final, mu_c, n_nodes, n_points, ("slip_max", "slip_min"))
+    return out["slip_max"], out["slip_min"]
 
 
 def _log_tan_half(beta: float) -> float:
@@ -182,13 +245,13 @@ def encounter_scene(a: float, beta: float) -> PushScene:
 
 def encounter_bounds_exact(
     a: float, beta_initial: float, mu_c: float, beta_final: float = 0.5 * math.pi,
-    n_nodes: int = 16, n_points: int = 256,
+    n_nodes: int = 16, n_points: int = 256, deadline: float | None = None,
 ) -> dict[str, SketchBound]:
     """Greatest and least length of the encounter (4.12) and greatest and least rotation
     (dxi/dbeta = -a cos beta / x_COR, models.gross_motion.rotation_rate) of a disk pushed
     aside by a point (4.4), from the exact sketch at every node (one sketch per node serves
     all four). Keys: "length_max", "length_min", "rotation_max", "rotation_min"; the book's
-    (4.16) and (4.18) are given beside the maxima."""
+    (4.16) and (4.18) are given beside the maxima. ``deadline`` as in :func:`fence_bounds_exact`."""
     if not 0.0 < beta_initial < beta_final <= 0.5 * math.pi:
         raise InvalidInput("beta_initial", "must satisfy 0 < beta_initial < beta_final <= pi/2")
     if n_nodes < 4:
@@ -211,7 +274,8 @@ def encounter_bounds_exact(
         betas = 2.0 * np.arctan(np.exp(us))
         w = w * np.sin(betas)  # dbeta = sin(beta) du
         per_key = {k: [] for k in rates}
-        for beta in betas:
+        for k, beta in enumerate(betas):
+            check_deadline(deadline, t0, f"the sketch at beta = {float(beta):.6g} (rule with {n} nodes, node {k + 1})")
             sk = cor_sketch(encounter_scene(a, float(beta)), mu_c, n_points=n_points, sweep_points=n_points)
             if sk.sense == "none" or not sk.allowed_modes:
                 # A head-on push (beta -> 0): the line of force runs through the CM and the

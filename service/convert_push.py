@@ -14,7 +14,8 @@ of :mod:`models.gross_bounds`, summed over the stages. ``POST /v1/push/disk-enco
 beta (given, or from the offset by (4.24)) -> (4.16), (4.18), (4.17) and
 :func:`models.gross_bounds.encounter_bounds_exact`. Both refuse, before any work, a request
 whose exact bounds the cost model of :mod:`service.limits` predicts to exceed
-``time_limit_s``, and check the time again before each exact bound; both add the verdict
+``time_limit_s``, and stop (422 on ``time_limit_s``, saying where they got to) when the
+time runs out between two sketches of the exact bounds; both add the verdict
 of 6.8 when given a speed.
 """
 
@@ -41,6 +42,7 @@ from service.schemas_push import (
     FenceEdgeOut,
     FenceGeometryOut,
     FencePieceOut,
+    FenceSlipOut,
     FenceStageOut,
     PartOut,
     PushAlignRequest,
@@ -234,6 +236,7 @@ class _Clock:
     def __init__(self, limit: float) -> None:
         self.start = time.perf_counter()
         self.limit = limit
+        self.deadline = self.start + limit
 
     def elapsed(self) -> float:
         return time.perf_counter() - self.start
@@ -298,6 +301,7 @@ def _fence_stage(
     closed = req.method != "exact"
     exact = req.method != "closed_form"
     frictionless = fg.frictionless_push_bounds(a, c, alpha, bi, bf) if mu == 0.0 else None
+    slip_direction = _fence_slip_direction(al, req.push_direction)
     long_cf = short_cf = pieces = transitions = None
     if closed:
         if frictionless is not None:
@@ -312,20 +316,33 @@ def _fence_stage(
                                     push=_f(p.push, "push"), equation=PIECE_EQUATIONS[p.regime]) for p in bound.pieces]
             transitions = [float(t) for t in bound.transitions]
     long_ex = short_ex = long_err = short_err = long_t = short_t = None
-    long_src = short_src = None
+    long_src = short_src = slip = None
     if exact:
-        if frictionless is not None:
-            long_ex, short_ex = frictionless
-            long_err = short_err = 0.0
-        elif st.rotation == 0.0:
+        if st.rotation == 0.0:
             long_ex = short_ex = long_err = short_err = 0.0
+            slip = FenceSlipOut(most_positive=0.0, most_negative=0.0, quadrature_error_positive=0.0,
+                                quadrature_error_negative=0.0, direction=slip_direction, exact_time_s=0.0)
         else:
-            clock.check(f"the longest push of stage {number}")
-            lb = gb.fence_push_bound_exact(a, c, alpha, bi, bf, mu, n_nodes=req.n_nodes, n_points=req.n_points, longest=True)
-            clock.check(f"the shortest push of stage {number}")
-            sb = gb.fence_push_bound_exact(a, c, alpha, bi, bf, mu, n_nodes=req.n_nodes, n_points=req.n_points, longest=False)
-            long_ex, long_err, long_t, long_src = lb.value, lb.quadrature_error, lb.solve_time_s, sorted(set(lb.sources))
-            short_ex, short_err, short_t, short_src = sb.value, sb.quadrature_error, sb.solve_time_s, sorted(set(sb.sources))
+            clock.check(f"the exact bounds of stage {number}")
+            # mu_c = 0: the push bounds are the closed forms (3.41) and r_min; the slip needs
+            # the frictionless locus (cheap). mu_c > 0: one exact sketch per node serves all four.
+            which = gb.FENCE_BOUNDS[2:] if frictionless is not None else gb.FENCE_BOUNDS
+            bounds = gb.fence_bounds_exact(a, c, alpha, bi, bf, mu, n_nodes=req.n_nodes, n_points=req.n_points,
+                                           which=which, deadline=clock.deadline)
+            if frictionless is not None:
+                long_ex, short_ex = frictionless
+                long_err = short_err = 0.0
+            else:
+                lb, sb = bounds["push_max"], bounds["push_min"]
+                long_ex, long_err, long_t, long_src = lb.value, lb.quadrature_error, lb.solve_time_s, sorted(set(lb.sources))
+                short_ex, short_err, short_t, short_src = sb.value, sb.quadrature_error, sb.solve_time_s, sorted(set(sb.sources))
+            hi, lo = bounds["slip_max"], bounds["slip_min"]
+            slip = FenceSlipOut(
+                most_positive=_f(hi.value, "slip.most_positive"), most_negative=_f(lo.value, "slip.most_negative"),
+                quadrature_error_positive=_f(hi.quadrature_error, "slip.quadrature_error_positive"),
+                quadrature_error_negative=_f(lo.quadrature_error, "slip.quadrature_error_negative"),
+                direction=slip_direction, exact_time_s=lo.solve_time_s,
+            )
     long_eq = "(3.41)" if mu == 0.0 else "4.3 composite: (4.8) sticking + (4.6) corrected slipping"
     short_eq = "r_min push ((3.31); not in the book)" if mu == 0.0 else None
     return FenceStageOut(
@@ -349,6 +366,30 @@ def _fence_stage(
             difference=_opt(_diff(short_ex, short_cf), "shortest_push.difference"),
             exact_sources=short_src, exact_time_s=short_t,
         ),
+        slip=slip,
+    )
+
+
+def _fence_slip_direction(al: fg.FenceAlignment, push_direction: float) -> list[float]:
+    """alpha_hat of the fence frame in the world: (cos alpha, sin alpha) in the frame (push
+    along +x), reflected back (y -> -y) when the problem was mirrored, turned by the push
+    direction."""
+    y = -math.sin(al.alpha) if al.mirrored else math.sin(al.alpha)
+    cp, sp = math.cos(push_direction), math.sin(push_direction)
+    x0 = math.cos(al.alpha)
+    return [cp * x0 - sp * y, sp * x0 + cp * y]
+
+
+def _slip_total(stages: list[FenceStageOut], direction: list[float] | None) -> FenceSlipOut | None:
+    if direction is None or any(s.slip is None for s in stages):
+        return None
+    slips = [s.slip for s in stages]
+    return FenceSlipOut(
+        most_positive=_f(sum(s.most_positive for s in slips), "slip.most_positive"),
+        most_negative=_f(sum(s.most_negative for s in slips), "slip.most_negative"),
+        quadrature_error_positive=_f(sum(s.quadrature_error_positive for s in slips), "slip.quadrature_error_positive"),
+        quadrature_error_negative=_f(sum(s.quadrature_error_negative for s in slips), "slip.quadrature_error_negative"),
+        direction=direction, exact_time_s=sum(s.exact_time_s or 0.0 for s in slips),
     )
 
 
@@ -415,7 +456,8 @@ def align_response(req: PushAlignRequest) -> PushAlignResponse:
         al = fg.fence_alignment(fp, req.orientation, req.fence_angle, req.push_direction)
         fg.require_friction_frame(al, req.mu_c)
     n_exact = sum(1 for s in al.stages if s.rotation > 0.0)
-    n_bounds = 2 * n_exact if (req.method != "closed_form" and req.mu_c > 0.0) else 0
+    # one set of exact sketches per turning stage serves all four bounds (push and slip)
+    n_bounds = n_exact if (req.method != "closed_form" and req.mu_c > 0.0) else 0
     predicted = gross_cost_s(n_bounds, req.n_nodes, req.n_points)
     check_budget(predicted, req.time_limit_s)
     with located(rename=STAGE_FIELDS):
@@ -457,6 +499,7 @@ def align_response(req: PushAlignRequest) -> PushAlignResponse:
         message=_align_message(al, stages, longest, index),
         method=req.method, mu_c=req.mu_c, nu=math.atan(req.mu_c),
         geometry=geometry, stages=stages, longest_push=longest, shortest_push=shortest,
+        slip=_slip_total(stages, _fence_slip_direction(al, req.push_direction) if exact else None),
         quasi_static=quasi_static_check(req.quasi_static, qs.PartGeometry.polygon(fp)),
         note=ALIGN_NOTE, reference=GROSS_REFERENCE,
         n_nodes=req.n_nodes, n_points=req.n_points, time_limit_s=req.time_limit_s,
@@ -483,7 +526,9 @@ def disk_encounter_response(req: PushDiskEncounterRequest) -> PushDiskEncounterR
     with located():
         book_length = gm.encounter_length_max(beta, a) if closed else None
         book_rotation = gm.rotation_max(beta) if closed else None
-        bounds = gb.encounter_bounds_exact(a, beta, mu, n_nodes=req.n_nodes, n_points=req.n_points) if exact else None
+        bounds = gb.encounter_bounds_exact(
+            a, beta, mu, n_nodes=req.n_nodes, n_points=req.n_points, deadline=clock.deadline,
+        ) if exact else None
         frictionless = gm.encounter_length_frictionless(beta, a)
         onset = gm.sketch_i_onset(mu)
 

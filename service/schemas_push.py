@@ -429,6 +429,21 @@ class FenceBoundOut(BoundOut):
     exact_time_s: float | None = Field(default=None, description="Time of the exact bound, seconds.")
 
 
+class FenceSlipOut(_Out):
+    """How far the fence face slips past the contact vertex while the part turns (4.3),
+    from the exact COR sketch (the book has no closed form). Positive along `direction`."""
+
+    most_positive: float = Field(description="The largest slip along `direction` any pressure distribution allows (length).")
+    most_negative: float = Field(description="The smallest (most negative) slip along `direction` (length).")
+    quadrature_error_positive: float = Field(description="Quadrature error estimate of most_positive.")
+    quadrature_error_negative: float = Field(description="Quadrature error estimate of most_negative.")
+    direction: list[float] = Field(
+        description="World unit vector along the fence face: slip of the fence relative to the part's contact "
+        "vertex (the vertex moves the other way relative to the fence)."
+    )
+    exact_time_s: float | None = Field(default=None, description="Time of the exact slip bounds, seconds.")
+
+
 class FenceStageOut(_Out):
     contact_vertex_index: int = Field(description="The vertex the part turns about (index into `footprint`).")
     flush_edge_vertex_indices: list[int] = Field(description="[contact, other end] of the hull edge that comes flush.")
@@ -446,6 +461,9 @@ class FenceStageOut(_Out):
     orientation_final: float
     longest_push: FenceBoundOut = Field(description="Longest push of the fence over the stage (length).")
     shortest_push: FenceBoundOut = Field(description="Shortest push over the stage (length).")
+    slip: FenceSlipOut | None = Field(
+        default=None, description="Slip of the fence along the part over the stage (method exact or both)."
+    )
 
 
 class FenceEdgeOut(_Out):
@@ -491,6 +509,10 @@ class PushAlignResponse(_Out):
     )
     longest_push: BoundOut = Field(description="Sum over the stages: the longest push the fence may need (length).")
     shortest_push: BoundOut = Field(description="Sum over the stages: the shortest push that can align the part.")
+    slip: FenceSlipOut | None = Field(
+        description="Sum over the stages of the slip bounds (every stage slides along the same fence face); null "
+        "for method closed_form. exact_time_s is the total."
+    )
     quasi_static: QuasiStaticCheckOut | None
     note: str
     reference: str

@@ -106,7 +106,7 @@ def test_align_answer_is_the_models(client):
     assert got["shortest_push"]["exact"] == shortest.value
     assert got["nu"] == math.atan(0.25) and got["quasi_static"] is None
     assert "3.1.8" in got["note"] and "circumscribing" in got["note"]
-    assert got["predicted_time_s"] == convert_push.gross_cost_s(2, 4, 16) and got["elapsed_ms"] > 0
+    assert got["predicted_time_s"] == convert_push.gross_cost_s(1, 4, 16) and got["elapsed_ms"] > 0
 
 
 def test_book_example_4_3(client):
@@ -132,6 +132,13 @@ def test_book_example_4_3(client):
     assert 0.0 < lp["difference"] < 0.01
     assert s["flush_edge_stable"] is True
     assert got["shortest_push"]["exact"] < got["longest_push"]["exact"]
+    # issue 4: the fence slips along the part by -0.286 a .. +0.278 a (exact sketch; the
+    # book gives no figure), along the fence face turned to the world (push along +x)
+    slip = s["slip"]
+    assert slip["most_positive"] == pytest.approx(0.2779, abs=1e-3)
+    assert slip["most_negative"] == pytest.approx(-0.2863, abs=1e-3)
+    assert slip["direction"] == pytest.approx([math.cos(D(70)), math.sin(D(70))], abs=1e-14)
+    assert got["slip"] == slip
 
 
 def test_frictionless_fence_is_3_41_and_exact(client):
@@ -168,6 +175,39 @@ def test_mirror_image_is_reflected_onto_the_book_case(client):
     assert "reflected" in ccw["message"]
     assert ccw["longest_push"]["closed_form"] == pytest.approx(cw["longest_push"]["closed_form"], rel=1e-13)
     assert ccw["stages"][0]["beta_initial"] == pytest.approx(cw["stages"][0]["beta_initial"], abs=1e-14)
+    assert cw["slip"] is None  # closed forms only: the book has none for the slip
+
+
+def test_slip_of_a_mirror_image_is_the_reflected_slip(client):
+    """The counter-clockwise case is the book's reflected across the line of motion: the
+    same slip magnitudes, along the reflected fence direction; a world rotation of the
+    whole scene turns the direction with it."""
+    _, cw = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.25, **FAST})
+    _, ccw = post(client, ALIGN, {**SQUARE_30, "orientation": D(-30), "mu_c": 0.25, **FAST})
+    a, b = cw["slip"], ccw["slip"]
+    assert b["most_positive"] == pytest.approx(a["most_positive"], abs=1e-12)
+    assert b["most_negative"] == pytest.approx(a["most_negative"], abs=1e-12)
+    assert a["most_negative"] < a["most_positive"] < 0.0  # this fence only ever slips one way
+    ax, ay = a["direction"]
+    assert b["direction"] == pytest.approx([ax, -ay], abs=1e-14)
+    turn = D(40)
+    rot = {**SQUARE_30, "mu_c": 0.25, **FAST, "orientation": SQUARE_30.get("orientation", 0.0) + turn,
+           "fence_angle": SQUARE_30["fence_angle"] + turn, "push_direction": turn}
+    _, turned = post(client, ALIGN, rot)
+    c = turned["slip"]
+    assert c["most_positive"] == pytest.approx(a["most_positive"], abs=1e-9)
+    assert c["direction"] == pytest.approx([math.cos(turn) * ax - math.sin(turn) * ay,
+                                            math.sin(turn) * ax + math.cos(turn) * ay], abs=1e-12)
+
+
+def test_frictionless_slip_is_computed_from_the_frictionless_locus(client):
+    _, got = post(client, ALIGN, SQUARE_30)
+    (s,) = got["stages"]
+    a = math.sqrt(2.0)
+    hi, lo = gb.fence_slip_bounds_exact(a, s["contact_distance"], D(90), s["beta_initial"], s["beta_final"], 0.0,
+                                        n_nodes=got["n_nodes"], n_points=got["n_points"])
+    assert s["slip"]["most_positive"] == hi.value and s["slip"]["most_negative"] == lo.value
+    assert got["predicted_time_s"] == 0.0
 
 
 def test_contact_below_the_line_of_motion(client):
@@ -282,7 +322,14 @@ def test_time_budget(client, monkeypatch):
     r, got = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.3, **FAST, "time_limit_s": 0.01})
     assert r.status_code == 422
     loc, _, msg = detail(got)
-    assert loc == ["body", "time_limit_s"] and "ran out" in msg and "push of stage 1" in msg
+    assert loc == ["body", "time_limit_s"] and "ran out" in msg
+    assert "exact bounds of stage 1" in msg or "the sketch at beta" in msg  # where it got to
+    # the deadline is checked between the sketches of one bound, too
+    r, got = post(client, ENCOUNTER, {"disk_radius": 1.0, "beta_initial": 0.7, "mu_c": 0.5, **FAST,
+                                      "time_limit_s": 1e-9})
+    loc, _, msg = detail(got)
+    assert r.status_code == 422 and loc == ["body", "time_limit_s"]
+    assert "ran out" in msg and "the sketch at beta" in msg and "node 1" in msg
 
 
 def test_align_numbers_stay_finite_at_the_limits(client):

@@ -140,3 +140,57 @@ def test_fence_slip_bounds_hold_every_simulated_support():
         stick = sim.mode[k] == 1
         if stick.any():
             assert np.abs(fence_slip_rate(beta, c, alpha, sim.cor[k][stick])).max() < 1e-8
+
+
+def _simpson(values: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Composite Simpson over equally spaced nodes (odd count) along axis 0."""
+    h = (x[-1] - x[0]) / (len(x) - 1)
+    w = np.ones(len(x))
+    w[1:-1:2], w[2:-1:2] = 4.0, 2.0
+    return h / 3.0 * (w @ values)
+
+
+@pytest.mark.parametrize("mu_c", [0.0, 0.3])
+def test_fence_slip_over_the_whole_turn_stays_within_the_exact_bounds(mu_c):
+    """Issue 4 / 4.3: the total slip of the fence along the part while it turns from
+    beta_initial to beta_final, integrated for each simulated support (forward solves at
+    every beta node, Simpson), never leaves [slip_min, slip_max] of the exact sketch; the
+    push bounds come out of the same sketches. mu_c = 0 uses the frictionless locus, where
+    the longest and shortest push are the closed forms (3.41) and the r_min push."""
+    from models.fence_geometry import frictionless_push_bounds
+    from models.gross_bounds import fence_bounds_exact, fence_slip_rate
+
+    geo = dict(a=1.0, c=0.9, alpha=math.radians(60.0), beta_initial=math.radians(35.0), beta_final=math.radians(75.0))
+    b = fence_bounds_exact(mu_c=mu_c, n_nodes=8, n_points=512, **geo)
+    rng = np.random.default_rng(SEED + 11)
+    pts, wts = random_balanced_tripods(rng, 80, 1.0)
+    sim = simulate_fence_alignment_batch(pts, wts, mu_c=mu_c, n_steps=32, **geo)
+    assert sim.converged
+    rates = np.stack([fence_slip_rate(float(beta), geo["c"], geo["alpha"], sim.cor[k])
+                      for k, beta in enumerate(sim.beta_nodes)])
+    total = _simpson(rates, sim.beta_nodes)
+    slack = 1e-3 + b["slip_max"].quadrature_error + b["slip_min"].quadrature_error
+    assert total.max() <= b["slip_max"].value + slack
+    assert total.min() >= b["slip_min"].value - slack
+    assert b["slip_min"].value < total.min() and total.max() < b["slip_max"].value + slack  # not vacuous: spread
+    assert sim.push.max() <= b["push_max"].value + 1e-3 and sim.push.min() >= b["push_min"].value - 1e-3
+    if mu_c == 0.0:
+        longest, shortest = frictionless_push_bounds(**geo)
+        # Gauss-Legendre with 8 nodes: agreement within the reported quadrature error
+        assert abs(b["push_max"].value - longest) <= b["push_max"].quadrature_error
+        assert abs(b["push_min"].value - shortest) <= max(b["push_min"].quadrature_error, 1e-9)
+
+
+def test_fence_bounds_share_sketches_and_match_the_single_bounds():
+    """One sketch per node serves all four bounds: the values equal the bounds computed
+    alone (fence_push_bound_exact, fence_slip_bounds_exact) and an unknown key is refused."""
+    from models.gross_bounds import fence_bounds_exact, fence_slip_bounds_exact
+
+    allb = fence_bounds_exact(mu_c=0.25, n_nodes=4, n_points=64, **BOOK)
+    assert allb["push_max"].value == fence_push_bound_exact(mu_c=0.25, n_nodes=4, n_points=64, **BOOK).value
+    assert allb["push_min"].value == fence_push_bound_exact(mu_c=0.25, n_nodes=4, n_points=64, longest=False, **BOOK).value
+    hi, lo = fence_slip_bounds_exact(mu_c=0.25, n_nodes=4, n_points=64, **BOOK)
+    assert (allb["slip_max"].value, allb["slip_min"].value) == (hi.value, lo.value)
+    with pytest.raises(InvalidInput) as e:
+        fence_bounds_exact(mu_c=0.25, n_nodes=4, n_points=64, which=("push_mean",), **BOOK)
+    assert e.value.field == "which"
