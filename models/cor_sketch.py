@@ -122,14 +122,15 @@ class ElementaryLocus:
 class StickingLocus:
     """The sticking locus: the segment of the sticking line between positions ``t_low`` and
     ``t_high`` (signed distances from c along J p), with its end points (world) and the
-    force angles phi (relative to n, CCW) that produce each end."""
+    force angles phi (relative to n, CCW) that produce each end (None when the ends come
+    from the exact feasibility problem of solver/sticking.py, which has no single angle)."""
 
     t_low: float
     t_high: float
     low: np.ndarray
     high: np.ndarray
-    phi_low: float
-    phi_high: float
+    phi_low: float | None
+    phi_high: float | None
 
 
 @dataclass(frozen=True)
@@ -335,25 +336,38 @@ def tip_line_estimate(scene: PushScene) -> float | None:
     return -(cn * cn + a * a) / (cn * den)
 
 
-def _elementary(scene: PushScene, sigma: float, mu_c: float, sense: str, n_points: int) -> ElementaryLocus:
+def disk_elementary_locus(scene: PushScene, sigma: float, mu_c: float, sense: str, n_points: int) -> ElementaryLocus:
+    """{COR}_{alpha + sigma nu} of the scene's disk: the analytic locus (3.30, 3.35) of the
+    force-turned scene, classified (:func:`classify_locus`)."""
     nu = math.atan(mu_c)
     m_sign, sc, loc = _locus(scene, sigma * nu, n_points)
+    return classify_locus(scene, sigma, mu_c, sense, m_sign,
+                          None if loc is None else loc.boundary, None if loc is None else loc.tip.point)
+
+
+def classify_locus(
+    scene: PushScene, sigma: float, mu_c: float, sense: str, m_sign: int,
+    boundary: np.ndarray | None, tip: np.ndarray | None,
+) -> ElementaryLocus:
+    """{COR}_{alpha + sigma nu} with the given boundary (world, closed polygon; None for a
+    translation) and tip: its elementary configuration (4.1.5) against the sticking line.
+    Wrapped when its own sense (the sign ``m_sign`` of its moment arm) is not the part's
+    ``sense`` (Mason's rule with the cone, 1.6.2)."""
     label = "alpha_plus_nu" if sigma > 0 else "alpha_minus_nu"
     force = (scene.normal + sigma * mu_c * scene.alpha_hat) / math.hypot(1.0, mu_c)
     own_sense = {1: "cw", -1: "ccw", 0: "none"}[m_sign]
-    if loc is None or own_sense != sense:
-        return ElementaryLocus(label, force, None if loc is None else loc.boundary,
-                               None if loc is None else loc.tip.point, m_sign, "wrapped", False, None)
+    if boundary is None or own_sense != sense:
+        return ElementaryLocus(label, force, boundary, tip, m_sign, "wrapped", False, None)
     c = scene.contact_point
     jp = perp(scene.push_hat)
-    crosses = bool(_line_intervals(loc.boundary, c, jp))
+    crosses = bool(_line_intervals(boundary, c, jp))
     side = lambda x: float((x - c) @ scene.push_hat)  # noqa: E731 - sign of the side of the sticking line
-    tip_same = bool(np.sign(side(loc.tip.point)) == np.sign(side(scene.center_of_mass)))
+    tip_same = bool(np.sign(side(tip)) == np.sign(side(scene.center_of_mass)))
     if not crosses:
         config = "pure_slipping"
     else:
         config = "same_sided_split" if tip_same else "opposite_sided_split"
-    return ElementaryLocus(label, force, loc.boundary, loc.tip.point, m_sign, config, crosses, tip_same)
+    return ElementaryLocus(label, force, boundary, tip, m_sign, config, crosses, tip_same)
 
 
 def _slipping_piece(scene: PushScene, locus: ElementaryLocus, sigma: float) -> tuple[np.ndarray, ...]:
@@ -373,16 +387,36 @@ def cor_sketch(scene: PushScene, mu_c: float, n_points: int = 512, sweep_points:
     """The COR sketch of ``scene`` with pusher friction ``mu_c`` (book 4.1): elementary loci
     with ``n_points`` boundary points, the sticking sweep's loci with ``sweep_points``
     (default max(n_points, 1024): the sticking ends are where the sketch is most sensitive)."""
-    if not (math.isfinite(mu_c) and mu_c > 0.0):
-        raise InvalidInput("mu_c", "must be a positive finite number (mu_c = 0 is the frictionless locus)")
-    nu = math.atan(mu_c)
-    sense = mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c)
-    plus = _elementary(scene, 1.0, mu_c, sense, n_points)
-    minus = _elementary(scene, -1.0, mu_c, sense, n_points)
-    down = _slipping_piece(scene, plus, 1.0)
-    up = _slipping_piece(scene, minus, -1.0)
+    check_mu_c(mu_c)
+    sense = sketch_sense(scene, mu_c)
+    plus = disk_elementary_locus(scene, 1.0, mu_c, sense, n_points)
+    minus = disk_elementary_locus(scene, -1.0, mu_c, sense, n_points)
     sweep_n = max(n_points, 1024) if sweep_points is None else sweep_points
     stick = sticking_locus_sweep(scene, mu_c, sweep_n) if sense != "none" else None
+    return assemble_sketch(scene, mu_c, sense, plus, minus, stick)
+
+
+def check_mu_c(mu_c: float) -> None:
+    if not (math.isfinite(mu_c) and mu_c > 0.0):
+        raise InvalidInput("mu_c", "must be a positive finite number (mu_c = 0 is the frictionless locus)")
+
+
+def sketch_sense(scene: PushScene, mu_c: float) -> str:
+    """The part's sense of rotation by Mason's rule with the friction cone (1.6.2)."""
+    return mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c)
+
+
+def assemble_sketch(
+    scene: PushScene, mu_c: float, sense: str, plus: ElementaryLocus, minus: ElementaryLocus,
+    stick: StickingLocus | None,
+) -> CorSketch:
+    """The sketch (4.1.3-4.1.6) from its two elementary loci (:func:`classify_locus`) and
+    its sticking locus, however they were computed (analytic disk loci and the sweep here;
+    certified polygon loci and the exact sticking locus in solver/certified_sketch.py):
+    the slipping loci, the tip-line estimate, the letter of figure 4-6 and the modes."""
+    nu = math.atan(mu_c)
+    down = _slipping_piece(scene, plus, 1.0)
+    up = _slipping_piece(scene, minus, -1.0)
     t_tip = tip_line_estimate(scene)
     tip_point = tip_err = None
     if t_tip is not None:

@@ -3,12 +3,16 @@
 The request becomes a ``PushScene`` exactly as for ``/v1/cor/locus`` (:func:`service.convert.prepare`:
 a disk, or a polygon bounded by its circumscribing disk, with the same warnings);
 :func:`models.cor_sketch.cor_sketch` computes; :func:`sketch_response` turns the
-``CorSketch`` into the response schema with plain floats and no NaN/inf.
+``CorSketch`` into the response schema with plain floats and no NaN/inf. Method
+``certified``: :func:`solver.certified_sketch.certified_sketch` (the polygon's own sketch,
+or the disk's with exact sticking ends), with its certification report.
 """
 
 from __future__ import annotations
 
 from models.cor_sketch import CorSketch, ElementaryLocus
+from solver.certified_sketch import CertifiedSketch
+from solver.sticking import LocusEnd
 from service.convert import PreparedPush, _f, _v, prepare
 from service.errors import FieldError
 from service.limits import SKETCH_MIN_LENGTH
@@ -18,6 +22,8 @@ from service.schemas_sketch import (
     CorSketchResponse,
     ElementaryLocusOut,
     LineOut,
+    SketchCertificationOut,
+    StickingEndOut,
     StickingLocusOut,
     TipLineEstimateOut,
 )
@@ -77,8 +83,15 @@ def is_translation(sk: CorSketch) -> bool:
     return sk.sense == "none"
 
 
-def sketch_message(prep: PreparedPush, sk: CorSketch) -> str:
-    of = "" if prep.footprint is None else " of the polygon's circumscribing disk"
+def sketch_of(prep: PreparedPush, certified: bool) -> str:
+    if prep.footprint is None:
+        return "disk"
+    return "polygon" if certified else "circumscribing_disk"
+
+
+def sketch_message(prep: PreparedPush, sk: CorSketch, certified: bool = False) -> str:
+    of = {"disk": "", "circumscribing_disk": " of the polygon's circumscribing disk", "polygon": " of the polygon"}[
+        sketch_of(prep, certified)]
     if is_translation(sk):
         if not any(prep.scene.contact_rel):
             return (
@@ -99,13 +112,44 @@ def sketch_message(prep: PreparedPush, sk: CorSketch) -> str:
             f"allowed modes, from the non-empty loci: {', '.join(sk.allowed_modes) or 'none'}"
         )
     mirror = ", mirrored" if sk.mirrored else ""
-    where = "" if prep.footprint is None else " (the polygon's circumscribing disk)"
+    where = {"disk": "", "circumscribing_disk": " (the polygon's circumscribing disk)", "polygon": " (the polygon itself)"}[
+        sketch_of(prep, certified)]
     return f"sketch {sk.sketch} of figure 4-6{mirror}{where}: {IMPLICATION_TEXT[sk.implication]} ({configs})"
 
 
-def sketch_response(prep: PreparedPush, sk: CorSketch, elapsed_ms: float) -> CorSketchResponse:
-    """The response schema for ``sk``; raises ``NonFiniteResult`` rather than letting a NaN
-    or infinity through."""
+def _end(end: LocusEnd | None, name: str) -> StickingEndOut | None:
+    if end is None:
+        return None
+    return StickingEndOut(
+        status=end.status, position=_f(end.position, f"{name}.position"),
+        feasible_position=None if end.feasible_position is None else _f(end.feasible_position, f"{name}.feasible_position"),
+        infeasible_position=(None if end.infeasible_position is None
+                             else _f(end.infeasible_position, f"{name}.infeasible_position")),
+        width=_f(end.width, f"{name}.width"), certified=bool(end.certified),
+    )
+
+
+def certification_out(cs: CertifiedSketch) -> SketchCertificationOut:
+    st = cs.sticking
+    polygon = cs.footprint is not None
+    return SketchCertificationOut(
+        complete=cs.complete, time_limited=cs.time_limited, message=cs.message,
+        sticking_status=None if st is None else st.status,
+        sticking_lower=None if st is None else _end(st.lower, "certification.sticking_lower"),
+        sticking_upper=None if st is None else _end(st.upper, "certification.sticking_upper"),
+        sticking_multiple_intervals=bool(st is not None and st.multiple_intervals),
+        n_rays=cs.n_rays if polygon else None,
+        plus_certified_rays=None if cs.plus_trace is None else int(cs.plus_trace.n_certified),
+        minus_certified_rays=None if cs.minus_trace is None else int(cs.minus_trace.n_certified),
+        solve_time_s=cs.solve_time_s,
+    )
+
+
+def sketch_response(
+    prep: PreparedPush, sk: CorSketch, elapsed_ms: float, certified: CertifiedSketch | None = None,
+) -> CorSketchResponse:
+    """The response schema for ``sk`` (with the certification report of a certified
+    sketch); raises ``NonFiniteResult`` rather than letting a NaN or infinity through."""
     scene = prep.scene
     sticking = None
     if sk.sticking is not None:
@@ -115,8 +159,8 @@ def sketch_response(prep: PreparedPush, sk: CorSketch, elapsed_ms: float) -> Cor
             t_high=_f(s.t_high, "sticking.t_high"),
             low=_v(s.low, "sticking.low"),
             high=_v(s.high, "sticking.high"),
-            phi_low=_f(s.phi_low, "sticking.phi_low"),
-            phi_high=_f(s.phi_high, "sticking.phi_high"),
+            phi_low=None if s.phi_low is None else _f(s.phi_low, "sticking.phi_low"),
+            phi_high=None if s.phi_high is None else _f(s.phi_high, "sticking.phi_high"),
         )
     tip_line = None
     if sk.tip_line_t is not None:
@@ -127,13 +171,15 @@ def sketch_response(prep: PreparedPush, sk: CorSketch, elapsed_ms: float) -> Cor
         )
     return CorSketchResponse(
         kind="translation" if is_translation(sk) else "sketch",
-        message=sketch_message(prep, sk),
+        message=sketch_message(prep, sk, certified is not None),
         mu_c=_f(sk.mu_c, "mu_c"),
         nu=_f(sk.nu, "nu"),
         sense=sk.sense,
         disk_radius=_f(scene.disk_radius, "disk_radius"),
         center_of_mass=_v(scene.center_of_mass, "center_of_mass"),
-        sketch_of="disk" if prep.footprint is None else "circumscribing_disk",
+        sketch_of=sketch_of(prep, certified is not None),
+        method="analytic" if certified is None else "certified",
+        certification=None if certified is None else certification_out(certified),
         sticking_line=LineOut(
             point=_v(sk.sticking_line_point, "sticking_line.point"),
             direction=_v(sk.sticking_line_direction, "sticking_line.direction"),

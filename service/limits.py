@@ -86,6 +86,10 @@ DEFAULT_CERTIFIED_POINTS = 64
 """Boundary points (disk) or rays (polygon) of a certified COR locus. Each costs two or
 more membership queries: ~25 ms per disk point, ~0.25 s per polygon ray (measured)."""
 
+SKETCH_DEFAULT_RAYS = 32
+"""Rays per traced elementary locus of a certified polygon sketch (two loci: ~2-4 s with
+the exact sticking locus, measured on rectangles)."""
+
 DEFAULT_TIME_LIMIT_S = 10.0
 MAX_TIME_LIMIT_S = 30.0
 """time_limit_s of certificate searches (membership, certified loci): default and cap.

@@ -19,14 +19,19 @@ from pydantic_core import PydanticCustomError
 from models.cor_sketch import CONFIG_ORDER, IMPLIED_MODES, SKETCHES
 
 from service.limits import (
+    DEFAULT_TIME_LIMIT_S,
+    MAX_CERTIFIED_POINTS,
     MAX_DISK_RADIUS,
     MAX_MU_C,
+    MAX_TIME_LIMIT_S,
+    MIN_CERTIFIED_POINTS,
     MIN_N_POINTS,
     SKETCH_DEFAULT_N_POINTS,
+    SKETCH_DEFAULT_RAYS,
     SKETCH_MAX_N_POINTS,
     SKETCH_MIN_LENGTH,
 )
-from service.schemas import ONE_SHAPE_OF, Angle, Point, Polygon, ResponseFormat, Vec2
+from service.schemas import ONE_SHAPE_OF, Angle, LocusMethod, Point, Polygon, ResponseFormat, Vec2
 
 __all__ = ["CorSketchRequest", "CorSketchResponse", "ResponseFormat"]
 
@@ -103,6 +108,26 @@ class CorSketchRequest(BaseModel):
         default=SKETCH_DEFAULT_N_POINTS,
         description=f"Boundary points of each elementary locus ({MIN_N_POINTS}..{SKETCH_MAX_N_POINTS}; "
         "odd counts are rounded up to even). The sticking locus is always swept with at least 1024.",
+    )
+    method: LocusMethod = Field(
+        default="analytic",
+        description="'analytic' (default): the disk's analytic loci and the book's sweep of the force "
+        "over the cone for the sticking locus (4.1.4); a polygon is bounded by its circumscribing disk. "
+        "'certified': every piece certified by the minimum-power engine: the sticking locus's ends by "
+        "the exact feasibility problem (witness inside, dual certificate outside); with a footprint the "
+        "sketch of the POLYGON ITSELF (its loci {COR}_(alpha+-nu) traced along `n_rays` rays with "
+        "certified brackets), with a disk the analytic loci. Seconds, not milliseconds; see "
+        "`certification`.",
+    )
+    n_rays: Annotated[int, Field(strict=True, ge=MIN_CERTIFIED_POINTS, le=MAX_CERTIFIED_POINTS)] = Field(
+        default=SKETCH_DEFAULT_RAYS,
+        description=f"Method 'certified' with a footprint: rays per traced locus, "
+        f"{MIN_CERTIFIED_POINTS}..{MAX_CERTIFIED_POINTS} (~0.05-0.25 s each).",
+    )
+    time_limit_s: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_TIME_LIMIT_S)] = Field(
+        default=DEFAULT_TIME_LIMIT_S,
+        description=f"Method 'certified': time budget in seconds, (0, {MAX_TIME_LIMIT_S:g}]. What is not "
+        "reached in time is left out and `certification` says so (`complete` false).",
     )
 
     @field_validator("mu_c")
@@ -186,10 +211,11 @@ class StickingLocusOut(_Out):
     t_high: float = Field(description="Signed distance of its upper end, t_high >= t_low.")
     low: Vec2 = Field(description="Lower end point, contact + t_low J p, world frame.")
     high: Vec2 = Field(description="Upper end point, world frame.")
-    phi_low: float = Field(
-        description="Force angle from the edge normal (rad, CCW, in [-nu, nu]) whose locus reaches the lower end."
+    phi_low: float | None = Field(
+        description="Force angle from the edge normal (rad, CCW, in [-nu, nu]) whose locus reaches the lower "
+        "end; null for method 'certified' (the exact ends come with a pressure distribution, not an angle)."
     )
-    phi_high: float = Field(description="Force angle whose locus reaches the upper end.")
+    phi_high: float | None = Field(description="Force angle whose locus reaches the upper end (null: certified).")
 
 
 class TipLineEstimateOut(_Out):
@@ -202,6 +228,39 @@ class TipLineEstimateOut(_Out):
         description="Distance (length) from the estimate to the nearer end of the swept sticking locus; "
         "null when the sticking locus is empty."
     )
+
+
+class StickingEndOut(_Out):
+    status: str = Field(
+        description="'bracketed' (certified inside and outside points `width` apart), 'wide' (as bracketed, "
+        "wider than asked), 'contact' (runs up to the contact point), 'search_limit' (still feasible at "
+        "the search cap: possibly unbounded), 'undecided' (time limit or an undecidable query)."
+    )
+    position: float = Field(description="Midpoint of the bracket, signed distance from the contact along J p.")
+    feasible_position: float | None = Field(description="The certified inside end of the bracket (t).")
+    infeasible_position: float | None = Field(description="The certified outside end of the bracket (t).")
+    width: float = Field(description="Bracket width (length).")
+    certified: bool = Field(description="Both ends of the bracket carry their certificate.")
+
+
+class SketchCertificationOut(_Out):
+    """How the pieces of a 'certified' sketch were certified, and whether all were."""
+
+    complete: bool = Field(description="Every traced ray and both sticking ends certified, nothing cut by the time limit.")
+    time_limited: bool = Field(description="The time limit left something out.")
+    message: str = Field(description="What is missing, or 'every piece certified'.")
+    sticking_status: Literal["found", "empty", "incomplete"] | None = Field(
+        description="The exact sticking locus: 'found', 'empty' (no sticking COR), 'incomplete'; null for a translation."
+    )
+    sticking_lower: StickingEndOut | None
+    sticking_upper: StickingEndOut | None
+    sticking_multiple_intervals: bool = Field(
+        description="The exact locus has gaps; `sticking` is then the hull of its intervals."
+    )
+    n_rays: int | None = Field(description="Rays per traced locus (polygon); null for a disk (analytic loci).")
+    plus_certified_rays: int | None = Field(description="Rays of {COR}_(alpha+nu) certified; null when not traced.")
+    minus_certified_rays: int | None = Field(description="Rays of {COR}_(alpha-nu) certified; null when not traced.")
+    solve_time_s: float
 
 
 class CorSketchResponse(_Out):
@@ -225,9 +284,13 @@ class CorSketchResponse(_Out):
         description="Disk radius a used (the polygon's circumradius with a footprint)."
     )
     center_of_mass: Vec2 = Field(description="Centre of mass used, world frame.")
-    sketch_of: Literal["disk", "circumscribing_disk"] = Field(
-        description="What the sketch describes: the given disk, or the circumscribing disk of the polygon "
-        "(its loci contain the polygon's, 7.5)."
+    sketch_of: Literal["disk", "circumscribing_disk", "polygon"] = Field(
+        description="What the sketch describes: the given disk, the circumscribing disk of the polygon "
+        "(its loci contain the polygon's, 7.5), or the polygon itself (method 'certified')."
+    )
+    method: LocusMethod = Field(description="The method asked for.")
+    certification: SketchCertificationOut | None = Field(
+        description="Method 'certified': how each piece was certified; null for 'analytic'."
     )
     sticking_line: LineOut = Field(
         description="Through the contact, direction J p (the push direction turned +90 degrees): CORs on "

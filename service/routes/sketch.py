@@ -1,8 +1,10 @@
 """``POST /v1/cor/sketch``: the COR sketch of a push with pusher friction (book 4.1).
 
 Thin: schema -> :func:`service.convert_sketch.prepare_sketch` (the scene, as for
-``/v1/cor/locus``) -> :func:`models.cor_sketch.cor_sketch` -> schema or SVG picture. Plain
-``def``: FastAPI runs it in its thread pool (a sketch takes a few hundred milliseconds).
+``/v1/cor/locus``) -> :func:`models.cor_sketch.cor_sketch` (or, method ``certified``,
+:func:`solver.certified_sketch.certified_sketch`) -> schema or SVG picture. Plain ``def``:
+FastAPI runs it in its thread pool (a sketch takes a few hundred milliseconds, a certified
+one seconds).
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ from fastapi.responses import Response
 
 from models.cor_disk import disk_cor_locus
 from models.cor_sketch import cor_sketch
+from solver.certified_sketch import certified_sketch
 from service.convert_sketch import prepare_sketch, sketch_response
 from service.render_sketch import render_sketch_svg
 from service.schemas import ErrorResponse, ResponseFormat
@@ -52,12 +55,19 @@ def cor_sketch_route(
     {COR}_(alpha+-nu) of the friction cone's edges cut by the slipping zones), the sticking
     locus on the sticking line, the elementary configurations of {COR}_(alpha+-nu), which
     of the nine sketches of figure 4-6 results and what it implies (must slip up, must
-    stick, ...). A polygon is bounded by its circumscribing disk. World frame, radians."""
+    stick, ...). A polygon is bounded by its circumscribing disk, or, with method
+    'certified', sketched itself with every piece certified. World frame, radians."""
     start = time.perf_counter()
     prep = prepare_sketch(req)
-    sketch = cor_sketch(prep.scene, req.mu_c, n_points=req.n_points)
+    certified = None
+    if req.method == "certified":
+        certified = certified_sketch(prep.scene, req.mu_c, footprint=prep.footprint, n_rays=req.n_rays,
+                                     n_points=prep.n_points, time_limit_s=req.time_limit_s)
+        sketch = certified.sketch
+    else:
+        sketch = cor_sketch(prep.scene, req.mu_c, n_points=req.n_points)
     elapsed_ms = (time.perf_counter() - start) * 1e3
-    body = sketch_response(prep, sketch, elapsed_ms)  # also the NaN/inf guard of the picture
+    body = sketch_response(prep, sketch, elapsed_ms, certified)  # also the NaN/inf guard of the picture
     if response_format == "svg":
         tip_line = disk_cor_locus(prep.scene, outputs=["tip_line"]).tip_line
         return Response(content=render_sketch_svg(prep, sketch, tip_line), media_type=SVG_MEDIA_TYPE)

@@ -336,3 +336,70 @@ def test_no_letter_when_the_loci_match_none_of_the_nine(client):
     assert "matches none of the nine" in got["message"]
     r, _ = post(client, body, "svg")
     assert r.status_code == 200 and "matches none of the nine" in r.text
+
+
+# ---------------------------------------------------------------------------------------
+# method "certified" (solver/certified_sketch.py)
+# ---------------------------------------------------------------------------------------
+
+RECT = [[-1.5, -0.4], [1.5, -0.4], [1.5, 0.4], [-1.5, 0.4]]
+MUST_STICK = {"footprint": RECT, "contact_point": [-1.5, 0.18766172], "edge_angle": math.pi / 2,
+              "push_direction": -0.4635935760943159, "mu_c": 0.3, "n_rays": 8}
+
+
+def test_certified_sketch_of_a_polygon_is_the_polygons_own(client):
+    """The rectangle must stick (sketch g) where its circumscribing disk allows slipping up
+    (mirrored i); the answer is the solver's, with its certification report."""
+    from solver.certified_sketch import certified_sketch
+
+    r, disk = post(client, {**MUST_STICK, "n_points": 256})
+    assert r.status_code == 200 and disk["sketch_of"] == "circumscribing_disk" and disk["sketch"] == "i"
+    assert disk["method"] == "analytic" and disk["certification"] is None
+    r, got = post(client, {**MUST_STICK, "method": "certified"})
+    assert r.status_code == 200, r.text
+    assert got["sketch_of"] == "polygon" and got["method"] == "certified"
+    assert got["sketch"] == "g" and got["allowed_modes"] == ["sticking"] and "polygon itself" in got["message"]
+    cert = got["certification"]
+    assert cert["complete"] and not cert["time_limited"] and cert["message"] == "every piece certified"
+    assert cert["sticking_status"] == "found" and cert["n_rays"] == 8
+    assert cert["sticking_lower"]["certified"] and cert["sticking_upper"]["certified"]
+    lo = cert["sticking_lower"]
+    assert lo["infeasible_position"] < lo["position"] < lo["feasible_position"]
+    assert got["sticking"]["t_low"] == lo["position"] and got["sticking"]["phi_low"] is None
+    # the disk's sticking segment contains the polygon's (7.5)
+    assert disk["sticking"]["t_low"] <= got["sticking"]["t_low"] < got["sticking"]["t_high"] <= disk["sticking"]["t_high"]
+    fp = Footprint.create(RECT)
+    scene = PushScene.create(fp.circumradius, np.array(MUST_STICK["contact_point"]), math.pi / 2,
+                             MUST_STICK["push_direction"], fp.center_of_mass)
+    cs = certified_sketch(scene, 0.3, fp, n_rays=8)
+    assert got["sticking"]["t_high"] == pytest.approx(cs.sketch.sticking.t_high, abs=1e-12)
+    assert (cert["plus_certified_rays"], cert["minus_certified_rays"]) == (
+        None if cs.plus_trace is None else cs.plus_trace.n_certified,
+        None if cs.minus_trace is None else cs.minus_trace.n_certified)
+    r = client.post(URL, json={**MUST_STICK, "method": "certified"}, params={"format": "svg"})
+    assert r.status_code == 200 and r.headers["content-type"].startswith("image/svg+xml")
+    ET.fromstring(r.text)
+
+
+def test_certified_sketch_of_a_disk_has_exact_sticking_ends(client):
+    r, got = post(client, {**EXAMPLE, "method": "certified"})
+    _, sweep = post(client, EXAMPLE)
+    assert r.status_code == 200 and got["sketch_of"] == "disk"
+    assert got["certification"]["n_rays"] is None and got["certification"]["plus_certified_rays"] is None
+    assert got["plus"] == sweep["plus"] and got["sketch"] == sweep["sketch"]
+    assert got["sticking"]["t_low"] == pytest.approx(sweep["sticking"]["t_low"], abs=1e-4)
+    assert got["sticking"]["t_high"] == pytest.approx(sweep["sticking"]["t_high"], abs=1e-4)
+
+
+def test_certified_sketch_out_of_time_says_so(client):
+    r, got = post(client, {**MUST_STICK, "method": "certified", "time_limit_s": 1e-6})
+    assert r.status_code == 200, r.text
+    cert = got["certification"]
+    assert cert["time_limited"] and not cert["complete"] and cert["message"] != "every piece certified"
+
+
+@pytest.mark.parametrize("change, field", [({"n_rays": 3}, "n_rays"), ({"n_rays": 257}, "n_rays"),
+                                           ({"time_limit_s": 0}, "time_limit_s"), ({"method": "exact"}, "method")])
+def test_certified_sketch_bad_knobs_are_422(client, change, field):
+    r, got = post(client, {**MUST_STICK, "method": "certified", **change})
+    assert r.status_code == 422 and detail(got)[0] == ["body", field]

@@ -1,0 +1,179 @@
+"""Certified COR sketches (book 4.1): of a polygon footprint itself (on the exact loci of
+3.3.13/7.5), and of a disk with exactly computed sticking-locus ends.
+
+The disk sketch of :mod:`models.cor_sketch` bounds a polygon part by its circumscribing
+disk (3.1.8), whose loci contain the polygon's (7.5). Here every piece of the sketch is the
+polygon's own, each certified by the minimum-power engine:
+
+* {COR}_(alpha +- nu): the frictionless locus of the scene whose edge is turned by +-nu
+  (:func:`models.cor_sketch.force_scene`), traced along rays from a certified inside
+  centre with certified brackets (:func:`solver.certified_locus.certified_polygon_boundary`).
+  A wrapped locus (its sense is not the part's by Mason's rule with the cone, 1.6.2) holds
+  no consistent COR and is not traced; a translation (force line through the CM) has none;
+* the slipping loci: the traced loci cut by the same consistency half-planes as the disk's
+  (4.1.3, :func:`models.cor_sketch.assemble_sketch`);
+* the sticking locus: both ends exact and certified on the footprint
+  (:func:`solver.sticking.sticking_locus` with the footprint: a convex feasibility problem
+  in the pressure distribution, 4.1.4);
+* the elementary configurations (4.1.5) and the letter of figure 4-6 (4.1.6) as for the
+  disk; the "tip" of a traced locus is its boundary point farthest from the CM (the disk
+  locus's tip is that point).
+
+Without a footprint (a disk-bounded part) the elementary loci are the analytic disk loci
+(3.30, 3.35; confirmed point by point by certificates in tests/solver/test_certified_locus.py)
+and only the sticking locus differs from :func:`models.cor_sketch.cor_sketch`: its ends are
+the exact certified ones instead of the book's force-angle sweep.
+
+Everything is in the world frame. The result says which pieces were certified and, with a
+time limit, how far it got.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from models.cor_sketch import (
+    CorSketch,
+    ElementaryLocus,
+    StickingLocus,
+    assemble_sketch,
+    check_mu_c,
+    classify_locus,
+    disk_elementary_locus,
+    force_scene,
+    sketch_sense,
+)
+from models.footprint import Footprint
+from models.scene import PushScene
+from models.tolerances import SOLVER_DEFAULT, SolverTolerances
+from solver.certified_locus import CertifiedPolygonBoundary, certified_polygon_boundary
+from solver.sticking import StickingLocus as ExactStickingLocus
+from solver.sticking import sticking_locus
+
+DEFAULT_N_POINTS = 512
+"""Boundary points of an analytic disk locus (no footprint)."""
+
+DEFAULT_RAYS = 32
+"""Rays traced per elementary locus."""
+
+MIN_TRACED_POINTS = 3
+"""Fewest certified ray crossings that still make a locus polygon."""
+
+
+@dataclass(frozen=True)
+class CertifiedSketch:
+    """A certified sketch (module docstring).
+
+    ``sketch``: the assembled :class:`models.cor_sketch.CorSketch` (its sticking phi_low /
+    phi_high are None: the exact ends have no single force angle). ``plus_trace`` /
+    ``minus_trace``: the certified traces of {COR}_(alpha+-nu) (None when not traced:
+    wrapped, translation, a disk's analytic locus, or out of time). ``sticking``: the exact
+    sticking locus. ``footprint``: the polygon, or None for a disk.
+    ``complete``: every traced ray and both sticking ends certified, nothing skipped for
+    time. ``time_limited``: the time limit cut something short. ``message`` says what."""
+
+    sketch: CorSketch
+    plus_trace: CertifiedPolygonBoundary | None
+    minus_trace: CertifiedPolygonBoundary | None
+    sticking: ExactStickingLocus | None
+    footprint: Footprint | None
+    n_rays: int
+    complete: bool
+    time_limited: bool
+    solve_time_s: float
+    message: str
+
+
+def _farthest_from(points: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    d = np.einsum("ij,ij->i", points - centre, points - centre)
+    return points[int(np.argmax(d))].copy()
+
+
+def _traced_locus(
+    scene: PushScene, footprint: Footprint, sigma: float, mu_c: float, sense: str, n_rays: int,
+    tol: SolverTolerances, remaining: float | None,
+) -> tuple[ElementaryLocus, CertifiedPolygonBoundary | None, list[str]]:
+    nu = math.atan(mu_c)
+    turned, m_sign = force_scene(scene, sigma * nu)
+    own = {1: "cw", -1: "ccw", 0: "none"}[m_sign]
+    if m_sign == 0 or own != sense:
+        return classify_locus(scene, sigma, mu_c, sense, m_sign, None, None), None, []
+    trace = certified_polygon_boundary(turned, footprint, n_rays=n_rays, tol=tol, time_limit_s=remaining)
+    issues = []
+    pts = trace.boundary[np.all(np.isfinite(trace.boundary), axis=1)] if len(trace.boundary) else np.empty((0, 2))
+    if not trace.complete:
+        issues.append(f"{{COR}}_(alpha{'+' if sigma > 0 else '-'}nu): {len(trace.rays)} of {n_rays} rays traced in time")
+    if trace.uncertified_rays:
+        issues.append(f"{{COR}}_(alpha{'+' if sigma > 0 else '-'}nu): rays {list(trace.uncertified_rays)} not certified")
+    if len(pts) < MIN_TRACED_POINTS:
+        issues.append(f"{{COR}}_(alpha{'+' if sigma > 0 else '-'}nu): too few certified crossings to draw it")
+        return classify_locus(scene, sigma, mu_c, sense, m_sign, None, None), trace, issues
+    tip = _farthest_from(pts, scene.center_of_mass)
+    return classify_locus(scene, sigma, mu_c, sense, m_sign, pts, tip), trace, issues
+
+
+def _sticking_of(exact: ExactStickingLocus, scene: PushScene) -> StickingLocus | None:
+    """The exact locus as the sketch's segment: from the lowest to the highest end found
+    (several intervals are reported by the exact locus; the sketch keeps their hull)."""
+    if exact.lower is None or exact.upper is None:
+        return None
+    return StickingLocus(
+        t_low=float(exact.lower.position), t_high=float(exact.upper.position),
+        low=np.asarray(exact.lower.point, dtype=float), high=np.asarray(exact.upper.point, dtype=float),
+        phi_low=None, phi_high=None,
+    )
+
+
+def certified_sketch(
+    scene: PushScene,
+    mu_c: float,
+    footprint: Footprint | None = None,
+    n_rays: int = DEFAULT_RAYS,
+    n_points: int = DEFAULT_N_POINTS,
+    tol: SolverTolerances = SOLVER_DEFAULT,
+    time_limit_s: float | None = None,
+) -> CertifiedSketch:
+    """The COR sketch (4.1) with certified pieces (module docstring): of ``footprint``
+    itself (``n_rays`` rays per traced locus), or, without one, of the scene's disk with
+    exact sticking ends (``n_points`` per analytic locus). ``time_limit_s`` bounds the whole
+    computation: the pieces are computed in the order sticking locus, {COR}_(alpha+nu),
+    {COR}_(alpha-nu), each with the time that remains."""
+    check_mu_c(mu_c)
+    t0 = time.perf_counter()
+
+    def remaining() -> float | None:
+        return None if time_limit_s is None else max(0.0, time_limit_s - (time.perf_counter() - t0))
+
+    sense = sketch_sense(scene, mu_c)
+    issues: list[str] = []
+    exact = None
+    stick = None
+    if sense != "none":
+        exact = sticking_locus(scene, mu_c, footprint=footprint, tol=tol, time_limit_s=remaining())
+        stick = _sticking_of(exact, scene)
+        if exact.status != "found" or not exact.complete:
+            issues.append(f"sticking locus: {exact.status} ({exact.message})")
+    traces = []
+    loci = []
+    for sigma in (1.0, -1.0):
+        if footprint is None:
+            loci.append(disk_elementary_locus(scene, sigma, mu_c, sense, n_points))
+            traces.append(None)
+            continue
+        loc, trace, more = _traced_locus(scene, footprint, sigma, mu_c, sense, n_rays, tol, remaining())
+        loci.append(loc)
+        traces.append(trace)
+        issues += more
+    sketch = assemble_sketch(scene, mu_c, sense, loci[0], loci[1], stick)
+    time_limited = bool(
+        (exact is not None and exact.time_limited) or any(t is not None and not t.complete for t in traces)
+    )
+    return CertifiedSketch(
+        sketch=sketch, plus_trace=traces[0], minus_trace=traces[1], sticking=exact, footprint=footprint,
+        n_rays=n_rays, complete=not issues, time_limited=time_limited, solve_time_s=time.perf_counter() - t0,
+        message="; ".join(issues) if issues else "every piece certified",
+    )
