@@ -50,7 +50,13 @@ from models.cor_sketch import (
 from models.footprint import Footprint
 from models.scene import PushScene
 from models.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.certified_locus import CertifiedPolygonBoundary, certified_polygon_boundary
+from solver.certified_locus import (
+    CertifiedPolygonBoundary,
+    RayCrossing,
+    certified_polygon_boundary,
+    polygon_trace,
+    trace_ray,
+)
 from solver.sticking import StickingLocus as ExactStickingLocus
 from solver.sticking import sticking_locus
 
@@ -59,6 +65,18 @@ DEFAULT_N_POINTS = 512
 
 DEFAULT_RAYS = 32
 """Rays traced per elementary locus."""
+
+REFINE_RAYS = 12
+"""Most extra rays spent deciding whether a traced locus crosses the sticking line (4.1.5):
+bisecting the angular gap next to the traced point nearest to it."""
+
+REACH = 1.0
+"""Refinement stops when the nearest traced point is farther from the sticking line than
+REACH times the arc length of the gap next to it (a locus bulging that far between two
+neighbouring rays would be unusual)."""
+
+MIN_REFINE_GAP = 1e-3
+"""Smallest angular gap (rad) that is still bisected."""
 
 MIN_TRACED_POINTS = 3
 """Fewest certified ray crossings that still make a locus polygon."""
@@ -102,9 +120,15 @@ def _traced_locus(
     own = {1: "cw", -1: "ccw", 0: "none"}[m_sign]
     if m_sign == 0 or own != sense:
         return classify_locus(scene, sigma, mu_c, sense, m_sign, None, None), None, []
+    t0 = time.perf_counter()
     trace = certified_polygon_boundary(turned, footprint, n_rays=n_rays, tol=tol, time_limit_s=remaining)
+    deadline = None if remaining is None else t0 + remaining
+    rays = _refine_near_sticking_line(scene, turned, footprint, trace, tol, deadline)
     issues = []
-    pts = trace.boundary[np.all(np.isfinite(trace.boundary), axis=1)] if len(trace.boundary) else np.empty((0, 2))
+    pts = np.array([r.point for r in rays if np.all(np.isfinite(r.point))]).reshape(-1, 2)
+    extra = [r for r in rays if all(r is not q for q in trace.rays)]
+    if any(r.verdict != "bracketed" for r in extra):
+        issues.append(f"{{COR}}_(alpha{'+' if sigma > 0 else '-'}nu): a refining ray was not certified")
     if not trace.complete:
         issues.append(f"{{COR}}_(alpha{'+' if sigma > 0 else '-'}nu): {len(trace.rays)} of {n_rays} rays traced in time")
     if trace.uncertified_rays:
@@ -114,6 +138,52 @@ def _traced_locus(
         return classify_locus(scene, sigma, mu_c, sense, m_sign, None, None), trace, issues
     tip = _farthest_from(pts, scene.center_of_mass)
     return classify_locus(scene, sigma, mu_c, sense, m_sign, pts, tip), trace, issues
+
+
+def _angle(ray: RayCrossing) -> float:
+    return math.atan2(float(ray.direction[1]), float(ray.direction[0])) % (2.0 * math.pi)
+
+
+def _refine_near_sticking_line(
+    scene: PushScene, turned: PushScene, footprint: Footprint, trace: CertifiedPolygonBoundary,
+    tol: SolverTolerances, deadline: float | None,
+) -> list[RayCrossing]:
+    """The traced rays, ordered by angle, plus up to REFINE_RAYS rays that decide whether
+    the locus crosses the sticking line (the configuration of 4.1.5 depends on it): while
+    every certified point lies on one side of the line, bisect the wider angular gap next
+    to the point nearest to it, until the line is farther than REACH times that gap's arc.
+    A crossing this misses is not detected (the traced polygon is what the sketch uses)."""
+    rays = sorted((r for r in trace.rays), key=_angle)
+    if not rays:
+        return rays
+    state = None
+    c, p = scene.contact_point, scene.push_hat
+    for _ in range(REFINE_RAYS):
+        if deadline is not None and time.perf_counter() > deadline:
+            break
+        ok = [i for i, r in enumerate(rays) if np.all(np.isfinite(r.point))]
+        if len(ok) < MIN_TRACED_POINTS:
+            break
+        side = np.array([float((rays[i].point - c) @ p) for i in ok])
+        if side.min() < 0.0 < side.max():
+            break  # crosses
+        k = ok[int(np.argmin(np.abs(side)))]
+        a_k = _angle(rays[k])
+        gaps = []
+        for j in ((k - 1) % len(rays), (k + 1) % len(rays)):
+            gap = (a_k - _angle(rays[j])) % (2.0 * math.pi) if j == (k - 1) % len(rays) else (
+                _angle(rays[j]) - a_k) % (2.0 * math.pi)
+            gaps.append((gap, j))
+        gap, j = max(gaps)
+        reach = gap * float(np.linalg.norm(rays[k].point - trace.centre))
+        if gap < MIN_REFINE_GAP or abs(float((rays[k].point - c) @ p)) > REACH * reach:
+            break  # the line lies farther than the gap's arc: a chord there will not reach it
+        mid = a_k + (0.5 * gap if j == (k + 1) % len(rays) else -0.5 * gap)
+        if state is None:
+            state = polygon_trace(turned, footprint, tol)
+        new = trace_ray(state, np.array([math.cos(mid), math.sin(mid)]))
+        rays = sorted(rays + [new], key=_angle)
+    return rays
 
 
 def _sticking_of(exact: ExactStickingLocus, scene: PushScene) -> StickingLocus | None:

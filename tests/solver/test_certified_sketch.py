@@ -153,3 +153,15 @@ def test_a_disk_sketch_with_exact_sticking_ends_agrees_with_the_sweep():
     assert cs.sketch.sticking.t_low == pytest.approx(sweep.sticking.t_low, abs=1e-4)
     assert cs.sketch.sticking.t_high == pytest.approx(sweep.sticking.t_high, abs=1e-4)
     assert cs.sketch.sticking.phi_low is None and sweep.sticking.phi_low is not None
+
+
+def test_the_letter_does_not_depend_on_the_number_of_rays():
+    """Whether a traced locus crosses the sticking line decides its configuration (4.1.5):
+    with only 8 uniform rays the chord polygon of {COR}_(alpha-nu) misses the line, and
+    the rays added next to the point nearest to it find the crossing: sketch b, as with 32."""
+    sc = _scene(ON_LONG_SIDE)
+    coarse = certified_sketch(sc, ON_LONG_SIDE["mu_c"], RECT, n_rays=8)
+    assert coarse.complete
+    assert coarse.sketch.sketch == "b"
+    assert (coarse.sketch.plus.configuration, coarse.sketch.minus.configuration) == ("pure_slipping", "same_sided_split")
+    assert len(coarse.sketch.minus.boundary) > 8  # refined
