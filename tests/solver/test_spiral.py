@@ -1,0 +1,272 @@
+"""Spiral localization of a disk (solver/spiral.py; book 4.5): r*(beta) exact / sweep /
+tip line, the limiting radius (4.25), the critical case of 4.5.2 checked on the whole COR
+sketch, the kink of figure 4-19, the fastest spiral on OR-Tools against the recursion
+(4.26), and the exponent of figure 4-21.
+
+Heavy exact tables live in tests/benchmarks/test_bench_spiral.py; here a module fixture
+holds six exact points."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from models.cor_sketch import cor_sketch
+from models.errors import InvalidInput
+from models.gross_bounds import encounter_scene
+from models.mpp import perp
+from models.spiral import SpiralTolerances, critical_envelope, fastest_spiral, power_law_fit, tip_line_critical_radius
+from solver.spiral import (
+    beta_grid,
+    critical_beta,
+    critical_distance,
+    critical_radius,
+    critical_radius_table,
+    kink_beta,
+    limiting_radius_check,
+    plan_spiral,
+    spiral_schedule,
+)
+
+HALF_PI = 0.5 * math.pi
+BETAS = (0.3, 0.8, 1.15, 1.4, 1.55, HALF_PI - 1e-6)
+
+
+@pytest.fixture(scope="module")
+def exact_025():
+    return critical_radius_table(1.0, 0.25, "exact", betas=BETAS)
+
+
+@pytest.fixture(scope="module")
+def sweep_025():
+    return critical_radius_table(1.0, 0.25, "sweep", betas=BETAS)
+
+
+@pytest.fixture(scope="module")
+def dense_sweep_025():
+    """A sweep table fine enough for the recursion from b_1 = 100 a (figure 4-21), with
+    256-point loci (error ~2e-4 a) to stay fast."""
+    grid = beta_grid(1.0, 100.0, grazing_delta=1e-4, n_low=14, n_mid=8, n_grazing=26)
+    return critical_radius_table(1.0, 0.25, "sweep", betas=grid, sweep_points=256)
+
+
+# ------------------------------------------------------------------ r*(beta)
+
+
+def test_exact_and_sweep_agree(exact_025, sweep_025):
+    """The certified lower end of the sticking locus and the book's force-angle sweep
+    (4.1.4) agree to ~1e-5 a; every exact point is certified with a bracket <= 1e-6 a."""
+    assert exact_025.complete and exact_025.certified.all()
+    assert np.all(exact_025.widths <= 1e-6)
+    assert np.all(exact_025.radii >= exact_025.midpoints)  # the outside end is the safe one
+    assert np.max(np.abs(exact_025.midpoints - sweep_025.radii)) < 1e-4
+
+
+def test_r_star_decreases_with_beta(exact_025, dense_sweep_025):
+    """r*(beta) falls monotonically to b_inf (figure 4-19): no increase along either table,
+    so point values bound their cells and the envelope loses nothing."""
+    assert exact_025.envelope.max_increase < 0.0 and exact_025.envelope.n_violations == 0
+    assert dense_sweep_025.envelope.n_violations == 0
+    assert np.allclose(exact_025.envelope.envelope, exact_025.radii)
+
+
+def test_limiting_radius_matches_4_25():
+    """(4.25): r*(pi/2 - 1e-6), exact, is a(1 + mu_c) for mu_c <= 1 and 2a for mu_c >= 1,
+    to ~2e-6 a (r* - b_inf is ~1.3 (pi/2 - beta) a for mu_c < 1), from above (the safe
+    outside end). mu_c -> 0 gives b_inf -> a (0.03 here; 0.01 needs a finer scan, see
+    the benchmark), large mu_c stays at 2a."""
+    for mu in (0.1, 0.25, 0.5, 1.0, 2.0, 5.0, 0.03, 50.0):
+        c = limiting_radius_check(1.0, mu, "exact")
+        assert c.certified
+        assert c.closed_form == (1.0 + mu if mu <= 1.0 else 2.0)
+        assert 0.0 <= c.difference < 3e-6, (mu, c.difference)
+
+
+def test_tip_line_error(exact_025):
+    """The book's tip-line approximation (4.1.4, 4.4.1.1): 2a/sin(beta), so 2a at grazing
+    for every mu_c: for mu_c = 0.25 it overstates b_inf by 0.75 a (safe but slow), and at
+    mu_c = 1, beta = 0.8 it understates r* (unsafe); at beta = 0.3 it is 0.3 % low."""
+    tip = tip_line_critical_radius(1.0, exact_025.betas)
+    err = tip - exact_025.radii
+    assert err[-1] == pytest.approx(0.75, abs=1e-5)
+    assert -0.03 < err[0] < 0.0
+    assert np.all(err[1:] > 0.0)  # mu_c = 0.25: a safe overestimate past beta ~ 0.46 (4.17)
+    r1 = critical_radius(1.0, 0.8, 1.0, "exact")
+    assert r1.certified and r1.tip_line_radius < r1.radius - 0.05
+
+
+def test_scale_invariance():
+    """Results are linear in a (the sticking solver works in units of a)."""
+    ref = critical_radius(1.0, 1.0, 0.5, "exact")
+    for a in (1e-3, 1e3):
+        for method in ("exact", "sweep", "tip_line"):
+            r = critical_radius(a, 1.0, 0.5, method)
+            base = ref if method == "exact" else critical_radius(1.0, 1.0, 0.5, method)
+            assert r.radius / a == pytest.approx(base.radius, rel=1e-9)
+            assert r.distance_from_grazing / a == pytest.approx(base.distance_from_grazing, rel=1e-12)
+
+
+def test_critical_case_every_cor_pushes_the_disk_in(exact_025):
+    """4.5.2: with PC directly below the contact at distance r = r*(beta) (the safe exact
+    value), every COR of the sketch (sticking segment, down- and up-slipping polygons, 2048
+    boundary points) moves the CM inside the circle about PC through it: v_CM . (PC - CM)
+    >= 0, computed from the rigid motion (omega from (3.3)). Only the sticking locus's
+    lower end is needed (the book's claim; the slipping loci's worst point is where they
+    meet the sticking line). With PC just above the exact witness end the disk can be
+    pushed out: r* is tight."""
+    cases = [(0.25, b, r, lo) for b, r, lo in zip(exact_025.betas, exact_025.radii, exact_025.midpoints)
+             if b in (0.3, 0.8, 1.15, 1.55)]
+    r1 = critical_radius(1.0, 1.4, 1.0, "exact")
+    cases.append((1.0, 1.4, r1.radius, r1.lower_bound))
+    for mu, beta, r_star, r_in in cases:
+        scene = encounter_scene(1.0, beta)
+        sk = cor_sketch(scene, mu, n_points=2048, sweep_points=256)
+        contact = scene.contact_point
+        # the sticking segment from the exact witness end to the sweep's upper end (a
+        # 256-point sweep may overshoot the lower end by ~2e-5 a)
+        cors = [contact + np.array([0.0, -r_in]), sk.sticking.high]
+        for polys in (sk.down_slipping, sk.up_slipping):
+            for poly in polys:
+                cors.extend(poly)
+        for r, sign in ((r_star, 1.0), (r_in - 1e-4, -1.0)):
+            pc = contact + np.array([0.0, -r])
+            worst = math.inf
+            pts = cors if sign > 0 else [contact + np.array([0.0, -r_in])]  # the exact witness end
+            for cor in pts:
+                omega = scene.rotation_per_push(cor)
+                v = omega * perp(scene.center_of_mass - np.asarray(cor))
+                worst = min(worst, float(v @ (pc - scene.center_of_mass)) / float(np.linalg.norm(v)))
+            if sign > 0:
+                assert worst >= -1e-6, (mu, beta, worst)  # polygon chords: ~1e-7 at 2048 points
+            else:
+                assert worst < 0.0, (mu, beta, worst)
+
+
+def test_kink_of_figure_4_19():
+    """4.5.3: 1/r*(beta) has a slope discontinuity where the sticking locus's lower end
+    crosses the disk's rim (r* = 2a sin beta); for mu_c = 0.25 near beta = 1.149, where
+    the slope of 1/r* jumps from ~0.22 to ~0.55 per radian. mu_c >= 1: no crossing."""
+    kb = kink_beta(1.0, 0.25, iterations=8)
+    assert kb is not None and abs(kb - 1.149) < 0.01
+    h = 0.02
+    inv = [1.0 / critical_radius(1.0, b, 0.25, "sweep", sweep_points=512).radius
+           for b in (kb - 2 * h, kb - h, kb + h, kb + 2 * h)]
+    left, right = (inv[1] - inv[0]) / h, (inv[3] - inv[2]) / h
+    assert 0.15 < left < 0.3 and 0.45 < right < 0.65
+    assert kink_beta(1.0, 2.0, iterations=1) is None
+
+
+def test_inverse_beta_and_distance(exact_025):
+    """beta*(r) and d*(r) (4.5.3, 4.24) of the exact table: the smallest tabulated beta
+    whose tail is below r, and a(1 - sin beta*)."""
+    env = exact_025.envelope
+    for r, k in ((1.3, 4), (1.5, 3), (2.0, 2), (2.4, 1), (7.0, 0)):
+        assert critical_beta(exact_025, r) == exact_025.betas[k]
+        assert critical_distance(exact_025, r) == pytest.approx(1.0 - math.sin(exact_025.betas[k]), rel=1e-12)
+    assert critical_distance(exact_025, 1.2) == 0.0 and math.isnan(critical_beta(env, 1.2))
+
+
+# ------------------------------------------------------------------ the schedule (4.26) on OR-Tools
+
+
+def test_or_tools_optimum_equals_the_recursion_up_to_the_grid(dense_sweep_025):
+    """Without robot limits greedy is optimal (models/spiral.py), so OR-Tools' optimum on
+    a uniform grid of spacing h equals the greedy on that grid, for revolutions and for
+    path length, and is certified by potentials. Against the continuous recursion (4.26):
+    N_rec(d*) <= N_grid <= N_rec(d* - h) (a grid schedule loses < h per revolution)."""
+    env = dense_sweep_025.envelope
+    h = 0.01
+    b1, target = 20.0, 1.6
+    sched = spiral_schedule(env, b1, target, spacing=h, speed=0.1)
+    assert sched.solver_status == "OPTIMAL" and sched.certificate.certified and not sched.stopped_early
+    assert sched.revolutions == sched.greedy_revolutions
+    # the tie-break on length picks the greedy (the shortest of the fewest), to its unit
+    assert sched.certificate.revolution_weight is not None
+    assert sched.path_length == pytest.approx(sched.greedy_path_length, abs=sched.revolutions * 1e-4)
+    assert sched.max_step_excess <= 0.0 and sched.radii[0] == b1 and sched.radii[-1] == target
+    assert np.all(sched.steps <= env.d_star(sched.radii[1:]))
+    assert sched.time_s == pytest.approx(sched.path_length / 0.1)
+    rec = fastest_spiral(env, b1, target)
+    shrunk = dataclasses.replace(env, distances=np.maximum(env.distances - h, 0.0))
+    rec_h = fastest_spiral(shrunk, b1, target)
+    assert rec.revolutions == sched.recursion.revolutions
+    assert rec.revolutions <= sched.revolutions <= rec_h.revolutions
+    n = min(rec.revolutions, sched.revolutions)
+    assert np.all(sched.radii[:n] >= rec.radii[:n] - 1e-12)
+    by_length = spiral_schedule(env, b1, target, objective="length", spacing=h)
+    assert by_length.solver_status == "OPTIMAL" and by_length.certificate.certified
+    assert by_length.path_length == pytest.approx(sched.greedy_path_length, abs=by_length.revolutions * 1e-7)
+    assert by_length.revolutions == sched.revolutions
+
+
+def test_robot_limits(dense_sweep_025):
+    """A maximum step keeps greedy optimal; a minimum step can strand greedy short of the
+    target, and the shortest path still finds a safe schedule with every step >= it."""
+    env = dense_sweep_025.envelope
+    capped = spiral_schedule(env, 30.0, 2.0, max_step=0.5, resolution=8)
+    assert capped.solver_status == "OPTIMAL" and capped.certificate.certified
+    assert capped.revolutions == capped.greedy_revolutions and np.all(capped.steps <= 0.5 + 1e-12)
+    hit = None
+    for target in np.linspace(5.0, 9.0, 41):
+        s = spiral_schedule(env, 30.0, float(target), min_step=0.6, spacing=0.05)
+        if s.solver_status == "OPTIMAL" and s.greedy_revolutions is None:
+            hit = s
+            break
+    assert hit is not None, "no target where greedy gets stuck"
+    assert hit.certificate.certified and np.all(hit.steps >= 0.6 - 1e-12) and hit.max_step_excess <= 0.0
+    assert hit.revolutions >= hit.recursion.revolutions  # the recursion ignores the minimum step
+
+
+def test_cp_sat_backend_agrees(dense_sweep_025):
+    env = dense_sweep_025.envelope
+    mcf = spiral_schedule(env, 10.0, 2.5, resolution=3)
+    cps = spiral_schedule(env, 10.0, 2.5, resolution=3, backend="cp_sat", time_limit_s=20.0)
+    assert cps.solver_status == "OPTIMAL" and cps.certificate.certified
+    assert cps.revolutions == mcf.revolutions
+
+
+def test_time_limits_say_where_they_stopped():
+    """A table stopped by its time limit keeps the points it finished, from grazing down,
+    and says where it stopped; a schedule whose deadline passes before the solve says so."""
+    tab = critical_radius_table(1.0, 0.5, "exact", betas=np.linspace(0.4, 1.5, 8), time_limit_s=1.0)
+    assert tab.time_limited and not tab.complete and 1 <= tab.n_done < 8
+    assert tab.stopped_at_beta == tab.betas[0] and tab.betas[-1] == 1.5
+    assert "time limit" in tab.message
+    env = critical_envelope(np.linspace(0.05, 1.5, 30), tip_line_critical_radius(1.0, np.linspace(0.05, 1.5, 30)), 1.0)
+    late = spiral_schedule(env, 30.0, 2.5, time_limit_s=0.0)
+    assert late.solver_status == "TIME_LIMIT" and late.stopped_early and late.radii.size == 0
+
+
+def test_exponent_of_figure_4_21(dense_sweep_025):
+    """4.5.5, figure 4-21 (mu_c = 0.25, b_1 = 100 a): far out the radius drops by almost a
+    per revolution; near b_inf, b_n - b_inf falls like n^-k with the book's k ~ 1.6. The
+    fitted k depends on the range of n: ~1.8 over n = 100..1000 (the transition from the
+    linear phase, ~110 revolutions, still shows), ~1.15 over 1000..5000, tending to 1
+    (r* - b_inf is linear in pi/2 - beta, d ~ (pi/2 - beta)^2 / 2, so e_n ~ 2 c^2 / n)."""
+    env = dense_sweep_025.envelope
+    rec = fastest_spiral(env, 100.0, tol=SpiralTolerances(max_revolutions=5000))
+    assert rec.steps[0] > 0.97
+    early = power_law_fit(rec.radii, 1.25, 100, 1000)
+    late = power_law_fit(rec.radii, 1.25, 1000, 5000)
+    assert 1.5 < early.exponent < 2.1, early
+    assert 1.0 < late.exponent < 1.3, late
+    assert late.exponent < early.exponent
+
+
+def test_plan_and_inputs():
+    plan = plan_spiral(1.0, 0.5, 12.0, target=2.1, method="tip_line")
+    assert plan.schedule.solver_status == "OPTIMAL" and plan.b_inf_closed_form == 1.5
+    assert plan.b_floor == pytest.approx(2.0, abs=1e-6)  # the tip line cannot go below 2a
+    with pytest.raises(InvalidInput):
+        spiral_schedule(plan.table, 12.0, 1.8)  # below the table's floor
+    with pytest.raises(InvalidInput):
+        critical_radius(1.0, HALF_PI, 0.5)  # grazing
+    with pytest.raises(InvalidInput):
+        critical_radius(1.0, 0.0, 0.5)
+    with pytest.raises(InvalidInput):
+        critical_radius(1.0, 1.0, 0.0)
+    with pytest.raises(InvalidInput):
+        critical_radius(1.0, 1.0, 0.5, method="guess")
