@@ -536,6 +536,32 @@ def tip_line_spiral(a: float, b_1: float, target: float | None = None, max_revol
     return np.asarray(out)
 
 
+def unsafe_revolutions(radii, betas, r_star, a: float) -> np.ndarray:
+    """Which steps of a schedule are provably unsafe against a table of critical radii
+    (4.5.1, 4.5.3): revolution n (radius b_n after a step Delta b = b_{n-1} - b_n) can meet
+    the disk at any beta' >= beta_Delta (4.24, d = Delta b), and it is unsafe when some
+    tabulated beta_k >= beta_Delta has r*(beta_k) > b_n -- a witness collision parameter.
+    ``r_star`` are the table's values without any margin (for "exact" the outside ends, so
+    a step flagged here may be safe by up to the bracket width). Returns a boolean per step
+    (length len(radii) - 1). Steps of d >= 2a meet the disk anywhere (beta_Delta <= -pi/2)."""
+    a = _radius(a)
+    b = np.asarray(radii, dtype=float).ravel()
+    bt = np.asarray(betas, dtype=float).ravel()
+    r = np.asarray(r_star, dtype=float).ravel()
+    ok = np.isfinite(r)
+    bt, r = bt[ok], r[ok]
+    order = np.argsort(bt)
+    bt, r = bt[order], r[order]
+    tail_max = np.maximum.accumulate(r[::-1])[::-1] if r.size else r  # max_{j >= k} r_j
+    steps = b[:-1] - b[1:]
+    out = np.zeros(steps.size, dtype=bool)
+    for n, (step, b_n) in enumerate(zip(steps, b[1:])):
+        beta_d = float(collision_parameter(a, min(max(step, 0.0), 2.0 * a)))
+        k = int(np.searchsorted(bt, beta_d, side="left"))
+        out[n] = k < bt.size and bool(tail_max[k] > b_n)
+    return out
+
+
 # --------------------------------------------------------------------------------------
 # Power-law fit (figure 4-21)
 

@@ -10,6 +10,7 @@ from service import __version__, errors
 from service.routes import cor, health, mpp
 from service.routes import push
 from service.routes import sketch
+from service.routes import spiral
 from service.settings import Settings
 
 DESCRIPTION = """\
@@ -32,6 +33,7 @@ def create_app() -> FastAPI:
     app.include_router(mpp.router)
     app.include_router(push.router)
     app.include_router(sketch.router)
+    app.include_router(spiral.router)
     return app
 
 

@@ -197,3 +197,52 @@ service also stops between exact bounds once time_limit_s is spent)."""
 GROSS_MIN_LENGTH = 1e-100
 """Smallest disk radius (or footprint circumradius) of a gross-motion request: the closed
 forms square lengths and the sketches' sense of rotation underflows below ~1e-154."""
+
+# ---------------------------------------------------------------------------------------
+# Spiral localization (book 4.5): POST /v1/spiral/critical-radius and /v1/spiral/schedule
+
+SPIRAL_MIN_LENGTH = 1e-100
+"""Smallest disk radius (squared lengths must not underflow)."""
+
+SPIRAL_MIN_BETA = 1e-3
+"""Smallest collision parameter (rad): r* ~ 2a/beta, beyond 2000 a below it."""
+
+SPIRAL_MAX_BETAS = 256
+"""Most collision parameters (or radii) in one request."""
+
+SPIRAL_MAX_RADIUS_REL = 1e4
+"""Largest start radius / max_radius, in units of a (the table's grid reaches beta ~ 2a / r)."""
+
+SPIRAL_SWEEP_MARGIN_REL = 1e-3
+"""Default safety margin (units of a) added to the sweep's r* before planning: the sweep
+differs from the certified r* by at most 1.1e-4 a (docs/benchmarks.md)."""
+
+SPIRAL_MIN_RESOLUTION = 2
+SPIRAL_MAX_RESOLUTION = 256
+SPIRAL_DEFAULT_RESOLUTION = 16
+"""Grid radii per safe step of the OR-Tools graph."""
+
+SPIRAL_MIN_POINTS_PER_REVOLUTION = 8
+SPIRAL_MAX_POINTS_PER_REVOLUTION = 720
+SPIRAL_DEFAULT_POINTS_PER_REVOLUTION = 64
+
+SPIRAL_MAX_PATH_POINTS = 200_000
+"""Points of a returned path at most: points_per_revolution is lowered for long schedules."""
+
+SPIRAL_MAX_SIMULATED = 64
+"""Random supports of one simulation check at most."""
+
+SPIRAL_DEFAULT_TIME_LIMIT_S = 30.0
+"""A first table for a new mu_c takes ~10-20 s by the sweep (then it is cached)."""
+
+SPIRAL_SWEEP_POINTS = 512
+"""Boundary points of the loci of the sweep method (error ~1e-5 a)."""
+
+SPIRAL_MAX_NODES = 50_000
+SPIRAL_MAX_ARCS = 1_500_000
+"""Largest OR-Tools graph of one schedule request (radii, safe revolutions): ~2 s to build
+and solve. Larger grids are refused (422 at `resolution`)."""
+
+SPIRAL_MAX_REVOLUTIONS = 20_000
+"""Most revolutions of a schedule request (the recursion stops there; a target that needs
+more, e.g. within 1e-4 a of b_inf, or a tiny max_step, is refused with 422)."""

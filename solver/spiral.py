@@ -38,7 +38,9 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+import threading
+from collections import OrderedDict
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -199,20 +201,24 @@ def sketch_change_beta(mu_c: float) -> float:
 
 
 def kink_beta(a: float, mu_c: float, sweep_points: int = KINK_SWEEP_POINTS,
-              iterations: int = KINK_ITERATIONS) -> float | None:
+              iterations: int = KINK_ITERATIONS, deadline: float | None = None) -> float | None:
     """The collision parameter where the lower end of the sticking locus crosses the disk's
     rim, r*(beta) = 2a sin(beta): there 1/r*(beta) has its slope discontinuity (4.5.3,
     "the discontinuity in slope of the COR locus boundary at r = a"). By bisection on the
-    sweep; None when there is no crossing (mu_c >= ~1: b_inf = 2a, the end stays outside)."""
+    sweep; None when there is no crossing (mu_c >= ~1: b_inf = 2a, the end stays outside)
+    or no sticking locus. The bisection stops early at ``deadline`` (a time.perf_counter()
+    value): the result only places refinement points of the grid, never a radius."""
     lo, hi = 0.3, 0.5 * math.pi - 1e-3
 
     def f(b):
         st = sticking_locus_sweep(encounter_scene(a, b), mu_c, sweep_points)
-        return -float(st.t_low) - 2.0 * a * math.sin(b)
+        return math.nan if st is None else -float(st.t_low) - 2.0 * a * math.sin(b)
 
     if not (f(lo) > 0.0 and f(hi) < 0.0):
         return None
     for _ in range(iterations):
+        if deadline is not None and time.perf_counter() > deadline:
+            break
         mid = 0.5 * (lo + hi)
         if f(mid) > 0.0:
             lo = mid
@@ -275,16 +281,20 @@ class CriticalRadiusTable:
     n_done: int
     solve_time_s: float
     message: str
+    margin: float = 0.0
 
 
 def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=None, r_max: float | None = None,
                           time_limit_s: float | None = None, tol: SolverTolerances = SOLVER_DEFAULT,
                           spiral_tol: SpiralTolerances = SPIRAL_DEFAULT, sweep_points: int = SWEEP_POINTS,
-                          find_kink: bool = True, grid_kwargs: dict | None = None) -> CriticalRadiusTable:
+                          find_kink: bool = True, grid_kwargs: dict | None = None,
+                          margin_rel: float = 0.0) -> CriticalRadiusTable:
     """r*(beta) over ``betas`` (default :func:`beta_grid` for radii up to ``r_max``,
     default 100 a, refined around the kink (:func:`kink_beta`, if ``find_kink``) and the
     sketch change (4.17)), by ``method``; stops at ``time_limit_s`` (checked between
-    points and passed down to each exact solve) and says how far it got."""
+    points and passed down to each exact solve) and says how far it got. ``margin_rel``:
+    the envelope (what schedules use) takes r* + margin_rel * a, a safety margin for the
+    uncertified methods (the reported radii are unchanged)."""
     a, _, mu = _check(a, 1.0, mu_c)
     if method not in METHODS:
         raise InvalidInput("method", f"must be one of {', '.join(METHODS)}")
@@ -294,7 +304,7 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
     change = sketch_change_beta(mu)
     if betas is None:
         if find_kink and method != "tip_line":
-            kink = kink_beta(a, mu)
+            kink = kink_beta(a, mu, deadline=deadline)
         grid = beta_grid(a, 100.0 * a if r_max is None else float(r_max), spiral_tol.grazing_delta,
                          refine=(kink, change), **(grid_kwargs or {}))
     else:
@@ -321,8 +331,13 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
     wid = np.array([np.nan if r.bracket_width is None else r.bracket_width for r in rows])
     cert = np.array([r.certified for r in rows], dtype=bool)
     usable = np.isfinite(rad) & (cert if method == "exact" else True)
-    env = critical_envelope(bet[usable], rad[usable], a, spiral_tol) if usable.any() else None
+    if not (math.isfinite(margin_rel) and margin_rel >= 0.0):
+        raise InvalidInput("margin", "must be a finite number >= 0")
+    margin = float(margin_rel) * a
+    env = critical_envelope(bet[usable], rad[usable] + margin, a, spiral_tol) if usable.any() else None
     msg = f"{n} of {grid.size} collision parameters ({method})"
+    if margin > 0.0:
+        msg += f"; schedules use r* + {margin:.3g}"
     if time_limited:
         msg += f"; time limit reached: the table covers beta >= {bet[0] if n else float('nan'):.6g} only"
     if (~usable).any():
@@ -334,8 +349,61 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
         statuses=tuple(r.status for r in rows), times=np.array([r.solve_time_s for r in rows]), envelope=env,
         dropped_betas=bet[~usable], kink_beta=kink, sketch_change_beta=change, complete=n == grid.size,
         time_limited=time_limited, stopped_at_beta=float(bet[0]) if (time_limited and n) else None,
-        n_planned=int(grid.size), n_done=n, solve_time_s=time.perf_counter() - t0, message=msg,
+        n_planned=int(grid.size), n_done=n, solve_time_s=time.perf_counter() - t0, message=msg, margin=margin,
     )
+
+
+# --------------------------------------------------------------------------------------
+# Cached tables (r* scales with a: one table per mu_c at a = 1 serves every disk)
+
+TABLE_CACHE_SIZE = 32
+"""Complete critical-radius tables kept (at a = 1), most recently used first out last."""
+
+R_MAX_BUCKETS = (10.0, 30.0, 100.0, 300.0, 1000.0, 3000.0, 10000.0)
+"""r_max / a is rounded up to one of these, so nearby requests share a table."""
+
+_TABLES: OrderedDict = OrderedDict()
+_TABLES_LOCK = threading.Lock()
+
+
+def scale_table(table: CriticalRadiusTable, a: float) -> CriticalRadiusTable:
+    """The table of the disk of radius ``a`` from one of radius ``table.a``: r*, its
+    bracket, the margin and the envelope scale with a (4.5.3 is a length per a); the
+    angles do not."""
+    k = float(a) / table.a
+    env = table.envelope
+    if env is not None:
+        env = replace(env, a=float(a), radii=env.radii * k, envelope=env.envelope * k, distances=env.distances * k,
+                      max_increase=env.max_increase * k, b_floor=env.b_floor * k)
+    return replace(table, a=float(a), radii=table.radii * k, midpoints=table.midpoints * k, widths=table.widths * k,
+                   envelope=env, margin=table.margin * k)
+
+
+def cached_critical_radius_table(a: float, mu_c: float, method: str, r_max: float, time_limit_s: float | None = None,
+                                 sweep_points: int = SWEEP_POINTS, margin_rel: float = 0.0,
+                                 tol: SolverTolerances = SOLVER_DEFAULT) -> tuple[CriticalRadiusTable, bool]:
+    """:func:`critical_radius_table` through a cache of complete tables at a = 1, keyed
+    by (mu_c, method, r_max / a rounded up to R_MAX_BUCKETS, sweep_points, margin_rel).
+    Returns (table scaled to ``a``, whether it came from the cache). A table cut short by
+    the time limit is returned but not kept."""
+    a = float(a)
+    rel = float(r_max) / a
+    bucket = next((b for b in R_MAX_BUCKETS if b >= rel), rel)
+    key = (float(mu_c), method, bucket, int(sweep_points), float(margin_rel))
+    with _TABLES_LOCK:
+        hit = _TABLES.get(key)
+        if hit is not None:
+            _TABLES.move_to_end(key)
+    if hit is not None:
+        return scale_table(hit, a), True
+    tab = critical_radius_table(1.0, mu_c, method, r_max=bucket, time_limit_s=time_limit_s, tol=tol,
+                                sweep_points=sweep_points, margin_rel=margin_rel)
+    if tab.complete and tab.envelope is not None:
+        with _TABLES_LOCK:
+            _TABLES[key] = tab
+            while len(_TABLES) > TABLE_CACHE_SIZE:
+                _TABLES.popitem(last=False)
+    return scale_table(tab, a), False
 
 
 def _envelope_of(table_or_envelope) -> CriticalEnvelope:
@@ -598,7 +666,8 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
                   n_nodes=int(x.size), n_arcs=graph.n_arcs, grid_kind=grid_kind, min_spacing=float(sp.min()),
                   max_spacing=float(sp.max()), speed=None if speed is None else float(speed))
     if graph.n_arcs > max_arcs:
-        raise InvalidInput("spacing", f"the grid has {graph.n_arcs} arcs, more than max_arcs = {max_arcs}: coarsen it")
+        raise InvalidInput("spacing" if spacing is not None else "resolution",
+                           f"the grid has {graph.n_arcs} arcs, more than max_arcs = {max_arcs}: coarsen it")
     if backend == "cp_sat" and graph.n_arcs > CP_SAT_MAX_ARCS:
         raise InvalidInput("backend", f"cp_sat takes at most {CP_SAT_MAX_ARCS} arcs ({graph.n_arcs} here)")
     weight = None
@@ -704,13 +773,19 @@ def plan_spiral(a: float, mu_c: float, b_1: float, target: float | None = None, 
                 objective: str = "revolutions", min_step: float | None = None, max_step: float | None = None,
                 speed: float | None = None, time_limit_s: float | None = 120.0, backend: str = "min_cost_flow",
                 resolution: int = 16, spacing: float | None = None, grid_kwargs: dict | None = None,
-                tol: SolverTolerances = SOLVER_DEFAULT, spiral_tol: SpiralTolerances = SPIRAL_DEFAULT) -> SpiralPlan:
+                tol: SolverTolerances = SOLVER_DEFAULT, spiral_tol: SpiralTolerances = SPIRAL_DEFAULT,
+                table: CriticalRadiusTable | None = None, max_nodes: int = 200_000,
+                max_arcs: int = 5_000_000) -> SpiralPlan:
     """One call for the service: the critical-radius table for radii up to ``b_1`` by
-    ``method`` (time-limited), the recursion (4.26) and, with a ``target``, the certified
-    OR-Tools schedule. The remaining time after the table goes to the schedule."""
+    ``method`` (time-limited; or ``table``, already built), the recursion (4.26) and, with
+    a ``target``, the certified OR-Tools schedule. The remaining time after the table goes
+    to the schedule."""
     t0 = time.perf_counter()
-    tab = critical_radius_table(a, mu_c, method, r_max=b_1, time_limit_s=time_limit_s, tol=tol, spiral_tol=spiral_tol,
-                                grid_kwargs=grid_kwargs)
+    if table is not None:
+        tab = table
+    else:
+        tab = critical_radius_table(a, mu_c, method, r_max=b_1, time_limit_s=time_limit_s, tol=tol,
+                                    spiral_tol=spiral_tol, grid_kwargs=grid_kwargs)
     closed = limiting_radius(a, mu_c)
     if tab.envelope is None:
         return SpiralPlan(tab, None, None, closed, None, time.perf_counter() - t0, tab.message)
@@ -722,6 +797,7 @@ def plan_spiral(a: float, mu_c: float, b_1: float, target: float | None = None, 
         remaining = None if time_limit_s is None else max(float(time_limit_s) - (time.perf_counter() - t0), 1e-3)
         sched = spiral_schedule(env, b_1, target, objective=objective, min_step=min_step, max_step=max_step,
                                 speed=speed, spacing=spacing, resolution=resolution, backend=backend,
-                                time_limit_s=remaining, spiral_tol=spiral_tol)
+                                time_limit_s=remaining, spiral_tol=spiral_tol, max_nodes=max_nodes,
+                                max_arcs=max_arcs)
         msg += "; " + sched.message
     return SpiralPlan(tab, sched, rec, closed, env.b_floor, time.perf_counter() - t0, msg)

@@ -404,3 +404,21 @@ def test_tolerance_presets():
     assert SpiralTolerances.high_accuracy().grazing_delta < SPIRAL_DEFAULT.grazing_delta
     with pytest.raises(dataclasses.FrozenInstanceError):
         SPIRAL_DEFAULT.grazing_delta = 1.0  # type: ignore[misc]
+
+
+def test_unsafe_revolutions_needs_a_witness_collision_parameter():
+    """4.5.1/4.5.3: a step Delta b allows every beta' >= beta_Delta (4.24); the step is
+    unsafe exactly when some tabulated r*(beta_k), beta_k >= beta_Delta, exceeds the new
+    radius. A table with r* = 3 up to beta = 0.9 and 1.5 beyond: from 4 to 3.2 the step
+    0.8 a reaches beta_Delta = asin(0.2) = 0.20 (r* = 3 < 3.2: safe); from 3.2 to 2.9 the
+    step 0.3 a reaches beta = asin(0.7) = 0.775 < 0.9, where r* = 3 > 2.9: unsafe; a step
+    of 0.01 a from 2.9 only meets beta >= 1.43 (r* = 1.5): safe."""
+    from models.spiral import unsafe_revolutions
+
+    betas = np.array([0.1, 0.5, 0.9, 1.0, 1.2, 1.5])
+    r_star = np.array([3.0, 3.0, 3.0, 1.5, 1.5, 1.5])
+    flags = unsafe_revolutions([4.0, 3.2, 2.9, 2.89], betas, r_star, 1.0)
+    assert flags.tolist() == [False, True, False]
+    # NaN table entries are ignored, not taken as witnesses
+    flags = unsafe_revolutions([4.0, 3.2, 2.9], betas, np.where(betas < 0.95, np.nan, r_star), 1.0)
+    assert flags.tolist() == [False, False]

@@ -9,7 +9,8 @@ CONTRACT_TIME_LIMIT_S so that one example cannot take seconds. The gross-motion 
 (/v1/push/align, /v1/push/disk-encounter) build a COR sketch per quadrature node: their
 valid n_nodes and n_points are cut to the minimum and their time budget to
 CONTRACT_GROSS_TIME_LIMIT_S, which admits one exact bound of 6 small sketches (~0.5 s) and
-refuses more by the service's cost model (a documented 422). Everything else is as
+refuses more by the service's cost model (a documented 422). The spiral endpoints get
+CONTRACT_SPIRAL_TIME_LIMIT_S and at most one simulated support. Everything else is as
 generated.
 """
 
@@ -37,6 +38,8 @@ deeper, slower search."""
 CONTRACT_TIME_LIMIT_S = 0.2
 CONTRACT_GROSS_TIME_LIMIT_S = 0.7
 GROSS_PATHS = ("/v1/push/align", "/v1/push/disk-encounter")
+SPIRAL_PATHS = ("/v1/spiral/critical-radius", "/v1/spiral/schedule")
+CONTRACT_SPIRAL_TIME_LIMIT_S = 0.3
 
 schema = schemathesis.openapi.from_asgi("/openapi.json", app)
 schema.config.generation.update(
@@ -54,7 +57,8 @@ CHECKS = [
 def test_every_operation_is_covered() -> None:
     ids = {op.ok().definition.raw.get("operationId") for op in schema.get_all_operations()}
     assert ids == {"healthz", "cor_locus", "cor_solve", "cor_membership", "cor_tripod_statistics", "mpp_particle",
-                   "push_quasistatic", "cor_sketch", "push_align", "push_disk_encounter"}
+                   "push_quasistatic", "cor_sketch", "push_align", "push_disk_encounter",
+                   "spiral_critical_radius", "spiral_schedule"}
 
 
 @schema.parametrize()
@@ -75,6 +79,9 @@ def _cap_time_limit(case: schemathesis.Case) -> None:
     body = case.body
     if isinstance(body, dict) and case.path in GROSS_PATHS:
         _cap_gross(body)
+        return
+    if isinstance(body, dict) and case.path in SPIRAL_PATHS:
+        _cap_spiral(body)
         return
     if not isinstance(body, dict) or case.path not in ("/v1/cor/locus", "/v1/cor/membership"):
         return
@@ -101,3 +108,23 @@ def _cap_gross(body: dict) -> None:
     valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and limit <= MAX_TIME_LIMIT_S
     if valid and limit > CONTRACT_GROSS_TIME_LIMIT_S:
         body["time_limit_s"] = CONTRACT_GROSS_TIME_LIMIT_S
+
+
+def _cap_spiral(body: dict) -> None:
+    """A valid (or absent) time budget at most CONTRACT_SPIRAL_TIME_LIMIT_S (a first r*
+    table takes seconds: cut short, it is answered from what it covers), a valid
+    simulation cut to one support, 8 path points per revolution, and the tip-line method (its
+    r* table costs nothing, so the examples exercise the schedule rather than a table that
+    never finishes in the budget)."""
+    limit = body.get("time_limit_s", MAX_TIME_LIMIT_S)
+    valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and limit <= MAX_TIME_LIMIT_S
+    if valid and limit > CONTRACT_SPIRAL_TIME_LIMIT_S:
+        body["time_limit_s"] = CONTRACT_SPIRAL_TIME_LIMIT_S
+    if body.get("method", "sweep") in ("sweep", "exact"):
+        body["method"] = "tip_line"  # a table in no time: the schedule, the path and the checks still run
+    ppr = body.get("points_per_revolution", 64)
+    if _is_int(ppr) and 8 <= ppr <= 720:  # valid: the fewest, so that the returned path stays small to validate
+        body["points_per_revolution"] = 8
+    sim = body.get("simulate")
+    if isinstance(sim, dict) and _is_int(sim.get("n_supports", 1)) and 1 <= sim.get("n_supports", 1) <= 64:
+        sim["n_supports"] = 1

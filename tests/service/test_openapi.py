@@ -79,6 +79,8 @@ def test_stable_operation_ids():
         ("/v1/cor/sketch", "post"): "cor_sketch",
         ("/v1/push/align", "post"): "push_align",
         ("/v1/push/disk-encounter", "post"): "push_disk_encounter",
+        ("/v1/spiral/critical-radius", "post"): "spiral_critical_radius",
+        ("/v1/spiral/schedule", "post"): "spiral_schedule",
     }
 
 
