@@ -339,7 +339,8 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
     if margin > 0.0:
         msg += f"; schedules use r* + {margin:.3g}"
     if time_limited:
-        msg += f"; time limit reached: the table covers beta >= {bet[0] if n else float('nan'):.6g} only"
+        msg += (f"; time limit reached: the table covers beta >= {bet[0]:.6g} only" if n
+                else "; time limit reached before the first collision parameter was decided")
     if (~usable).any():
         msg += f"; {int((~usable).sum())} point(s) not usable (not certified) were dropped"
     if env is not None and env.n_violations:

@@ -270,3 +270,30 @@ def test_plan_and_inputs():
         critical_radius(1.0, 1.0, 0.0)
     with pytest.raises(InvalidInput):
         critical_radius(1.0, 1.0, 0.5, method="guess")
+
+
+def test_cached_tables_scale_with_a_and_carry_their_margin():
+    """4.5.3: r* is a length per a, so one table at a = 1 serves every disk (the service's
+    cache): the scaled table equals the one computed for that a; the margin moves the
+    envelope (and the floor, b_inf + margin) but not the reported radii; a time-limited
+    table is not kept."""
+    from solver.spiral import _TABLES, cached_critical_radius_table, scale_table
+
+    a = 3e-4
+    direct = critical_radius_table(a, 0.7, "tip_line", r_max=30 * a, margin_rel=2e-3)
+    first, hit1 = cached_critical_radius_table(a, 0.7, "tip_line", 25 * a, margin_rel=2e-3)
+    again, hit2 = cached_critical_radius_table(5.0, 0.7, "tip_line", 125.0, margin_rel=2e-3)
+    assert (hit1, hit2) == (False, True)
+    assert np.allclose(first.radii, direct.radii, rtol=1e-12) and np.array_equal(first.betas, direct.betas)
+    assert np.allclose(again.radii, first.radii * (5.0 / a), rtol=1e-12)
+    assert again.envelope.b_floor == pytest.approx(5.0 * (2.0 + 2e-3), rel=1e-9)  # tip line: 2a, plus the margin
+    assert again.margin == pytest.approx(5.0 * 2e-3)
+    assert np.allclose(again.envelope.radii, again.radii + again.margin, rtol=1e-12)
+    back = scale_table(again, a)
+    assert np.allclose(back.envelope.distances, first.envelope.distances, rtol=1e-12)
+    n_kept = len(_TABLES)
+    cut, hit = cached_critical_radius_table(1.0, 0.123, "sweep", 10.0, time_limit_s=1e-9)
+    assert not hit and cut.time_limited and len(_TABLES) == n_kept
+    assert "before the first collision parameter" in cut.message
+    with pytest.raises(InvalidInput):
+        critical_radius_table(1.0, 0.7, "tip_line", r_max=10.0, margin_rel=-1.0)
