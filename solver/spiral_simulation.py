@@ -95,6 +95,7 @@ from models.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.errors import SolverError
 from solver.forward import solve_forward
 from solver.push_simulation import _advance, _rot
+from solver.sticking import sticking_locus
 
 TWO_PI = 2.0 * math.pi
 HALF_PI = 0.5 * math.pi
@@ -1003,3 +1004,24 @@ def spiral_check(
     starts = random_start_positions(rng, n, start_radius, path.centre, min(start_inner_radius, start_radius))
     thetas = rng.uniform(0.0, TWO_PI, size=n)
     return simulate_spiral_batch(path, w, p, a, mu_c, starts, thetas, settings, promised_radius, time_limit_s, seed)
+
+
+def worst_case_support(a: float, beta: float, mu_c: float, tol: SolverTolerances = SOLVER_DEFAULT):
+    """The support whose COR is the lowest sticking COR at collision parameter ``beta``
+    (4.5.2-4.5.3): the witness of the inside end of the certified lower bracket of the
+    sticking locus (solver/sticking.py), its point mass at the COR included. Returns
+    (r* from that inside end, points relative to the CM in the frame of
+    models.gross_bounds.encounter_scene, weights)."""
+    from models.gross_bounds import encounter_scene
+
+    scene = encounter_scene(a, beta)
+    end = sticking_locus(scene, mu_c, tol=tol).lower
+    if end is None or end.feasible is None:
+        raise SolverError(f"no certified lower end of the sticking locus at beta = {beta:g}")
+    wit = end.feasible
+    pts = wit.witness_points - scene.center_of_mass
+    wts = wit.witness_weights
+    if wit.point_mass_at_cor > 0.0:
+        pts = np.vstack([pts, wit.cor - scene.center_of_mass])
+        wts = np.append(wts, wit.point_mass_at_cor)
+    return -end.feasible_position, pts, wts

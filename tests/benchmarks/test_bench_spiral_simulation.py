@@ -18,9 +18,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from models.gross_bounds import encounter_scene
 from solver import spiral_simulation as ss
-from solver.sticking import sticking_locus
 from tests.benchmarks._docs import write_section
 
 pytestmark = pytest.mark.benchmark
@@ -177,15 +175,7 @@ def test_spiral_simulation_benchmark():
 
     # --- the worst-case support against the shrinkage ---------------------------------------
     beta = 0.8
-    scene = encounter_scene(A, beta)
-    end = sticking_locus(scene, MU).lower
-    r_crit = -end.feasible_position
-    wit = end.feasible
-    wpts = wit.witness_points - scene.center_of_mass
-    wwts = wit.witness_weights
-    if wit.point_mass_at_cor > 0.0:
-        wpts = np.vstack([wpts, wit.cor - scene.center_of_mass])
-        wwts = np.append(wwts, wit.point_mass_at_cor)
+    r_crit, wpts, wwts = ss.worst_case_support(A, beta, MU)
     lines += [
         "",
         f"The worst support: the witness of the lowest sticking COR at beta = {beta:g} (r* = {r_crit:.5f} a,",

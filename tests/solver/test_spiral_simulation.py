@@ -35,10 +35,8 @@ import numpy as np
 import pytest
 
 from models.errors import InvalidInput
-from models.gross_bounds import encounter_scene
 from solver import spiral_simulation as ss
 from solver.push_simulation import simulate_disk_encounter
-from solver.sticking import sticking_locus
 
 A = 1.0
 MU = 0.25
@@ -313,15 +311,8 @@ def witness():
     the support whose COR is that worst one. Points relative to the CM in the frame of
     encounter_scene: push along +x, the disk below the pusher's line."""
     beta = 0.8
-    scene = encounter_scene(A, beta)
-    end = sticking_locus(scene, MU).lower
-    wit = end.feasible
-    pts = wit.witness_points - scene.center_of_mass
-    wts = wit.witness_weights
-    if wit.point_mass_at_cor > 0.0:
-        pts = np.vstack([pts, wit.cor - scene.center_of_mass])
-        wts = np.append(wts, wit.point_mass_at_cor)
-    return beta, -end.feasible_position, pts, wts
+    r_star, pts, wts = ss.worst_case_support(A, beta, MU)
+    return beta, r_star, pts, wts
 
 
 def hit_witness(witness, r_contact, shrink):
