@@ -76,6 +76,10 @@ from solver.spiral_simulation import spiral_check, spiral_path
 SERVICE_SPIRAL_TOL = replace(SPIRAL_DEFAULT, max_revolutions=SPIRAL_MAX_REVOLUTIONS)
 """The spiral tolerances of the service: the recursion stops at SPIRAL_MAX_REVOLUTIONS."""
 
+LIMIT_BETA_MATCH = 1e-12
+"""The table's last beta is the limit point pi/2 - grazing_delta (4.5.4) when this close
+to it (radians): its r* is then the numerical b_inf, no extra solve."""
+
 DEFAULT_MAX_RADIUS_REL = 100.0
 """Default reach of the table of figure 4-19, in units of a (the book's b_1 = 100 a)."""
 
@@ -123,10 +127,8 @@ def critical_radius_response(req: SpiralCriticalRadiusRequest) -> tuple[SpiralCr
             _check_reach(r_max, a, "max_radius")
             tab, cached = _table(a, mu, req.method, r_max, left())
         lim_delta = 0.5 * math.pi - float(tab.betas[-1]) if tab.betas.size else None
-        from models.spiral import SPIRAL_DEFAULT
-
         delta = SPIRAL_DEFAULT.grazing_delta
-        if lim_delta is not None and abs(lim_delta - delta) <= 1e-12:
+        if lim_delta is not None and abs(lim_delta - delta) <= LIMIT_BETA_MATCH:
             numeric = tab.radii[-1]
         elif left() > 0.0:
             numeric = limiting_radius_check(a, mu, req.method).numeric
