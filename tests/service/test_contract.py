@@ -83,9 +83,9 @@ def _cap_time_limit(case: schemathesis.Case) -> None:
     if isinstance(body, dict) and case.path in SPIRAL_PATHS:
         _cap_spiral(body)
         return
-    if not isinstance(body, dict) or case.path not in ("/v1/cor/locus", "/v1/cor/membership"):
+    if not isinstance(body, dict) or case.path not in ("/v1/cor/locus", "/v1/cor/membership", "/v1/cor/sketch"):
         return
-    if case.path == "/v1/cor/locus" and body.get("method") != "certified":
+    if case.path in ("/v1/cor/locus", "/v1/cor/sketch") and body.get("method") != "certified":
         return
     limit = body.get("time_limit_s", MAX_TIME_LIMIT_S)  # absent: the default, at most the maximum
     valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and limit <= MAX_TIME_LIMIT_S
