@@ -295,13 +295,13 @@ def _request_index(request_vertices, fp: Footprint):
 
 
 def _fence_stage(
-    al: fg.FenceAlignment, st: fg.FenceStage, number: int, req: PushAlignRequest, clock: _Clock, index
+    al: fg.FenceAlignment, st: fg.FenceStage, number: int, req: PushAlignRequest, clock: _Clock, index,
+    slip_direction: list[float],
 ) -> FenceStageOut:
     a, c, alpha, bi, bf, mu = al.disk_radius, st.contact_distance, al.alpha, st.beta_initial, st.beta_final, req.mu_c
     closed = req.method != "exact"
     exact = req.method != "closed_form"
     frictionless = fg.frictionless_push_bounds(a, c, alpha, bi, bf) if mu == 0.0 else None
-    slip_direction = _fence_slip_direction(al, req.push_direction)
     long_cf = short_cf = pieces = transitions = None
     if closed:
         if frictionless is not None:
@@ -461,7 +461,8 @@ def align_response(req: PushAlignRequest) -> PushAlignResponse:
     predicted = gross_cost_s(n_bounds, req.n_nodes, req.n_points)
     check_budget(predicted, req.time_limit_s)
     with located(rename=STAGE_FIELDS):
-        stages = [_fence_stage(al, st, k + 1, req, clock, index) for k, st in enumerate(al.stages)]
+        slip_direction = _fence_slip_direction(al, req.push_direction)
+        stages = [_fence_stage(al, st, k + 1, req, clock, index, slip_direction) for k, st in enumerate(al.stages)]
     closed = req.method != "exact"
     exact = req.method != "closed_form"
     long_ex, long_cf = _total(stages, "longest_push", "exact", exact), _total(stages, "longest_push", "closed_form", closed)
@@ -499,7 +500,7 @@ def align_response(req: PushAlignRequest) -> PushAlignResponse:
         message=_align_message(al, stages, longest, index),
         method=req.method, mu_c=req.mu_c, nu=math.atan(req.mu_c),
         geometry=geometry, stages=stages, longest_push=longest, shortest_push=shortest,
-        slip=_slip_total(stages, _fence_slip_direction(al, req.push_direction) if exact else None),
+        slip=_slip_total(stages, slip_direction if exact else None),
         quasi_static=quasi_static_check(req.quasi_static, qs.PartGeometry.polygon(fp)),
         note=ALIGN_NOTE, reference=GROSS_REFERENCE,
         n_nodes=req.n_nodes, n_points=req.n_points, time_limit_s=req.time_limit_s,
