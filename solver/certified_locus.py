@@ -494,6 +494,7 @@ def certified_polygon_boundary(
     tol: SolverTolerances = SOLVER_DEFAULT,
     scan_points: int = SCAN_POINTS,
     time_limit_s: float | None = None,
+    trace: PolygonTrace | None = None,
 ) -> CertifiedPolygonBoundary:
     """Trace the exact COR locus of a simple polygon footprint (frictionless pusher).
 
@@ -506,9 +507,12 @@ def certified_polygon_boundary(
     is certified. A failed certification widens the pair (up to ``MAX_WIDENINGS`` times).
     The result is honest about non-star-shaped loci only as far as the scan can see.
     With ``time_limit_s`` the rays not started in time are left out (``complete`` False).
+    ``trace``: a :func:`polygon_trace` of the same scene and footprint already built (the
+    caller traces more rays with it), else one is built here.
     """
     t_start = time.perf_counter()
-    trace = polygon_trace(scene, footprint, tol, scan_points)
+    if trace is None:
+        trace = polygon_trace(scene, footprint, tol, scan_points)
     rays = []
     warm_prev = None  # support points near the previous ray's crossing
     for k in range(n_rays):

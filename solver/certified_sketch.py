@@ -52,6 +52,7 @@ from models.scene import PushScene
 from models.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.certified_locus import (
     CertifiedPolygonBoundary,
+    PolygonTrace,
     RayCrossing,
     certified_polygon_boundary,
     polygon_trace,
@@ -121,9 +122,10 @@ def _traced_locus(
     if m_sign == 0 or own != sense:
         return classify_locus(scene, sigma, mu_c, sense, m_sign, None, None), None, []
     t0 = time.perf_counter()
-    trace = certified_polygon_boundary(turned, footprint, n_rays=n_rays, tol=tol, time_limit_s=remaining)
+    state = polygon_trace(turned, footprint, tol)  # one certified centre for the uniform and the added rays
+    trace = certified_polygon_boundary(turned, footprint, n_rays=n_rays, tol=tol, time_limit_s=remaining, trace=state)
     deadline = None if remaining is None else t0 + remaining
-    rays = _refine_near_sticking_line(scene, turned, footprint, trace, tol, deadline)
+    rays = _refine_near_sticking_line(scene, state, trace, deadline)
     issues = []
     pts = np.array([r.point for r in rays if np.all(np.isfinite(r.point))]).reshape(-1, 2)
     extra = [r for r in rays if all(r is not q for q in trace.rays)]
@@ -145,8 +147,7 @@ def _angle(ray: RayCrossing) -> float:
 
 
 def _refine_near_sticking_line(
-    scene: PushScene, turned: PushScene, footprint: Footprint, trace: CertifiedPolygonBoundary,
-    tol: SolverTolerances, deadline: float | None,
+    scene: PushScene, state: PolygonTrace, trace: CertifiedPolygonBoundary, deadline: float | None,
 ) -> list[RayCrossing]:
     """The traced rays, ordered by angle, plus up to REFINE_RAYS rays that decide whether
     the locus crosses the sticking line (the configuration of 4.1.5 depends on it): while
@@ -156,7 +157,6 @@ def _refine_near_sticking_line(
     rays = sorted((r for r in trace.rays), key=_angle)
     if not rays:
         return rays
-    state = None
     c, p = scene.contact_point, scene.push_hat
     for _ in range(REFINE_RAYS):
         if deadline is not None and time.perf_counter() > deadline:
@@ -179,8 +179,6 @@ def _refine_near_sticking_line(
         if gap < MIN_REFINE_GAP or abs(float((rays[k].point - c) @ p)) > REACH * reach:
             break  # the line lies farther than the gap's arc: a chord there will not reach it
         mid = a_k + (0.5 * gap if j == (k + 1) % len(rays) else -0.5 * gap)
-        if state is None:
-            state = polygon_trace(turned, footprint, tol)
         new = trace_ray(state, np.array([math.cos(mid), math.sin(mid)]))
         rays = sorted(rays + [new], key=_angle)
     return rays
