@@ -384,13 +384,13 @@ def cached_critical_radius_table(a: float, mu_c: float, method: str, r_max: floa
                                  sweep_points: int = SWEEP_POINTS, margin_rel: float = 0.0,
                                  tol: SolverTolerances = SOLVER_DEFAULT) -> tuple[CriticalRadiusTable, bool]:
     """:func:`critical_radius_table` through a cache of complete tables at a = 1, keyed
-    by (mu_c, method, r_max / a rounded up to R_MAX_BUCKETS, sweep_points, margin_rel).
+    by (mu_c, method, r_max / a rounded up to R_MAX_BUCKETS, sweep_points, margin_rel, tol).
     Returns (table scaled to ``a``, whether it came from the cache). A table cut short by
     the time limit is returned but not kept."""
     a = float(a)
     rel = float(r_max) / a
     bucket = next((b for b in R_MAX_BUCKETS if b >= rel), rel)
-    key = (float(mu_c), method, bucket, int(sweep_points), float(margin_rel))
+    key = (float(mu_c), method, bucket, int(sweep_points), float(margin_rel), tol)
     with _TABLES_LOCK:
         hit = _TABLES.get(key)
         if hit is not None:
