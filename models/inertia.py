@@ -29,7 +29,7 @@ import numpy as np
 from models.errors import InvalidInput
 from models.footprint import Footprint
 from models.scene import PushScene
-from models.tolerances import SOLVER_DEFAULT
+from models.tolerances import SUPPORT_DEFAULT
 
 
 def _positive_length(name: str, value) -> float:
@@ -87,7 +87,7 @@ def polygon_radius_of_gyration(footprint: Footprint, about=None) -> float:
     return math.sqrt(polar / area)
 
 
-def support_radius_of_gyration(points, weights, center_of_mass=None, centroid_rel: float = SOLVER_DEFAULT.centroid_rel) -> float:
+def support_radius_of_gyration(points, weights, center_of_mass=None, centroid_rel: float = SUPPORT_DEFAULT.centroid_rel) -> float:
     """Radius of gyration of point masses: rho^2 = sum_i P_i |w_i - CM|^2, P normalised.
 
     The CM of point masses is their weighted centroid; a given ``center_of_mass`` must be

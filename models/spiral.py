@@ -87,58 +87,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from models.errors import InvalidInput
+from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 
-# --------------------------------------------------------------------------------------
-# Tolerances
-
-
-@dataclass(frozen=True)
-class SpiralTolerances:
-    """Named tolerances of the spiral computations (lengths relative to the disk radius a).
-
-    Attributes:
-        grazing_delta: pi/2 - beta of the last table point and of the numerical limit
-            beta -> pi/2 (4.5.4): exactly pi/2 is a grazing touch with no pushing force.
-        stall_step_rel: the recursion (4.26) stops as "stalled" once a revolution would
-            shrink the radius by at most stall_step_rel * a.
-        max_revolutions: cap on the revolutions of the recursion.
-        arc_nodes: Gauss-Legendre nodes of the arc length of one revolution (half as many
-            give its error estimate).
-        monotone_rel: an increase of the table r*_{k+1} > r*_k (1 + monotone_rel) is
-            reported as a violation of monotonicity.
-        length_unit_rel: the integer cost unit of path lengths on the OR-Tools graph,
-            relative to a (the rounding of a schedule's length is at most half a unit per
-            revolution).
-        tie_break_unit_rel: the (coarser) length unit of the tie-break of the "revolutions"
-            objective: among the schedules with the fewest revolutions the shortest is
-            taken, to this unit (relative to a).
-    """
-
-    grazing_delta: float = 1e-6
-    stall_step_rel: float = 1e-12
-    max_revolutions: int = 100_000
-    arc_nodes: int = 16
-    monotone_rel: float = 1e-9
-    length_unit_rel: float = 1e-7
-    tie_break_unit_rel: float = 1e-4
-
-    @classmethod
-    def default(cls) -> "SpiralTolerances":
-        return SPIRAL_DEFAULT
-
-    @classmethod
-    def fast(cls) -> "SpiralTolerances":
-        return SPIRAL_FAST
-
-    @classmethod
-    def high_accuracy(cls) -> "SpiralTolerances":
-        return SPIRAL_HIGH_ACCURACY
-
-
-SPIRAL_DEFAULT = SpiralTolerances()
-SPIRAL_FAST = SpiralTolerances(grazing_delta=1e-5, stall_step_rel=1e-10, max_revolutions=10_000, arc_nodes=8,
-                               length_unit_rel=1e-6)
-SPIRAL_HIGH_ACCURACY = SpiralTolerances(grazing_delta=1e-7, stall_step_rel=1e-14, arc_nodes=32, length_unit_rel=1e-9)
 
 
 # --------------------------------------------------------------------------------------

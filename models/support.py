@@ -15,7 +15,7 @@ import numpy as np
 
 from models.errors import InvalidInput
 from models.footprint import Footprint
-from models.tolerances import SOLVER_DEFAULT, SolverTolerances
+from models.tolerances import SUPPORT_DEFAULT, CentroidTolerance
 
 
 @dataclass(frozen=True)
@@ -28,7 +28,7 @@ class Support:
     center_of_mass: np.ndarray
 
     @classmethod
-    def create(cls, points, weights, center_of_mass, tol: SolverTolerances = SOLVER_DEFAULT) -> "Support":
+    def create(cls, points, weights, center_of_mass, tol: CentroidTolerance = SUPPORT_DEFAULT) -> "Support":
         w = np.asarray(points, dtype=float)
         if w.ndim != 2 or w.shape[1] != 2 or w.shape[0] == 0:
             raise InvalidInput("points", "need a list of [x, y] support points")
@@ -62,7 +62,7 @@ class Support:
         return cls(points=w, weights=p, center_of_mass=cm)
 
     @classmethod
-    def balanced(cls, points, center_of_mass, tol: SolverTolerances = SOLVER_DEFAULT) -> "Support":
+    def balanced(cls, points, center_of_mass, tol: CentroidTolerance = SUPPORT_DEFAULT) -> "Support":
         """The weights of 3 points that put their centroid at the CM (book 3.3.3), if they
         are all non-negative; raises InvalidInput otherwise (the book discards such tripods)."""
         w = np.asarray(points, dtype=float).reshape(-1, 2)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol
 
 
 @dataclass(frozen=True)
@@ -55,57 +56,73 @@ FAST = Tolerances(root_rtol=1e-9, boundary_residual_rel=1e-6)
 
 
 @dataclass(frozen=True)
-class SolverTolerances:
-    """Tolerances of the minimum-power engine (forward solves, membership, certificates).
-
-    All are dimensionless: lengths are divided by the size L of the support or footprint,
-    forces and powers by the total weight (times mu_s), so the values mean the same at
-    every scale.
+class SpiralTolerances:
+    """Named tolerances of the spiral computations (lengths relative to the disk radius a).
 
     Attributes:
-        kkt: KKT residual the Newton iteration drives to: the norm of the projected
-            gradient of the power (smooth optimum) or the excess of the subgradient
-            multiplier over the weight (COR on a support point).
-        kkt_accept: KKT residual at or below which any back end's answer is reported
-            optimal (IPOPT's and Clarabel's own answers reach ~1e-10 to 1e-12).
-        max_newton_iter: iteration cap of the batched Newton solver.
-        translation_omega: |omega| L / |v| at or below which a motion is a translation
-            (COR at infinity).
-        centroid_rel: largest |weighted centroid - CM| / L accepted for a given support.
-        conic_gap: absolute and relative gap / feasibility tolerance handed to Clarabel.
-        casadi_tol: IPOPT's tol for the CasADi paths.
-        nlp_feasibility: largest constraint violation of an IPOPT tripod-search optimum
-            that counts as feasible; weights below it are dropped.
-        membership_residual: L1 residual of the membership equations at or below which a
-            witness support is accepted (candidate COR inside the locus).
-        witness_cor_rel: largest |forward COR of the witness - r| / L for a witness to be
-            re-verified by the forward solver.
-        certificate_margin: certified dual margin above which a candidate COR is outside.
-        pricing_tol: column generation stops once no point of the footprint has a reduced
-            cost below -pricing_tol.
-        max_cg_iter: cap on column-generation rounds of one membership query.
-        max_bnb_intervals: cap on the intervals of one branch-and-bound lower bound.
-        boundary_bracket: width |r_out - r_in| / L of the certified bracket around a
-            boundary point of a certified locus.
+        grazing_delta: pi/2 - beta of the last table point and of the numerical limit
+            beta -> pi/2 (4.5.4): exactly pi/2 is a grazing touch with no pushing force.
+        stall_step_rel: the recursion (4.26) stops as "stalled" once a revolution would
+            shrink the radius by at most stall_step_rel * a.
+        max_revolutions: cap on the revolutions of the recursion.
+        arc_nodes: Gauss-Legendre nodes of the arc length of one revolution (half as many
+            give its error estimate).
+        monotone_rel: an increase of the table r*_{k+1} > r*_k (1 + monotone_rel) is
+            reported as a violation of monotonicity.
+        length_unit_rel: the integer cost unit of path lengths on the OR-Tools graph,
+            relative to a (the rounding of a schedule's length is at most half a unit per
+            revolution).
+        tie_break_unit_rel: the (coarser) length unit of the tie-break of the "revolutions"
+            objective: among the schedules with the fewest revolutions the shortest is
+            taken, to this unit (relative to a).
     """
 
-    kkt: float = 1e-10
-    kkt_accept: float = 1e-9
-    max_newton_iter: int = 80
-    translation_omega: float = 1e-12
+    grazing_delta: float = 1e-6
+    stall_step_rel: float = 1e-12
+    max_revolutions: int = 100_000
+    arc_nodes: int = 16
+    monotone_rel: float = 1e-9
+    length_unit_rel: float = 1e-7
+    tie_break_unit_rel: float = 1e-4
+
+    @classmethod
+    def default(cls) -> "SpiralTolerances":
+        return SPIRAL_DEFAULT
+
+    @classmethod
+    def fast(cls) -> "SpiralTolerances":
+        return SPIRAL_FAST
+
+    @classmethod
+    def high_accuracy(cls) -> "SpiralTolerances":
+        return SPIRAL_HIGH_ACCURACY
+
+
+SPIRAL_DEFAULT = SpiralTolerances()
+SPIRAL_FAST = SpiralTolerances(grazing_delta=1e-5, stall_step_rel=1e-10, max_revolutions=10_000, arc_nodes=8,
+                               length_unit_rel=1e-6)
+SPIRAL_HIGH_ACCURACY = SpiralTolerances(grazing_delta=1e-7, stall_step_rel=1e-14, arc_nodes=32, length_unit_rel=1e-9)
+
+
+class CentroidTolerance(Protocol):
+    """Anything that names the centroid tolerance of a support (book 3.1.5):
+    :class:`SupportTolerances` here, or the optimisation engine's tolerances."""
+
+    @property
+    def centroid_rel(self) -> float: ...
+
+
+@dataclass(frozen=True)
+class SupportTolerances:
+    """Tolerance of a discrete pressure distribution (:class:`models.support.Support`).
+
+    Attributes:
+        centroid_rel: largest |weighted centroid - CM| / L accepted for a given support
+            (L the support's size), 3.1.5.
+    """
+
     centroid_rel: float = 1e-9
-    conic_gap: float = 1e-11
-    casadi_tol: float = 1e-12
-    nlp_feasibility: float = 1e-8
-    membership_residual: float = 1e-12
-    witness_cor_rel: float = 1e-6
-    certificate_margin: float = 1e-9
-    pricing_tol: float = 1e-10
-    max_cg_iter: int = 40
-    max_bnb_intervals: int = 200_000
-    boundary_bracket: float = 1e-6
 
 
-SOLVER_DEFAULT = SolverTolerances()
-SOLVER_HIGH_ACCURACY = SolverTolerances(kkt=1e-12, kkt_accept=1e-11, membership_residual=1e-10, boundary_bracket=1e-8)
-SOLVER_FAST = SolverTolerances(kkt=1e-8, kkt_accept=1e-7, membership_residual=1e-6, boundary_bracket=1e-4, max_cg_iter=20)
+SUPPORT_DEFAULT = SupportTolerances()
+

@@ -1,5 +1,5 @@
 """Method 'certified' of ``POST /v1/cor/locus``: certified brackets of the COR locus
-boundary (solver.certified_locus), under the request's time limit. Points or rays not
+boundary (solver.locus.certified_locus), under the request's time limit. Points or rays not
 reached in time are reported as not done."""
 
 from __future__ import annotations
@@ -13,7 +13,8 @@ from models.footprint import Footprint
 from models.scene import PushScene
 from service.convert import _f, _v
 from service.schemas import BracketOut, CertifiedLocusOut
-from solver.certified_locus import certified_disk_boundary, certified_polygon_boundary
+from solver.core.budget import Budget
+from solver.locus.certified_locus import certified_disk_boundary, certified_polygon_boundary
 
 
 def _point(p) -> list[float] | None:
@@ -24,7 +25,7 @@ def _point(p) -> list[float] | None:
 def certified_disk(scene: PushScene, n_points: int, time_limit_s: float) -> CertifiedLocusOut:
     """certified_disk_boundary(scene, n_points) under the time limit."""
     t0 = time.perf_counter()
-    res = certified_disk_boundary(scene, n_points=n_points, time_limit_s=time_limit_s)
+    res = certified_disk_boundary(scene, n_points=n_points, budget=Budget.of(time_limit_s))
     ring, pairs, delta = res.boundary, res.pairs, res.delta
     return CertifiedLocusOut(
         region="disk",
@@ -57,7 +58,7 @@ def certified_disk(scene: PushScene, n_points: int, time_limit_s: float) -> Cert
 def certified_polygon(scene: PushScene, footprint: Footprint, n_rays: int, time_limit_s: float) -> CertifiedLocusOut:
     """certified_polygon_boundary(scene, footprint, n_rays) under the time limit."""
     t0 = time.perf_counter()
-    res = certified_polygon_boundary(scene, footprint, n_rays=n_rays, time_limit_s=time_limit_s)
+    res = certified_polygon_boundary(scene, footprint, n_rays=n_rays, budget=Budget.of(time_limit_s))
     rays = list(res.rays)
     centre = res.centre
     brackets = []

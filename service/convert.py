@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.cor_disk import DiskCorLocus
+from models.locus.cor_disk import DiskCorLocus
 from models.errors import InvalidInput
 from models.footprint import Footprint
 from models.scene import PushScene

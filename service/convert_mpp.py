@@ -62,10 +62,11 @@ from service.schemas_mpp import (
     TripodStatisticsResponse,
     WitnessOut,
 )
-from solver.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch
-from solver.membership import membership
-from solver.particle import solve_particle
-from solver.statistics import sticking_line_histogram, tripod_sample, uniform_pressure_cor
+from solver.core.budget import Budget
+from solver.motion.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch
+from solver.locus.membership import membership
+from solver.motion.particle import solve_particle
+from solver.motion.statistics import sticking_line_histogram, tripod_sample, uniform_pressure_cor
 
 Loc = tuple[str | int, ...]
 
@@ -544,7 +545,7 @@ def membership_response(req: MembershipRequest) -> MembershipResponse:
     t_start = time.perf_counter()
     scene, footprint = _disk_or_footprint(req)
     with located():
-        res = membership(scene, req.cor, footprint, time_limit_s=req.time_limit_s)
+        res = membership(scene, req.cor, footprint, budget=Budget.of(req.time_limit_s))
     witness = dual = None
     if res.status == "inside":
         witness = WitnessOut(

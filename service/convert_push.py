@@ -1,18 +1,18 @@
 """Schema <-> domain conversion of the push endpoints (no mechanics here).
 
 ``POST /v1/push/quasistatic``: the request becomes a
-:class:`models.quasistatic.PartGeometry` (disk or polygon footprint) and a g (given, or
-9.81 m/s^2 in the named length unit); :func:`models.quasistatic.assess` computes; the answer
+:class:`models.gross.quasistatic.PartGeometry` (disk or polygon footprint) and a g (given, or
+9.81 m/s^2 in the named length unit); :func:`models.gross.quasistatic.assess` computes; the answer
 goes back as plain finite floats. Domain ``InvalidInput`` errors name the request's own
 fields (speed, mu_s, g, disk_radius, angular_error, translational_error); the polygon's
 are located at ``footprint``.
 
-``POST /v1/push/align``: footprint -> :func:`models.fence_geometry.fence_alignment` (the
-book's fence frame, stages) -> per stage the closed forms of :mod:`models.gross_motion`
-(:func:`models.fence_geometry.frictionless_push_bounds` for mu_c = 0) and the exact bounds
-of :mod:`models.gross_bounds`, summed over the stages. ``POST /v1/push/disk-encounter``:
+``POST /v1/push/align``: footprint -> :func:`models.gross.fence_geometry.fence_alignment` (the
+book's fence frame, stages) -> per stage the closed forms of :mod:`models.gross.gross_motion`
+(:func:`models.gross.fence_geometry.frictionless_push_bounds` for mu_c = 0) and the exact bounds
+of :mod:`models.gross.gross_bounds`, summed over the stages. ``POST /v1/push/disk-encounter``:
 beta (given, or from the offset by (4.24)) -> (4.16), (4.18), (4.17) and
-:func:`models.gross_bounds.encounter_bounds_exact`. Both refuse, before any work, a request
+:func:`models.gross.gross_bounds.encounter_bounds_exact`. Both refuse, before any work, a request
 whose exact bounds the cost model of :mod:`service.limits` predicts to exceed
 ``time_limit_s``, and stop (422 on ``time_limit_s``, saying where they got to) when the
 time runs out between two sketches of the exact bounds; both add the verdict
@@ -26,10 +26,10 @@ import time
 
 import numpy as np
 
-from models import fence_geometry as fg
-from models import gross_bounds as gb
-from models import gross_motion as gm
-from models import quasistatic as qs
+from models.gross import fence_geometry as fg
+from models.gross import gross_bounds as gb
+from models.gross import gross_motion as gm
+from models.gross import quasistatic as qs
 from models.footprint import Footprint
 from service.convert import _f, _v
 from service.convert_mpp import exactly_one, footprint_of, located
@@ -328,7 +328,7 @@ def _fence_stage(
             # the frictionless locus (cheap). mu_c > 0: one exact sketch per node serves all four.
             which = gb.FENCE_BOUNDS[2:] if frictionless is not None else gb.FENCE_BOUNDS
             bounds = gb.fence_bounds_exact(a, c, alpha, bi, bf, mu, n_nodes=req.n_nodes, n_points=req.n_points,
-                                           which=which, deadline=clock.deadline)
+                                           which=which, checkpoint=clock.check)
             if frictionless is not None:
                 long_ex, short_ex = frictionless
                 long_err = short_err = 0.0
@@ -528,7 +528,7 @@ def disk_encounter_response(req: PushDiskEncounterRequest) -> PushDiskEncounterR
         book_length = gm.encounter_length_max(beta, a) if closed else None
         book_rotation = gm.rotation_max(beta) if closed else None
         bounds = gb.encounter_bounds_exact(
-            a, beta, mu, n_nodes=req.n_nodes, n_points=req.n_points, deadline=clock.deadline,
+            a, beta, mu, n_nodes=req.n_nodes, n_points=req.n_points, checkpoint=clock.check,
         ) if exact else None
         frictionless = gm.encounter_length_frictionless(beta, a)
         onset = gm.sketch_i_onset(mu)

@@ -2,17 +2,17 @@
 
 The request becomes a ``PushScene`` exactly as for ``/v1/cor/locus`` (:func:`service.convert.prepare`:
 a disk, or a polygon bounded by its circumscribing disk, with the same warnings);
-:func:`models.cor_sketch.cor_sketch` computes; :func:`sketch_response` turns the
+:func:`models.locus.cor_sketch.cor_sketch` computes; :func:`sketch_response` turns the
 ``CorSketch`` into the response schema with plain floats and no NaN/inf. Method
-``certified``: :func:`solver.certified_sketch.certified_sketch` (the polygon's own sketch,
+``certified``: :func:`solver.locus.certified_sketch.certified_sketch` (the polygon's own sketch,
 or the disk's with exact sticking ends), with its certification report.
 """
 
 from __future__ import annotations
 
-from models.cor_sketch import CorSketch, ElementaryLocus
-from solver.certified_sketch import CertifiedSketch
-from solver.sticking import LocusEnd
+from models.locus.cor_sketch import CorSketch, ElementaryLocus
+from solver.locus.certified_sketch import CertifiedSketch
+from solver.locus.sticking_locus import LocusEnd
 from service.convert import PreparedPush, _f, _v, prepare
 from service.errors import FieldError
 from service.limits import SKETCH_MIN_LENGTH

@@ -1,14 +1,14 @@
 """Schema <-> domain conversion of the spiral endpoints (book 4.5; no mechanics here).
 
-``POST /v1/spiral/critical-radius``: request -> :func:`solver.spiral.critical_radius_table`
+``POST /v1/spiral/critical-radius``: request -> :func:`solver.spiral.critical_radius.critical_radius_table`
 (explicit betas) or the cached table of figure 4-19's grid
-(:func:`solver.spiral.cached_critical_radius_table`), the limit beta -> pi/2 against
+(:func:`solver.spiral.critical_radius.cached_critical_radius_table`), the limit beta -> pi/2 against
 (4.25), and the inverse beta*(r), d*(r) on the table's safe envelope.
 ``POST /v1/spiral/schedule``: request -> the cached table (with the safety margin) ->
-:func:`solver.spiral.plan_spiral` (the OR-Tools schedule and the recursion (4.26)), the
+:func:`solver.spiral.schedule.plan_spiral` (the OR-Tools schedule and the recursion (4.26)), the
 tip-line recursion beside it, the power-law fit of figure 4-21, the pusher polyline
 (:func:`models.spiral.spiral_polyline`) and, if asked, the simulation check
-(:func:`solver.spiral_simulation.spiral_check`). Numbers leave as plain floats, never NaN.
+(:func:`solver.sim.spiral.spiral_check`). Numbers leave as plain floats, never NaN.
 """
 
 from __future__ import annotations
@@ -21,8 +21,8 @@ import numpy as np
 from dataclasses import replace
 
 from models.errors import InvalidInput
+from models.tolerances import SPIRAL_DEFAULT
 from models.spiral import (
-    SPIRAL_DEFAULT,
     CriticalEnvelope,
     PowerLawFit,
     limiting_radius,
@@ -63,15 +63,15 @@ from service.schemas_spiral import (
     TableOut,
     TipLineOut,
 )
-from solver.spiral import (
+from solver.core.budget import Budget
+from solver.spiral.critical_radius import (
     CriticalRadiusTable,
-    SpiralPlan,
     cached_critical_radius_table,
     critical_radius_table,
     limiting_radius_check,
-    plan_spiral,
 )
-from solver.spiral_simulation import spiral_check, spiral_path
+from solver.spiral.schedule import SpiralPlan, plan_spiral
+from solver.sim.spiral import spiral_check, spiral_path
 
 SERVICE_SPIRAL_TOL = replace(SPIRAL_DEFAULT, max_revolutions=SPIRAL_MAX_REVOLUTIONS)
 """The spiral tolerances of the service: the recursion stops at SPIRAL_MAX_REVOLUTIONS."""
@@ -99,7 +99,7 @@ def _check_reach(value: float, a: float, field: str) -> None:
 
 
 def _table(a: float, mu_c: float, method: str, r_max: float, limit: float, margin_rel: float = 0.0):
-    return cached_critical_radius_table(a, mu_c, method, r_max, time_limit_s=limit, sweep_points=SPIRAL_SWEEP_POINTS,
+    return cached_critical_radius_table(a, mu_c, method, r_max, budget=Budget.of(limit), sweep_points=SPIRAL_SWEEP_POINTS,
                                         margin_rel=margin_rel)
 
 
@@ -119,7 +119,7 @@ def critical_radius_response(req: SpiralCriticalRadiusRequest) -> tuple[SpiralCr
         if req.betas is not None:
             if req.max_radius is not None:
                 raise FieldError(("max_radius",), "give betas or max_radius, not both")
-            tab = critical_radius_table(a, mu, req.method, betas=req.betas, time_limit_s=left(),
+            tab = critical_radius_table(a, mu, req.method, betas=req.betas, budget=Budget.of(left()),
                                         sweep_points=SPIRAL_SWEEP_POINTS, find_kink=False)
             cached = False
         else:
@@ -263,7 +263,7 @@ def schedule_response(req: SpiralScheduleRequest):
                 f"(start_radius {b_1:.6g}); raise time_limit_s (a finished table is cached for later requests)",
             )
         plan = plan_spiral(a, mu, b_1, target, method=req.method, objective=req.objective, min_step=req.min_step,
-                           max_step=req.max_step, speed=req.speed, time_limit_s=max(left(), 1e-3),
+                           max_step=req.max_step, speed=req.speed, budget=Budget.of(max(left(), 1e-3)),
                            backend=req.backend, resolution=req.resolution, table=tab, max_nodes=SPIRAL_MAX_NODES,
                            max_arcs=SPIRAL_MAX_ARCS, spiral_tol=SERVICE_SPIRAL_TOL)
     env = tab.envelope
@@ -287,7 +287,7 @@ def schedule_response(req: SpiralScheduleRequest):
         sp = spiral_path(radii, centre=req.center, clockwise=req.clockwise, start_angle=req.start_angle)
         with located(prefix=("simulate",)):
             batch = spiral_check(sp, a, mu, req.simulate.n_supports, req.simulate.seed, kind=req.simulate.kind,
-                                 promised_radius=float(radii[-1]), time_limit_s=max(left(), 1e-3))
+                                 promised_radius=float(radii[-1]), budget=Budget.of(max(left(), 1e-3)))
         sim = SimulationOut(
             n=batch.n, all_inside=batch.all_inside, escaped=batch.escaped, escaped_runs=list(batch.escaped_indices),
             outside_promise_runs=list(batch.outside_promise_indices),

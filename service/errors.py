@@ -11,7 +11,7 @@
   ``value_error``;
 * :class:`FieldError` (an ``InvalidInput`` located inside a nested field, e.g. the
   weights of the third support of a batch): ``loc`` ["body", *path], type ``value_error``;
-* ``solver.errors.SolverError`` (an optimisation back end failed or ended with an
+* ``solver.core.errors.SolverError`` (an optimisation back end failed or ended with an
   unusable status): ``loc`` ["body"], type ``solver_error``;
 * any other ``models.errors.ModelError`` (e.g. a boundary solve that missed its
   tolerance): ``loc`` ["body"], type ``model_error``;
@@ -38,7 +38,7 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from models.errors import InvalidInput, ModelError
-from solver.errors import SolverError
+from solver.core.errors import SolverError
 
 log = logging.getLogger("service")
 

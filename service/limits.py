@@ -167,7 +167,7 @@ push into a translation."""
 
 # ---------------------------------------------------------------------------------------
 # Gross motions (book 3.4, 4.3, 4.4): POST /v1/push/align and POST /v1/push/disk-encounter.
-# An exact bound (models.gross_bounds) builds one COR sketch per Gauss node at n_nodes and
+# An exact bound (models.gross.gross_bounds) builds one COR sketch per Gauss node at n_nodes and
 # at n_nodes // 2 nodes (the error estimate); measured on one core, a sketch takes
 # 0.05-0.09 s at 8 points, 0.09-0.14 s at 256, 0.2-0.3 s at 1024 and 0.55-0.9 s at 4096
 # (sketch points and sticking sweep alike). The cost model below is a little above those
@@ -177,7 +177,7 @@ push into a translation."""
 
 GROSS_MIN_N_NODES = 4
 GROSS_MAX_N_NODES = 64
-"""Gauss-Legendre nodes of an exact gross-motion bound (models.gross_bounds needs >= 4)."""
+"""Gauss-Legendre nodes of an exact gross-motion bound (models.gross.gross_bounds needs >= 4)."""
 
 ALIGN_DEFAULT_N_NODES = 8
 ENCOUNTER_DEFAULT_N_NODES = 16

@@ -29,7 +29,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, FancyArrowPatch
 from matplotlib.patches import Polygon as PolygonPatch
 
-from models.cor_disk import DiskCorLocus
+from models.locus.cor_disk import DiskCorLocus
 from service.convert import PreparedPush
 from service.errors import NonFiniteResult
 

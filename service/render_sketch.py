@@ -27,8 +27,8 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, FancyArrowPatch, Wedge
 from matplotlib.patches import Polygon as PolygonPatch
 
-from models.cor_disk import TipLine
-from models.cor_sketch import CorSketch
+from models.locus.cor_disk import TipLine
+from models.locus.cor_sketch import CorSketch
 from service.convert import PreparedPush
 from service.convert_sketch import IMPLICATION_TEXT, is_translation
 from service.render import (
@@ -102,7 +102,7 @@ def sketch_title(prep: PreparedPush, sk: CorSketch) -> str:
 
 def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | None) -> Figure:
     """The picture of ``sk`` on a new SVG-canvas figure; ``tip_line`` is the frictionless
-    locus's tip line of the scene (models.cor_disk), drawn dashed."""
+    locus's tip line of the scene (models.locus.cor_disk), drawn dashed."""
     scene = prep.scene
     a_world = scene.disk_radius
     cm_world = np.asarray(scene.center_of_mass, dtype=float)

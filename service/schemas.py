@@ -15,7 +15,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
-from models.cor_disk import OUTPUTS
+from models.locus.cor_disk import OUTPUTS
 from service.limits import (
     DEFAULT_CERTIFIED_POINTS,
     DEFAULT_N_POINTS,
@@ -60,7 +60,7 @@ Polygon = Annotated[
 
 OutputName = Literal["tip", "tip_line", "r_min", "curvatures", "disk_crossings", "boundary"]
 OUTPUT_NAMES: tuple[str, ...] = OutputName.__args__  # type: ignore[attr-defined]
-assert set(OUTPUT_NAMES) == set(OUTPUTS), "OutputName must list models.cor_disk.OUTPUTS"
+assert set(OUTPUT_NAMES) == set(OUTPUTS), "OutputName must list models.locus.cor_disk.OUTPUTS"
 
 ResponseFormat = Literal["json", "svg"]
 LocusMethod = Literal["analytic", "certified"]

@@ -1,5 +1,5 @@
 """Request and response schemas of ``POST /v1/cor/sketch``: the COR sketch with pusher
-friction (book 4.1, :mod:`models.cor_sketch`).
+friction (book 4.1, :mod:`models.locus.cor_sketch`).
 
 Conventions as in :mod:`service.schemas`: world frame (x right, y up), angles in radians
 counter-clockwise, lengths in the client's unit, strict finite numbers, unknown fields
@@ -16,7 +16,7 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 from pydantic_core import PydanticCustomError
 
-from models.cor_sketch import CONFIG_ORDER, IMPLIED_MODES, SKETCHES
+from models.locus.cor_sketch import CONFIG_ORDER, IMPLIED_MODES, SKETCHES
 
 from service.limits import (
     DEFAULT_TIME_LIMIT_S,

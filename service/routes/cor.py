@@ -8,7 +8,7 @@ import time
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
-from models.cor_disk import OUTPUTS, DiskCorLocus, disk_cor_locus
+from models.locus.cor_disk import OUTPUTS, DiskCorLocus, disk_cor_locus
 from service.certified import certified_disk, certified_polygon
 from service.convert import PreparedPush, locus_response, prepare
 from service.errors import FieldError

@@ -2,8 +2,8 @@
 fence push to align a part (3.4, 4.3)? How long does a moving point push a disk aside
 (4.4)?
 
-Thin: schema -> :mod:`service.convert_push` -> :mod:`models.quasistatic`,
-:mod:`models.fence_geometry`, :mod:`models.gross_motion`, :mod:`models.gross_bounds` ->
+Thin: schema -> :mod:`service.convert_push` -> :mod:`models.gross.quasistatic`,
+:mod:`models.gross.fence_geometry`, :mod:`models.gross.gross_motion`, :mod:`models.gross.gross_bounds` ->
 schema. Plain ``def``: FastAPI runs them in its thread pool (an exact bound takes seconds).
 """
 

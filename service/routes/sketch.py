@@ -1,8 +1,8 @@
 """``POST /v1/cor/sketch``: the COR sketch of a push with pusher friction (book 4.1).
 
 Thin: schema -> :func:`service.convert_sketch.prepare_sketch` (the scene, as for
-``/v1/cor/locus``) -> :func:`models.cor_sketch.cor_sketch` (or, method ``certified``,
-:func:`solver.certified_sketch.certified_sketch`) -> schema or SVG picture. Plain ``def``:
+``/v1/cor/locus``) -> :func:`models.locus.cor_sketch.cor_sketch` (or, method ``certified``,
+:func:`solver.locus.certified_sketch.certified_sketch`) -> schema or SVG picture. Plain ``def``:
 FastAPI runs it in its thread pool (a sketch takes a few hundred milliseconds, a certified
 one seconds).
 """
@@ -14,9 +14,10 @@ import time
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
-from models.cor_disk import disk_cor_locus
-from models.cor_sketch import cor_sketch
-from solver.certified_sketch import certified_sketch
+from models.locus.cor_disk import disk_cor_locus
+from models.locus.cor_sketch import cor_sketch
+from solver.core.budget import Budget
+from solver.locus.certified_sketch import certified_sketch
 from service.convert_sketch import prepare_sketch, sketch_response
 from service.render_sketch import render_sketch_svg
 from service.schemas import ErrorResponse, ResponseFormat
@@ -62,7 +63,7 @@ def cor_sketch_route(
     certified = None
     if req.method == "certified":
         certified = certified_sketch(prep.scene, req.mu_c, footprint=prep.footprint, n_rays=req.n_rays,
-                                     n_points=prep.n_points, time_limit_s=req.time_limit_s)
+                                     n_points=prep.n_points, budget=Budget.of(req.time_limit_s))
         sketch = certified.sketch
     else:
         sketch = cor_sketch(prep.scene, req.mu_c, n_points=req.n_points)

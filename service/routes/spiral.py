@@ -1,8 +1,8 @@
 """Spiral localization of a disk over HTTP (book 4.5): the critical radius r*(beta) of
 figure 4-19 and the fastest guaranteed spiral (4.26) planned on OR-Tools.
 
-Thin: schema -> :mod:`service.convert_spiral` -> :mod:`solver.spiral`,
-:mod:`models.spiral`, :mod:`solver.spiral_simulation` -> schema or SVG picture
+Thin: schema -> :mod:`service.convert_spiral` -> :mod:`solver.spiral.schedule`,
+:mod:`models.spiral`, :mod:`solver.sim.spiral` -> schema or SVG picture
 (:mod:`service.render_spiral`). Plain ``def``: FastAPI runs them in its thread pool (a
 first table for a new mu_c takes seconds; later ones come from the cache).
 """

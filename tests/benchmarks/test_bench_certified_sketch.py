@@ -16,10 +16,10 @@ import time
 import numpy as np
 import pytest
 
-from models.cor_sketch import cor_sketch
+from models.locus.cor_sketch import cor_sketch
 from models.footprint import Footprint
 from models.scene import PushScene
-from solver.certified_sketch import certified_sketch
+from solver.locus.certified_sketch import certified_sketch
 from tests.benchmarks._docs import write_section
 
 pytestmark = pytest.mark.benchmark
@@ -45,7 +45,7 @@ def test_bench_certified_sketch():
         f"Machine: {platform.machine()}, Python {platform.python_version()}; one core, in-process. "
         "A polygon's own sketch: the exact sticking locus on the footprint plus {COR}_(alpha+-nu) traced "
         "with certified brackets along `n_rays` rays (wrapped loci are not traced). "
-        "'disk t range' is the circumscribing disk's sticking segment (models.cor_sketch), 'polygon t "
+        "'disk t range' is the circumscribing disk's sticking segment (models.locus.cor_sketch), 'polygon t "
         "range' the polygon's (certified); both along J p from the contact.",
         "",
         "| scene | mu_c | n_rays | time (s) | complete | disk sketch | polygon sketch | disk t range | polygon t range |",

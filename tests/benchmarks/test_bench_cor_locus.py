@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from models import cor_disk as cd
+from models.locus import cor_disk as cd
 from models.tolerances import HIGH_ACCURACY
 from tests.scenes import distance_to_polyline, scene_for_mu
 

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from models.support import Support, random_balanced_tripods
-from models.tolerances import SOLVER_DEFAULT
-from solver.forward import solve_forward, solve_forward_batch
+from solver.core.tolerances import SOLVER_DEFAULT
+from solver.motion.forward import solve_forward, solve_forward_batch
 from tests.benchmarks._docs import write_section
 from tests.scenes import SEED, scene_for_mu
 

@@ -17,11 +17,11 @@ import time
 import numpy as np
 import pytest
 
-from models import cor_disk as cd
+from models.locus import cor_disk as cd
 from models.footprint import Footprint
-from models.tolerances import SOLVER_DEFAULT
-from solver.certified_locus import _outward_normals, certified_disk_boundary, certified_polygon_boundary
-from solver.membership import membership
+from solver.core.tolerances import SOLVER_DEFAULT
+from solver.locus.certified_locus import _outward_normals, certified_disk_boundary, certified_polygon_boundary
+from solver.locus.membership import membership
 from tests.benchmarks._docs import write_section
 from tests.scenes import scene_for_mu
 

@@ -18,24 +18,20 @@ import time
 import numpy as np
 import pytest
 
-from models.spiral import (
-    SpiralTolerances,
-    fastest_spiral,
-    limiting_radius,
-    power_law_fit,
-    spiral_polyline,
-    tip_line_envelope,
-)
-from solver.spiral import (
+from models.tolerances import SpiralTolerances
+
+from models.spiral import fastest_spiral, limiting_radius, power_law_fit, spiral_polyline, tip_line_envelope
+from solver.spiral.critical_radius import (
     beta_grid,
     critical_radius,
     critical_radius_table,
     kink_beta,
     limiting_radius_check,
     sketch_change_beta,
-    spiral_schedule,
 )
+from solver.spiral.schedule import spiral_schedule
 from tests.benchmarks._docs import write_section
+from solver.core.budget import Budget
 
 pytestmark = pytest.mark.benchmark
 
@@ -164,7 +160,7 @@ def test_spiral_benchmark():
                 ("min cost flow, length", dict(resolution=16, objective="length"), "adaptive 16")]
         if target == 3.0:
             runs.append(("min cost flow", dict(spacing=0.01), "uniform 0.01"))
-            runs.append(("CP-SAT", dict(resolution=2, backend="cp_sat", time_limit_s=60.0), "adaptive 2"))
+            runs.append(("CP-SAT", dict(resolution=2, backend="cp_sat", budget=Budget.of(60.0)), "adaptive 2"))
         for name, kw, gname in runs:
             s = spiral_schedule(env, B1, target, **kw)
             lines.append(

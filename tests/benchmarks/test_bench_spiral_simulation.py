@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from solver import spiral_simulation as ss
+from solver.sim import spiral as ss
 from tests.benchmarks._docs import write_section
 
 pytestmark = pytest.mark.benchmark
@@ -103,7 +103,7 @@ def tight_schedule(table, b_1, target):
 
 
 def test_spiral_simulation_benchmark():
-    spiral = pytest.importorskip("solver.spiral")
+    spiral = pytest.importorskip("solver.spiral.critical_radius")
     mspiral = pytest.importorskip("models.spiral")
     t0 = time.perf_counter()
     table = spiral.critical_radius_table(A, MU, "exact", r_max=B1 + 1.0)
@@ -120,7 +120,7 @@ def test_spiral_simulation_benchmark():
         f"seed {SEED}. Disk radius a = 1, mu_c = {MU:g} (b_inf = {A * (1 + MU):g} a, (4.25)).",
         "",
         "Schedule: the recursion (4.26) (`models.spiral.fastest_spiral`) on the exact critical radius",
-        f"(`solver.spiral.critical_radius_table`, method exact, {table.n_done} betas, {t_table:.0f} s), from",
+        f"(`solver.spiral.critical_radius.critical_radius_table`, method exact, {table.n_done} betas, {t_table:.0f} s), from",
         f"b_1 = {B1:g} a to b_N = {b_n:.4f} a in {rec.revolutions} revolutions (then one circle at b_N). Each",
         "run: a random support, random orientation, CM uniform inside b_1 - a; settings FAST (step 0.1 a).",
         "*Margin*: the smallest (pusher radius - r*(beta)) over every simulated instant of every contact",

@@ -20,8 +20,9 @@ import pytest
 
 from models.footprint import Footprint
 from models.scene import PushScene
-from models.tolerances import SOLVER_DEFAULT
-from solver.sticking import sticking_feasibility, sticking_locus, sticking_point
+from solver.core.tolerances import SOLVER_DEFAULT
+from solver.locus.sticking import sticking_feasibility, sticking_point
+from solver.locus.sticking_locus import sticking_locus
 from tests.benchmarks._docs import write_section
 
 pytestmark = pytest.mark.benchmark

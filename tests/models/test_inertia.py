@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from models import cor_disk as cd
+from models.locus import cor_disk as cd
 from models import inertia as mi
 from models.errors import InvalidInput
 from models.footprint import Footprint

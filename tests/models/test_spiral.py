@@ -12,12 +12,11 @@ import math
 import numpy as np
 import pytest
 
-from models.cor_sketch import tip_line_estimate
+from models.locus.cor_sketch import tip_line_estimate
 from models.errors import InvalidInput
-from models.gross_bounds import encounter_scene
+from models.gross.gross_bounds import encounter_scene
+from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 from models.spiral import (
-    SPIRAL_DEFAULT,
-    SpiralTolerances,
     arc_costs,
     collision_parameter,
     critical_envelope,
@@ -94,7 +93,7 @@ def test_limiting_radius_closed_form():
 
 def test_tip_line_radius_is_the_books_construction():
     """4.4.1.1, (4.13): the tip line meets the sticking line at y_COR = a(sin^2 b - 2)/sin b,
-    so r*_tip = a sin b - y_COR = 2a/sin b; the same as models.cor_sketch.tip_line_estimate
+    so r*_tip = a sin b - y_COR = 2a/sin b; the same as models.locus.cor_sketch.tip_line_estimate
     on the encounter scene. Its grazing limit is 2a (for every mu_c)."""
     for a in (1e-3, 1.0, 1e3):
         for beta in (0.05, 0.4, 1.0, 1.5, HALF_PI - 1e-6):

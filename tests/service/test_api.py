@@ -18,7 +18,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from models.cor_disk import OUTPUTS, BoundaryNotConverged, disk_cor_locus
+from models.locus.cor_disk import OUTPUTS, BoundaryNotConverged, disk_cor_locus
 from models.scene import PushScene
 from service import __version__
 from service.errors import _json_safe

@@ -1,6 +1,6 @@
 """POST /v1/cor/locus with `footprint` and `method` 'certified' (book 3.3.13, 7.5).
 
-The certified brackets are those of solver.certified_locus (the service runs the same
+The certified brackets are those of solver.locus.certified_locus (the service runs the same
 steps under a time limit and must give exactly the solver's answer when it finishes);
 `footprint` with method 'analytic' keeps the old `workpiece` behaviour (the circumscribing
 disk's locus) and says so; invalid inputs are 422 naming the field.
@@ -16,7 +16,7 @@ import pytest
 from models.footprint import Footprint
 from models.scene import PushScene
 from service.limits import MAX_CERTIFIED_POINTS, MAX_TIME_LIMIT_S, MIN_CERTIFIED_POINTS
-from solver.certified_locus import certified_disk_boundary, certified_polygon_boundary
+from solver.locus.certified_locus import certified_disk_boundary, certified_polygon_boundary
 
 URL = "/v1/cor/locus"
 HALF_PI = math.pi / 2

@@ -1,6 +1,6 @@
 """POST /v1/cor/membership: "can r be a COR?" with a certificate (book 3.3.2-3.3.13).
 
-The route returns solver.membership's answer unchanged; the certificates make sense on
+The route returns solver.locus.membership's answer unchanged; the certificates make sense on
 their own (a witness is a support with its centroid at the CM whose forward COR is r, a
 dual has a positive margin); the analytic locus' tip separates inside from outside.
 """
@@ -15,8 +15,8 @@ import pytest
 from models.footprint import Footprint
 from models.scene import PushScene
 from service.limits import MAX_TIME_LIMIT_S
-from solver.errors import SolverError
-from solver.membership import membership
+from solver.core.errors import SolverError
+from solver.locus.membership import membership
 
 URL = "/v1/cor/membership"
 HALF_PI = math.pi / 2

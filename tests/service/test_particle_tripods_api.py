@@ -11,8 +11,8 @@ import pytest
 from models import particle
 from models.scene import PushScene
 from service.limits import MAX_TRIPOD_CORS, MAX_TRIPODS
-from solver.particle import solve_particle
-from solver.statistics import sticking_line_histogram, tripod_sample
+from solver.motion.particle import solve_particle
+from solver.motion.statistics import sticking_line_histogram, tripod_sample
 
 PARTICLE = "/v1/mpp/particle"
 TRIPODS = "/v1/cor/tripod-statistics"

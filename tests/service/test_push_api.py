@@ -1,6 +1,6 @@
 """POST /v1/push/quasistatic: characteristic speeds for quasi-static motion (book 6.8).
 
-The route is thin: its numbers are those of models.quasistatic on the same inputs (bit for
+The route is thin: its numbers are those of models.gross.quasistatic on the same inputs (bit for
 bit); the book's own numbers come back; units only rescale; every invalid input is 422
 naming the field; at the limits every number of the answer is finite; the docs example runs.
 """
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from models import quasistatic as qs
+from models.gross import quasistatic as qs
 from models.footprint import Footprint
 from service.limits import (
     MAX_DISK_RADIUS,

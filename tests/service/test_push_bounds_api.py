@@ -1,10 +1,10 @@
 """POST /v1/push/align and POST /v1/push/disk-encounter: gross-motion bounds (book 3.4,
 4.3, 4.4).
 
-The routes are thin: every number is that of models.fence_geometry, models.gross_motion
-and models.gross_bounds on the same inputs (bit for bit); the book's 4.3 example comes back
+The routes are thin: every number is that of models.gross.fence_geometry, models.gross.gross_motion
+and models.gross.gross_bounds on the same inputs (bit for bit); the book's 4.3 example comes back
 from a footprint; mirror images give the same pushes; the quasi-static verdict is that of
-models.quasistatic; every invalid input is 422 naming the field; the cost model refuses
+models.gross.quasistatic; every invalid input is 422 naming the field; the cost model refuses
 requests that would exceed time_limit_s and the clock stops between exact bounds; the docs
 examples run.
 """
@@ -19,10 +19,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from models import fence_geometry as fg
-from models import gross_bounds as gb
-from models import gross_motion as gm
-from models import quasistatic as qs
+from models.gross import fence_geometry as fg
+from models.gross import gross_bounds as gb
+from models.gross import gross_motion as gm
+from models.gross import quasistatic as qs
 from models.footprint import Footprint
 from service import convert_push
 from service.limits import GROSS_MAX_N_NODES, MAX_TIME_LIMIT_S, SKETCH_MAX_N_POINTS

@@ -1,6 +1,6 @@
 """POST /v1/cor/sketch: the COR sketch with pusher friction (book 4.1).
 
-The route is thin: its JSON is models.cor_sketch.cor_sketch on the same scene, number for
+The route is thin: its JSON is models.locus.cor_sketch.cor_sketch on the same scene, number for
 number; the nine sketch letters of figure 4-6 come through (scenes of
 tests/solver/test_cor_sketch.py); a push whose line passes through the CM inside the friction
 cone is answered as a translation (and forward solves agree that the part translates,
@@ -19,13 +19,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from models.cor_sketch import IMPLIED_MODES, cor_sketch
+from models.locus.cor_sketch import IMPLIED_MODES, cor_sketch
 from models.footprint import Footprint
 from models.scene import PushScene
 from models.support import random_balanced_tripods
 from service.limits import SKETCH_MAX_N_POINTS, SKETCH_MIN_LENGTH
-from solver.forward import BatchResult, solve_forward_batch
-from tests.solver.test_cor_sketch import CONFIGS, SHORT, SKETCH_SCENES
+from solver.motion.forward import BatchResult, solve_forward_batch
+from tests.models.locus.test_cor_sketch import CONFIGS, SHORT, SKETCH_SCENES
 
 URL = "/v1/cor/sketch"
 EXAMPLE = {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": math.pi / 2, "mu_c": 0.3}
@@ -350,7 +350,7 @@ MUST_STICK = {"footprint": RECT, "contact_point": [-1.5, 0.18766172], "edge_angl
 def test_certified_sketch_of_a_polygon_is_the_polygons_own(client):
     """The rectangle must stick (sketch g) where its circumscribing disk allows slipping up
     (mirrored i); the answer is the solver's, with its certification report."""
-    from solver.certified_sketch import certified_sketch
+    from solver.locus.certified_sketch import certified_sketch
 
     r, disk = post(client, {**MUST_STICK, "n_points": 256})
     assert r.status_code == 200 and disk["sketch_of"] == "circumscribing_disk" and disk["sketch"] == "i"

@@ -1,7 +1,7 @@
 """POST /v1/cor/solve: the motion for a known pressure distribution (book 3.2-3.3.3, 4.1).
 
-The route is thin: its numbers are those of a direct call of solver.forward /
-solver.statistics / models.inertia on the same domain objects; batches agree with single
+The route is thin: its numbers are those of a direct call of solver.motion.forward /
+solver.motion.statistics / models.inertia on the same domain objects; batches agree with single
 solves; every invalid input is 422 naming the field.
 """
 
@@ -19,9 +19,9 @@ from models.mpp import mason_sense
 from models.scene import PushScene
 from models.support import Support, random_balanced_tripods
 from service.limits import MAX_BATCH, MAX_BATCH_SLOW, MAX_MU_C, MAX_SUPPORT_POINTS_SLOW
-from solver.errors import SolverError
-from solver.forward import solve_forward
-from solver.statistics import uniform_pressure_cor
+from solver.core.errors import SolverError
+from solver.motion.forward import solve_forward
+from solver.motion.statistics import uniform_pressure_cor
 
 URL = "/v1/cor/solve"
 HALF_PI = math.pi / 2

@@ -1,6 +1,6 @@
 """POST /v1/spiral/critical-radius and POST /v1/spiral/schedule (book 4.5).
 
-The routes are thin: the critical radii are solver.spiral's number for number, the
+The routes are thin: the critical radii are solver.spiral.schedule's number for number, the
 schedule is plan_spiral's on the same (cached, scaled) table; (4.25) comes out of the
 numerical limit; schedules are safe against their table (every step <= d*, 4.26), certified
 optimal, never slower than the recursion by more than the grid, and scale with a; the
@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from models.spiral import limiting_radius, tip_line_spiral
-from solver.spiral import critical_radius_table
+from solver.spiral.critical_radius import critical_radius_table
 
 CRIT = "/v1/spiral/critical-radius"
 SCHED = "/v1/spiral/schedule"

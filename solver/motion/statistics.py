@@ -1,0 +1,123 @@
+"""CORs of random supports: figure 3-5 (tripod CORs for mu_c = 0), figure 7-2 (histogram
+along the sticking line for a large mu_c, 7.7), and the uniform-pressure COR (figure 7-1).
+
+These are statistics of a *model* of pressure distributions (uniform random tripods, as in
+the book), not properties of the COR locus, which is about possibility (7.7).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from models.errors import InvalidInput
+from models.footprint import Footprint
+from models.mpp import perp
+from models.scene import PushScene
+from models.support import random_balanced_tripods, uniform_disk_support, uniform_polygon_support
+from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
+from solver.motion.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch
+
+
+@dataclass(frozen=True)
+class TripodSample:
+    """CORs (world, NaN rows for translations) of ``n`` random tripods, and their solve."""
+
+    points: np.ndarray
+    weights: np.ndarray
+    batch: BatchResult
+    seed: int
+
+
+def tripod_sample(
+    scene: PushScene,
+    n: int,
+    seed: int,
+    mu_c: float = 0.0,
+    footprint: Footprint | None = None,
+    tol: SolverTolerances = SOLVER_DEFAULT,
+) -> TripodSample:
+    """Random tripods on the disk (or footprint) as in 3.3.3, solved in one batch."""
+    if n < 1:
+        raise InvalidInput("n_tripods", "must be at least 1")
+    if footprint is not None and not np.allclose(footprint.center_of_mass, scene.center_of_mass):
+        raise InvalidInput("footprint", "its centre of mass differs from the scene's")
+    rng = np.random.default_rng(seed)
+    pts, wts = random_balanced_tripods(rng, n, scene.disk_radius, scene.center_of_mass, footprint)
+    batch = solve_forward_batch(scene, pts, wts, mu_c=mu_c, tol=tol, check_centroid=False)
+    return TripodSample(points=pts, weights=wts, batch=batch, seed=seed)
+
+
+@dataclass(frozen=True)
+class StickingHistogram:
+    """Figure 7-2: where tripod CORs fall along the sticking line (4.1.2).
+
+    Positions are signed distances from the contact point along J p (the book's "up",
+    perpendicular to the push), in world length units. ``counts`` over ``edges``;
+    ``sticking_fraction`` of tripods that stick; CORs of slipping tripods are off the line
+    and are not counted; ``outside_range`` sticking CORs beyond the edges.
+    """
+
+    edges: np.ndarray
+    counts: np.ndarray
+    sticking_fraction: float
+    outside_range: int
+    n_tripods: int
+    solve_time_s: float
+
+
+def sticking_line_histogram(
+    scene: PushScene,
+    n: int,
+    seed: int,
+    mu_c: float = 1e6,
+    bins: int = 50,
+    span: tuple[float, float] | None = None,
+    footprint: Footprint | None = None,
+    tol: SolverTolerances = SOLVER_DEFAULT,
+) -> StickingHistogram:
+    """Histogram of tripod CORs along the sticking line for a large mu_c (7.7)."""
+    if bins < 1:
+        raise InvalidInput("bins", "must be at least 1")
+    t0 = time.perf_counter()
+    sample = tripod_sample(scene, n, seed, mu_c=mu_c, footprint=footprint, tol=tol)
+    b = sample.batch
+    stick = (b.mode == 1) & np.all(np.isfinite(b.cor), axis=1)
+    pos = (b.cor[stick] - scene.contact_point) @ perp(scene.push_hat)
+    if span is None:
+        lo, hi = (np.percentile(pos, [1, 99]) if pos.size else (-1.0, 1.0))
+        if hi <= lo:
+            hi = lo + scene.disk_radius
+    else:
+        lo, hi = span
+        if not hi > lo:
+            raise InvalidInput("span", "must be an increasing pair")
+    counts, edges = np.histogram(pos, bins=bins, range=(lo, hi))
+    outside = int(np.sum((pos < lo) | (pos > hi)))
+    return StickingHistogram(
+        edges=edges,
+        counts=counts,
+        sticking_fraction=float(stick.mean()),
+        outside_range=outside,
+        n_tripods=n,
+        solve_time_s=time.perf_counter() - t0,
+    )
+
+
+def uniform_pressure_cor(
+    scene: PushScene,
+    footprint: Footprint | None = None,
+    resolution: int = 32,
+    mu_c: float = 0.0,
+    method: str = "newton",
+    tol: SolverTolerances = SOLVER_DEFAULT,
+) -> ForwardResult:
+    """The motion under uniform pressure on the disk or polygon footprint (figure 7-1),
+    discretised with ``resolution`` rings (disk) or sub-divisions per triangle (polygon)."""
+    if footprint is None:
+        support = uniform_disk_support(scene.disk_radius, scene.center_of_mass, rings=resolution)
+    else:
+        support = uniform_polygon_support(footprint, subdivisions=resolution)
+    return solve_forward(scene, support, mu_c=mu_c, method=method, tol=tol)

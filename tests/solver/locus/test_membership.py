@@ -1,0 +1,392 @@
+"""Certified membership "can r be a COR?" (solver/membership.py) against independent checks:
+the analytic disk locus (3.30)/(3.35), forward minimum-power solves (3.7), the membership
+equations recomputed with models.mpp (3.8)-(3.10), and brute-force dense sampling of the
+dual functional over the 2-D footprint (which also tests the reduction to the outline)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import cvxpy as cp
+import numpy as np
+import pytest
+
+from models.locus import cor_disk as cd
+from models.errors import InvalidInput
+from models.footprint import Footprint
+from models.mpp import lever, membership_columns, stationarity_residual
+from models.scene import PushScene
+from models.support import Support, random_balanced_tripods
+from solver.core.tolerances import SOLVER_DEFAULT
+from solver.core.errors import SolverError
+from solver.motion.forward import solve_forward
+from solver.locus.membership import membership
+from tests.scenes import SEED, point_in_polygon, scene_for_mu
+from solver.core.budget import Budget
+
+TOL = SOLVER_DEFAULT
+# Scenes away from the book's standard frame (CM off the origin, tilted edge, oblique push).
+FRAME = dict(a=2.0, cm=(0.4, -1.1), edge_angle=2.0, push_direction=0.3)
+SQUARE = Footprint.create([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
+L_SHAPE = Footprint.create([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]])
+
+
+# --- independent checks ------------------------------------------------------------------
+
+
+def equations_residual(sc: PushScene, res, length: float) -> float:
+    """L1 residual of sum P G(w) + point mass = (1, 0, 0, 0, 0), recomputed from the reported
+    witness with models.mpp.membership_columns: total weight, centroid at the CM (3.1.5) and
+    (3.8) with the point mass's subgradient term -s z (|z| <= P0)."""
+    cm = sc.center_of_mass
+    r = res.cor - cm
+    cols = membership_columns(r, res.witness_points - cm, sc.contact_rel, sc.alpha_hat, length)
+    lhs = cols @ res.witness_weights
+    p0, z = res.point_mass_at_cor, res.point_mass_subgradient
+    assert np.hypot(*z) <= p0 * (1 + 1e-12) + 1e-300
+    s = lever(sc.contact_rel, sc.alpha_hat, r)
+    lhs = lhs + np.array([p0, p0 * r[0] / length, p0 * r[1] / length, -s * z[0] / length, -s * z[1] / length])
+    return float(np.sum(np.abs(lhs - [1.0, 0.0, 0.0, 0.0, 0.0])))
+
+
+def check_witness(sc, res, length):
+    assert res.status == "inside" and res.certificate_kind == "witness"
+    assert np.all(res.witness_weights >= 0.0) and res.point_mass_at_cor >= 0.0
+    assert equations_residual(sc, res, length) <= 10 * TOL.membership_residual
+    if res.point_mass_at_cor == 0.0:
+        # the book's own form of (3.8): d_r alpha - s v_r = 0, relative to the weights' sum
+        st = stationarity_residual(res.cor - sc.center_of_mass, res.witness_points - sc.center_of_mass,
+                                   res.witness_weights, sc.contact_rel, sc.alpha_hat)
+        assert np.linalg.norm(st) <= 10 * TOL.membership_residual * length
+
+
+def disk_samples(sc: PushScene, n_rings=160, n_rim=1440) -> np.ndarray:
+    """Dense 2-D samples of the disk (world), rim included."""
+    pts = [np.zeros((1, 2))]
+    for k, rad in enumerate(np.sqrt(np.linspace(0, 1, n_rings + 1)[1:])):
+        th = np.linspace(0, 2 * math.pi, max(12, int(n_rim * rad)), endpoint=False) + 0.61 * k
+        pts.append(rad * np.column_stack([np.cos(th), np.sin(th)]))
+    return sc.center_of_mass + sc.disk_radius * np.vstack(pts)
+
+
+def polygon_samples(fp: Footprint, n=400) -> np.ndarray:
+    """Dense 2-D grid over the polygon (world) plus dense points on its edges."""
+    lo, hi = fp.vertices.min(axis=0), fp.vertices.max(axis=0)
+    gx, gy = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n))
+    grid = np.column_stack([gx.ravel(), gy.ravel()])
+    grid = grid[point_in_polygon(grid, fp.vertices)]
+    t = np.linspace(0, 1, 2000, endpoint=False)[:, None]
+    edges = [a + t * (b - a) for a, b in zip(fp.vertices, np.roll(fp.vertices, -1, axis=0))]
+    return np.vstack([grid] + edges)
+
+
+def check_dual(sc, res, samples, length):
+    """The dual certificate, independently: y . G(w) >= the certified lower bound at every
+    sampled point of the 2-D footprint (3.8)-(3.10), and at the point-mass set if r is in
+    it; the bound exceeds y . b. Interior samples test the reduction to the outline."""
+    assert res.status == "outside" and res.certificate_kind == "dual"
+    assert res.lower_bound_method == "branch_and_bound"
+    y = res.dual
+    # |y|_inf <= 1 in the locus frame where it was computed (rotations keep the 2-norms)
+    assert abs(y[0]) <= 1 + 1e-12 and max(np.hypot(*y[1:3]), np.hypot(*y[3:5])) <= math.sqrt(2) + 1e-12
+    cm = sc.center_of_mass
+    r = res.cor - cm
+    w = samples - cm
+    w = w[np.hypot(*(w - r).T) > 1e-12 * length]
+    vals = y @ membership_columns(r, w, sc.contact_rel, sc.alpha_hat, length)
+    assert vals.min() >= res.dual_lower_bound - 1e-12, (vals.min(), res.dual_lower_bound)
+    if res.in_footprint:
+        s = lever(sc.contact_rel, sc.alpha_hat, r)
+        pm = y[0] + y[1:3] @ r / length - abs(s) / length * np.hypot(y[3], y[4])
+        assert pm >= res.dual_lower_bound - 1e-12
+    assert res.dual_margin == pytest.approx(res.dual_lower_bound - y[0], abs=1e-15)
+    assert res.dual_margin > TOL.certificate_margin
+    return float(vals.min() - y[0])
+
+
+# --- the reduction behind the pricing problem ----------------------------------------------
+
+
+def test_columns_are_affine_along_rays_from_r():
+    """Module docstring: on a ray w = r + rho u every component of G(w) = (1, w/L, g_r(w)/L)
+    of (3.8) is affine in rho, so y . G is too and its minimum over the footprint lies on the
+    outline or at r. Checked with second differences of models.mpp.membership_columns."""
+    rng = np.random.default_rng(SEED)
+    for _ in range(50):
+        r, c = rng.normal(size=2), rng.normal(size=2)
+        alpha = rng.normal(size=2)
+        alpha /= np.linalg.norm(alpha)
+        u = rng.normal(size=2)
+        u /= np.linalg.norm(u)
+        rho = np.sort(rng.uniform(0.01, 5.0, 3))
+        g = membership_columns(r, r + rho[:, None] * u, c, alpha, 1.7)
+        slope = (g[:, 1] - g[:, 0]) / (rho[1] - rho[0])
+        assert np.allclose(g[:, 2], g[:, 0] + slope * (rho[2] - rho[0]), atol=1e-12)
+        # and the limit rho -> 0 is the point-mass column with zeta = u
+        s = lever(c, alpha, r)
+        limit = np.concatenate([[1.0], r / 1.7, -s * u / 1.7])
+        assert np.allclose(g[:, 0] - slope * rho[0], limit, atol=1e-12)
+
+
+
+
+
+
+# --- the disk against the analytic boundary ------------------------------------------------
+
+
+@pytest.mark.parametrize("mu", [0.1, 0.3, 0.9, 1.5])
+def test_points_just_inside_and_outside_the_analytic_boundary(mu):
+    """(3.30)/(3.35) and the perimeter arcs: points 1e-3 a inside the analytic boundary have
+    a witness support (re-verified by the forward Newton solve of (3.7)); points 1e-3 a
+    outside have a dual certificate, checked by dense sampling of the disk."""
+    sc = scene_for_mu(mu, **FRAME)
+    a = sc.disk_radius
+    ring = cd.disk_cor_locus(sc, n_points=64).boundary
+    tangent = np.roll(ring, -1, axis=0) - np.roll(ring, 1, axis=0)
+    normal = np.column_stack([tangent[:, 1], -tangent[:, 0]]) / np.linalg.norm(tangent, axis=1)[:, None]
+    samples = disk_samples(sc)
+    for k in range(0, 64, 8):
+        inside = membership(sc, ring[k] - 1e-3 * a * normal[k])
+        check_witness(sc, inside, a)
+        assert inside.witness_forward_cor_error <= TOL.witness_cor_rel
+        outside = membership(sc, ring[k] + 1e-3 * a * normal[k])
+        check_dual(sc, outside, samples, a)
+
+
+def test_the_cm_is_a_cor_by_a_point_mass_there():
+    """With weight concentrated at the CM, rotation about the CM dissipates no power (3.6),
+    so the CM is a COR (the locus contains it: r_min > 0 of (3.31) is the boundary's nearest
+    distance). The witness uses a point mass at r with subgradient term -s z (3.8)."""
+    for mu in (0.05, 0.3, 1.5):
+        sc = scene_for_mu(mu, **FRAME)
+        res = membership(sc, sc.center_of_mass)
+        check_witness(sc, res, sc.disk_radius)
+        assert res.point_mass_at_cor > 0.0
+        ring = cd.disk_cor_locus(sc, n_points=256).boundary
+        assert point_in_polygon(sc.center_of_mass[None], ring)[0]
+
+
+def test_points_on_the_line_of_force_are_not_cors():
+    """s = alpha . (c - r) = 0: (3.3) allows no advance of the pusher, and (3.8) reduces to
+    sum P |w - r| alpha = 0, impossible: certified outside."""
+    samples = None
+    for mu in (0.3, 1.5):
+        sc = scene_for_mu(mu, **FRAME)
+        samples = disk_samples(sc)
+        for t in (-3.0, -0.4, 0.25, 2.0):
+            r = sc.contact_point + t * sc.disk_radius * sc.normal
+            res = membership(sc, r)
+            assert abs(lever(sc.contact_rel, sc.alpha_hat, res.cor - sc.center_of_mass)) < 1e-12
+            check_dual(sc, res, samples, sc.disk_radius)
+
+
+@pytest.mark.parametrize("mu", [0.05, 0.6, 1.5])
+def test_cors_of_random_tripods_are_inside(mu):
+    """3.3.3 / figure 3-5: the COR of a tripod (forward Newton solve of (3.7)) is a COR, so
+    membership must find a witness; the witness's own COR re-verifies."""
+    rng = np.random.default_rng(SEED + int(1000 * mu))
+    sc = scene_for_mu(mu, **FRAME)
+    pts, wts = random_balanced_tripods(rng, 12, sc.disk_radius, sc.center_of_mass)
+    for w, p in zip(pts, wts):
+        fwd = solve_forward(sc, Support.create(w, p, sc.center_of_mass))
+        if fwd.cor is None:
+            continue
+        res = membership(sc, fwd.cor)
+        check_witness(sc, res, sc.disk_radius)
+        assert res.witness_forward_cor_error <= TOL.witness_cor_rel
+
+
+def test_cor_on_its_own_support_point():
+    """Figure 3-11 / (3.15): a dipod with weight a/(r+a) at r (inside the disk) and the rest
+    on the disk opposite turns about r itself, its support point, for r just inside the
+    inner boundary (3.30). Membership of that r is proven, and the forward solve puts the
+    COR on the support point."""
+    mu = 0.3
+    sc = scene_for_mu(mu)
+    rho_min = float(cd.r_min(mu))
+    for rho in (rho_min + 0.2 * (1 - rho_min), 0.8):
+        eta = math.acos(float(cd.inner_boundary_cos_eta(rho, mu)))
+        r_loc = 0.999 * rho * np.array([-math.cos(eta), math.sin(eta)])
+        pts = sc.to_world(np.vstack([-r_loc / np.linalg.norm(r_loc), r_loc]))
+        rr = np.linalg.norm(r_loc)
+        fwd = solve_forward(sc, Support.create(pts, [rr / (1 + rr), 1 / (1 + rr)], sc.center_of_mass))
+        assert fwd.cor_on_support is not None
+        res = membership(sc, sc.to_world(r_loc))
+        check_witness(sc, res, sc.disk_radius)
+        assert res.in_footprint
+
+
+def test_point_mass_exists_only_inside_the_footprint():
+    """3.3.13 boundary pieces on the disk (perimeter arcs, models/cor_disk.py): for
+    |alpha . c| >= a the tip is on the circle. On the circle r is in F, so a point mass at r
+    with the full subgradient disk is allowed and r is inside; 1e-6 a beyond the circle only
+    supports near r remain, whose directions cover half the subgradient disk, and r is
+    certified outside by a wide margin: membership is discontinuous across dF."""
+    sc = scene_for_mu(1.5, **FRAME)
+    a = sc.disk_radius
+    tip = sc.center_of_mass - a * sc.axis
+    on = membership(sc, tip)
+    check_witness(sc, on, a)
+    assert on.in_footprint and on.point_mass_at_cor > 0.0
+    assert membership(sc, sc.center_of_mass + (1 - 1e-6) * (tip - sc.center_of_mass)).status == "inside"
+    out = membership(sc, sc.center_of_mass + (1 + 1e-6) * (tip - sc.center_of_mass))
+    assert not out.in_footprint
+    assert check_dual(sc, out, disk_samples(sc), a) > 0.05
+
+
+def test_candidate_within_rounding_of_the_outline_is_moved_onto_it():
+    """A candidate within ON_BOUNDARY_REL L of dF is decided on dF, where (3.8)'s direction
+    (w - r)/|w - r| has closed-form one-sided limits; 1e-6 a away it is not moved."""
+    sc = scene_for_mu(0.9, **FRAME)
+    a = sc.disk_radius
+    direction = np.array([math.cos(0.7), math.sin(0.7)])
+    res = membership(sc, sc.center_of_mass + a * (1 + 1e-12) * direction)
+    assert res.in_footprint
+    assert np.linalg.norm(res.cor - sc.center_of_mass) == pytest.approx(a, rel=1e-15)
+    far = membership(sc, sc.center_of_mass + a * (1 + 1e-6) * direction)
+    assert not far.in_footprint
+
+
+# --- polygons (7.5) --------------------------------------------------------------------------
+
+
+def test_square_locus_is_smaller_than_its_disk():
+    """7.5 / figure 3-6: the square's locus lies in its circumscribing disk's. A point 10% in
+    from the disk locus's tip (3.37) is a COR for the disk but certified not one for the
+    square (dual checked on a dense grid of the square)."""
+    sc = scene_for_mu(0.3, a=SQUARE.circumradius)
+    tip = cd.disk_cor_locus(sc, outputs=["tip"]).tip.point
+    r = sc.center_of_mass + 0.9 * (tip - sc.center_of_mass)
+    check_witness(sc, membership(sc, r), sc.disk_radius)
+    res = membership(sc, r, SQUARE)
+    check_dual(sc, res, polygon_samples(SQUARE), SQUARE.circumradius)
+
+
+def test_square_vertex_and_edge_points():
+    """r on the outline: a vertex of the square is a COR with a point mass at it (the
+    locus reaches the vertex, where the boundary meets the footprint); 1e-7 outside the
+    square next to it no point mass is allowed and r is certified outside."""
+    sc = scene_for_mu(0.9, a=SQUARE.circumradius)
+    ell = SQUARE.circumradius
+    vertex = SQUARE.vertices[0]
+    res = membership(sc, vertex, SQUARE)
+    check_witness(sc, res, ell)
+    assert res.in_footprint and res.point_mass_at_cor > 0.0
+    out = membership(sc, vertex - [0.0, 1e-7], SQUARE)
+    assert not out.in_footprint
+    check_dual(sc, out, polygon_samples(SQUARE), ell)
+    edge_point = membership(sc, np.array([-0.5, 0.1]), SQUARE)
+    assert edge_point.in_footprint
+    check_dual(sc, edge_point, polygon_samples(SQUARE), ell)
+
+
+def test_l_shape_locus():
+    """A non-convex footprint: CORs of random tripods on the L are inside, and a point inside
+    the circumscribing disk's locus is certified outside the L's (7.5)."""
+    rng = np.random.default_rng(SEED + 3)
+    cm = L_SHAPE.center_of_mass
+    probe = PushScene.create(L_SHAPE.circumradius, cm, math.pi / 2, 0.0, cm)
+    contact = cm + 0.4 * L_SHAPE.circumradius * probe.alpha_hat + 0.3 * probe.normal
+    sc = PushScene.create(L_SHAPE.circumradius, contact, math.pi / 2, 0.0, cm)
+    pts, wts = random_balanced_tripods(rng, 6, L_SHAPE.circumradius, footprint=L_SHAPE)
+    for w, p in zip(pts, wts):
+        fwd = solve_forward(sc, Support.create(w, p, cm))
+        check_witness(sc, membership(sc, fwd.cor, L_SHAPE), L_SHAPE.circumradius)
+    tip = cd.disk_cor_locus(sc, outputs=["tip"]).tip.point
+    r = cm + 0.85 * (tip - cm)
+    check_witness(sc, membership(sc, r), sc.disk_radius)
+    check_dual(sc, membership(sc, r, L_SHAPE), polygon_samples(L_SHAPE), L_SHAPE.circumradius)
+
+
+def test_footprint_with_another_centre_of_mass_is_refused():
+    """3.1.5: the pressure's centroid is the CM, so a footprint whose CM is not the scene's
+    describes another problem."""
+    sc = scene_for_mu(0.3, cm=(0.1, 0.0))
+    with pytest.raises(InvalidInput) as err:
+        membership(sc, [0.0, 0.0], SQUARE)
+    assert err.value.field == "center_of_mass"
+
+
+# --- invariances (3.3.12) --------------------------------------------------------------------
+
+
+def _transformed(sc: PushScene, scale=1.0, angle=0.0, mirror=False, shift=(0.0, 0.0)):
+    """The scene mapped by x -> R (M x) * scale + shift (M the mirror y -> -y)."""
+    m = np.diag([1.0, -1.0]) if mirror else np.eye(2)
+    rot = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
+    f = lambda p: scale * (rot @ (m @ np.asarray(p, float))) + shift  # noqa: E731
+    sign = -1.0 if mirror else 1.0
+    new = PushScene.create(sc.disk_radius * scale, f(sc.contact_point), sign * sc.edge_angle + angle,
+                           sign * sc.push_direction + angle, f(sc.center_of_mass))
+    return new, f
+
+
+@pytest.mark.parametrize("kind", ["scale_1e-6", "scale_1e6", "rotate", "mirror"])
+def test_invariance_under_similarity(kind):
+    """3.3.12: the locus scales with a and c, turns with the scene, and mirrors (the sense of
+    rotation flips, (3.3)); statuses and dimensionless margins do not change."""
+    sc = scene_for_mu(0.3, **FRAME)
+    args = {"scale_1e-6": dict(scale=1e-6), "scale_1e6": dict(scale=1e6),
+            "rotate": dict(angle=1.1, shift=(5.0, -3.0)), "mirror": dict(mirror=True, shift=(0.2, 0.1))}[kind]
+    new, f = _transformed(sc, **args)
+    ring = cd.disk_cor_locus(sc, n_points=16).boundary
+    cm = sc.center_of_mass
+    for b in ring[::4]:
+        for factor in (0.98, 1.02):
+            r = cm + factor * (b - cm)
+            base = membership(sc, r, verify_witness=False)
+            other = membership(new, f(r), verify_witness=False)
+            assert base.status == other.status != "undecided"
+            if base.status == "outside":
+                assert other.dual_margin == pytest.approx(base.dual_margin, rel=1e-6, abs=1e-9)
+
+
+# --- modes and errors ------------------------------------------------------------------------
+
+
+def test_grid_mode_is_not_a_certificate_and_time_limit_gives_undecided():
+    """A point far beyond the tip (3.37) is outside; without the branch and bound the dual of
+    (3.8) is only checked on a grid and the result says it is no certificate."""
+    sc = scene_for_mu(0.3)
+    far = sc.center_of_mass + 5.0 * sc.axis
+    grid = membership(sc, far, certify=False)
+    assert grid.status == "outside" and grid.lower_bound_method == "grid" and grid.certificate_kind == "none"
+    cert = membership(sc, far)
+    assert cert.lower_bound_method == "branch_and_bound" and cert.certificate_kind == "dual"
+    late = membership(sc, far, budget=Budget.of(0.0))
+    assert late.status == "undecided" and "time limit" in late.message
+
+
+def test_a_loose_residual_tolerance_admits_points_just_beyond_the_tip():
+    """Why the default membership_residual is strict (1e-12): at the tip (3.37) for
+    |alpha . c| = 0.05 a, 5e-7 a beyond it, a residual tolerance of 1e-8 accepts a witness
+    whose residual is ~1e-9 and whose own forward COR is visibly not r; the default
+    certifies the point outside, and the point 5e-7 a inside still has an exact witness."""
+    sc = scene_for_mu(0.05)
+    a = sc.disk_radius
+    ring = cd.disk_cor_locus(sc, n_points=64).boundary
+    tangent = ring[1] - ring[-1]
+    nu = np.array([tangent[1], -tangent[0]]) / np.linalg.norm(tangent)
+    beyond = ring[0] + 5e-7 * a * nu
+    loose = membership(sc, beyond, tol=dataclasses.replace(TOL, membership_residual=1e-8))
+    assert loose.status == "inside"
+    assert 1e-12 < loose.witness_residual <= 1e-8
+    assert loose.witness_forward_cor_error > 1e-7
+    assert TOL.membership_residual <= 1e-12
+    check_dual(sc, membership(sc, beyond), disk_samples(sc), a)
+    inner = membership(sc, ring[0] - 5e-7 * a * nu)
+    assert inner.status == "inside" and inner.witness_residual <= 1e-12
+    assert inner.witness_forward_cor_error <= 1e-9
+
+
+def test_conic_solver_failure_is_a_solver_error(monkeypatch):
+    """A failure of the restricted master's conic solve becomes the project's SolverError."""
+
+    def broken(*args, **kwargs):
+        raise cp.error.SolverError("boom")
+
+    monkeypatch.setattr(cp.Problem, "solve", broken)
+    with pytest.raises(SolverError):
+        membership(scene_for_mu(0.3), [0.5, 0.5])

@@ -1,0 +1,110 @@
+"""The fastest guaranteed spiral of spiral localization (solver/spiral/schedule.py; book
+4.5.5): the OR-Tools optimum against the recursion (4.26), robot limits, the CP-SAT back
+end, the exponent of figure 4-21 and the one-call plan. Tables: tests/solver/spiral/conftest.py."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from models.errors import InvalidInput
+from models.tolerances import SpiralTolerances
+from models.spiral import fastest_spiral, power_law_fit
+from solver.spiral.critical_radius import (
+    critical_radius,
+)
+from solver.spiral.schedule import plan_spiral, spiral_schedule
+from solver.core.budget import Budget
+
+HALF_PI = 0.5 * math.pi
+
+
+def test_or_tools_optimum_equals_the_recursion_up_to_the_grid(dense_sweep_025):
+    """Without robot limits greedy is optimal (models/spiral.py), so OR-Tools' optimum on
+    a uniform grid of spacing h equals the greedy on that grid, for revolutions and for
+    path length, and is certified by potentials. Against the continuous recursion (4.26):
+    N_rec(d*) <= N_grid <= N_rec(d* - h) (a grid schedule loses < h per revolution)."""
+    env = dense_sweep_025.envelope
+    h = 0.01
+    b1, target = 20.0, 1.6
+    sched = spiral_schedule(env, b1, target, spacing=h, speed=0.1)
+    assert sched.solver_status == "OPTIMAL" and sched.certificate.certified and not sched.stopped_early
+    assert sched.revolutions == sched.greedy_revolutions
+    # the tie-break on length picks the greedy (the shortest of the fewest), to its unit
+    assert sched.certificate.revolution_weight is not None
+    assert sched.path_length == pytest.approx(sched.greedy_path_length, abs=sched.revolutions * 1e-4)
+    assert sched.max_step_excess <= 0.0 and sched.radii[0] == b1 and sched.radii[-1] == target
+    assert np.all(sched.steps <= env.d_star(sched.radii[1:]))
+    assert sched.time_s == pytest.approx(sched.path_length / 0.1)
+    rec = fastest_spiral(env, b1, target)
+    shrunk = dataclasses.replace(env, distances=np.maximum(env.distances - h, 0.0))
+    rec_h = fastest_spiral(shrunk, b1, target)
+    assert rec.revolutions == sched.recursion.revolutions
+    assert rec.revolutions <= sched.revolutions <= rec_h.revolutions
+    n = min(rec.revolutions, sched.revolutions)
+    assert np.all(sched.radii[:n] >= rec.radii[:n] - 1e-12)
+    by_length = spiral_schedule(env, b1, target, objective="length", spacing=h)
+    assert by_length.solver_status == "OPTIMAL" and by_length.certificate.certified
+    assert by_length.path_length == pytest.approx(sched.greedy_path_length, abs=by_length.revolutions * 1e-7)
+    assert by_length.revolutions == sched.revolutions
+
+
+def test_robot_limits(dense_sweep_025):
+    """A maximum step keeps greedy optimal; a minimum step can strand greedy short of the
+    target, and the shortest path still finds a safe schedule with every step >= it."""
+    env = dense_sweep_025.envelope
+    capped = spiral_schedule(env, 30.0, 2.0, max_step=0.5, resolution=8)
+    assert capped.solver_status == "OPTIMAL" and capped.certificate.certified
+    assert capped.revolutions == capped.greedy_revolutions and np.all(capped.steps <= 0.5 + 1e-12)
+    hit = None
+    for target in np.linspace(5.0, 9.0, 41):
+        s = spiral_schedule(env, 30.0, float(target), min_step=0.6, spacing=0.05)
+        if s.solver_status == "OPTIMAL" and s.greedy_revolutions is None:
+            hit = s
+            break
+    assert hit is not None, "no target where greedy gets stuck"
+    assert hit.certificate.certified and np.all(hit.steps >= 0.6 - 1e-12) and hit.max_step_excess <= 0.0
+    assert hit.revolutions >= hit.recursion.revolutions  # the recursion ignores the minimum step
+
+
+def test_cp_sat_backend_agrees(dense_sweep_025):
+    env = dense_sweep_025.envelope
+    mcf = spiral_schedule(env, 10.0, 2.5, resolution=3)
+    cps = spiral_schedule(env, 10.0, 2.5, resolution=3, backend="cp_sat", budget=Budget.of(20.0))
+    assert cps.solver_status == "OPTIMAL" and cps.certificate.certified
+    assert cps.revolutions == mcf.revolutions
+
+
+def test_exponent_of_figure_4_21(dense_sweep_025):
+    """4.5.5, figure 4-21 (mu_c = 0.25, b_1 = 100 a): far out the radius drops by almost a
+    per revolution; near b_inf, b_n - b_inf falls like n^-k with the book's k ~ 1.6. The
+    fitted k depends on the range of n: ~1.8 over n = 100..1000 (the transition from the
+    linear phase, ~110 revolutions, still shows), ~1.15 over 1000..5000, tending to 1
+    (r* - b_inf is linear in pi/2 - beta, d ~ (pi/2 - beta)^2 / 2, so e_n ~ 2 c^2 / n)."""
+    env = dense_sweep_025.envelope
+    rec = fastest_spiral(env, 100.0, tol=SpiralTolerances(max_revolutions=5000))
+    assert rec.steps[0] > 0.97
+    early = power_law_fit(rec.radii, 1.25, 100, 1000)
+    late = power_law_fit(rec.radii, 1.25, 1000, 5000)
+    assert 1.5 < early.exponent < 2.1, early
+    assert 1.0 < late.exponent < 1.3, late
+    assert late.exponent < early.exponent
+
+
+def test_plan_and_inputs():
+    plan = plan_spiral(1.0, 0.5, 12.0, target=2.1, method="tip_line")
+    assert plan.schedule.solver_status == "OPTIMAL" and plan.b_inf_closed_form == 1.5
+    assert plan.b_floor == pytest.approx(2.0, abs=1e-6)  # the tip line cannot go below 2a
+    with pytest.raises(InvalidInput):
+        spiral_schedule(plan.table, 12.0, 1.8)  # below the table's floor
+    with pytest.raises(InvalidInput):
+        critical_radius(1.0, HALF_PI, 0.5)  # grazing
+    with pytest.raises(InvalidInput):
+        critical_radius(1.0, 0.0, 0.5)
+    with pytest.raises(InvalidInput):
+        critical_radius(1.0, 1.0, 0.0)
+    with pytest.raises(InvalidInput):
+        critical_radius(1.0, 1.0, 0.5, method="guess")
