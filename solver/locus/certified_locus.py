@@ -130,6 +130,25 @@ class CertifiedDiskBoundary:
     solve_time_s: float
     complete: bool = True
 
+    @property
+    def status(self) -> str:
+        """"wrong" (a pair proves the analytic boundary wrong), "certified" (every point
+        bracketed), else "incomplete" (points undecided or not reached in time)."""
+        if self.wrong:
+            return "wrong"
+        return "certified" if self.complete and self.n_certified == len(self.boundary) else "incomplete"
+
+    @property
+    def message(self) -> str:
+        text = f"{self.n_certified} of {len(self.boundary)} boundary points bracketed within {self.delta:.3g}"
+        if len(self.pairs) < len(self.boundary):
+            text += f"; {len(self.boundary) - len(self.pairs)} not reached in time"
+        if self.wrong:
+            text += f"; the analytic boundary is wrong at {list(self.wrong)}"
+        if self.undecided:
+            text += f"; undecided at {list(self.undecided)}"
+        return text
+
 
 def _outward_normals(ring: np.ndarray) -> np.ndarray:
     """Unit outward normals of a closed counter-clockwise polyline from central differences."""
@@ -248,6 +267,20 @@ class CertifiedPolygonBoundary:
     solve_time_s: float
     n_requested: int = 0
     complete: bool = True
+
+    @property
+    def status(self) -> str:
+        """"certified" (every requested ray bracketed) or "incomplete"."""
+        return "certified" if self.complete and self.n_certified == len(self.rays) else "incomplete"
+
+    @property
+    def message(self) -> str:
+        text = f"{self.n_certified} of {self.n_requested} rays bracketed within {self.width:.3g}"
+        if len(self.rays) < self.n_requested:
+            text += f"; {self.n_requested - len(self.rays)} not started in time"
+        if self.multi_crossing_rays:
+            text += f"; rays {list(self.multi_crossing_rays)} cross the boundary more than once"
+        return text
 
 
 def _ray_exit(ring: np.ndarray, centre: np.ndarray, direction: np.ndarray) -> float:

@@ -107,6 +107,13 @@ class CertifiedSketch:
     solve_time_s: float
     message: str
 
+    @property
+    def status(self) -> str:
+        """"certified", "time_limited" or "incomplete" (a piece not certified)."""
+        if self.complete:
+            return "certified"
+        return "time_limited" if self.time_limited else "incomplete"
+
 
 def _farthest_from(points: np.ndarray, centre: np.ndarray) -> np.ndarray:
     d = np.einsum("ij,ij->i", points - centre, points - centre)

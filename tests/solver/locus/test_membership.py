@@ -23,7 +23,9 @@ from solver.core.errors import SolverError
 from solver.motion.forward import solve_forward
 from solver.locus.membership import membership
 from tests.scenes import SEED, point_in_polygon, scene_for_mu
-from solver.core.budget import Budget
+from solver.locus import membership as mm
+from solver.certify.colgen import decide
+from solver.core.budget import UNLIMITED, Budget
 
 TOL = SOLVER_DEFAULT
 # Scenes away from the book's standard frame (CM off the origin, tilted edge, oblique push).
@@ -390,3 +392,34 @@ def test_conic_solver_failure_is_a_solver_error(monkeypatch):
     monkeypatch.setattr(cp.Problem, "solve", broken)
     with pytest.raises(SolverError):
         membership(scene_for_mu(0.3), [0.5, 0.5])
+
+
+def test_far_candidates_are_decided_on_the_conditioned_rows():
+    """A locus tip ~185 L away (|alpha . c| = 0.0054 a, tip a^2/|alpha . c|, (3.37)): 2e-6 a
+    beyond it the plain rows (3.8)-(3.10) separate by a margin of order delta/s^2, below
+    certificate_margin, and stay undecided; membership decides the point on the
+    conditioned rows (moment about the contact, module docstring) with a dual that holds on
+    dense samples of the whole disk, converted back to the columns of
+    models.mpp.membership_columns. The point 2e-6 a inside has a witness."""
+    sc = scene_for_mu(0.0054)
+    a = sc.disk_radius
+    tip = cd.disk_cor_locus(sc, outputs=("tip",)).tip
+    assert 184 < tip.distance / a < 186
+    u = (tip.point - sc.center_of_mass) / tip.distance
+    beyond, inside = tip.point + 2e-6 * a * u, tip.point - 2e-6 * a * u
+    outline = mm.outline_of(sc, None)
+    r = outline.to_local(beyond)
+    alpha = outline.vector_to_local(sc.alpha_hat)
+    c = outline.vector_to_local(sc.contact_rel) / outline.length
+    plain = decide(mm.PlainRows(outline, r, False, False, alpha, float(alpha @ (c - r))), TOL, UNLIMITED, mm.MESSAGES)
+    assert plain.status == "undecided"
+    res = membership(sc, beyond)
+    assert res.status == "outside" and res.certificate_kind == "dual" and res.rows == "far"
+    assert res.dual_margin > TOL.certificate_margin
+    y = res.dual
+    w = disk_samples(sc) - sc.center_of_mass
+    vals = y @ membership_columns(res.cor - sc.center_of_mass, w, sc.contact_rel, sc.alpha_hat, a)
+    assert vals.min() >= res.dual_lower_bound - 1e-11 * np.max(np.abs(y))
+    assert res.dual_lower_bound - y[0] == pytest.approx(res.dual_margin, abs=1e-12)
+    inner = membership(sc, inside)
+    check_witness(sc, inner, a)

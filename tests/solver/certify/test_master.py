@@ -1,0 +1,96 @@
+"""The restricted master (solver/certify/master.py): its optimum is 0 exactly when b is a
+non-negative combination of the columns, its duals separate otherwise (y . G_j -
+lambda . H_j >= 0 on the columns, y . b = -optimum: the Farkas functional that pricing
+minimises), compiled problems are per thread, and answers do not depend on what the thread
+solved before."""
+
+from __future__ import annotations
+
+import threading
+
+import cvxpy as cp
+import numpy as np
+import pytest
+
+from solver.certify.master import BASE_CAPACITY, master_for
+from solver.core.errors import NotConverged, SolverError
+from solver.core.tolerances import SOLVER_DEFAULT
+from tests.scenes import SEED
+
+TOL = SOLVER_DEFAULT
+
+
+def _instance(rng, feasible: bool, n_ineq: int = 0):
+    g = np.vstack([np.ones(40), rng.normal(size=(3, 40))])
+    h = rng.normal(size=(n_ineq, 40))
+    p = np.zeros(40)
+    p[:4] = rng.uniform(0.1, 1.0, 4)
+    p /= p.sum()
+    b = g @ p if feasible else np.array([1.0, 5.0, 5.0, 5.0]) + np.abs(g[1:].max())
+    if feasible and n_ineq:
+        h[:, :4] = np.abs(h[:, :4])  # the chosen columns satisfy the inequalities
+    return g, h, b
+
+
+@pytest.mark.parametrize("n_ineq", [0, 2])
+def test_a_feasible_right_hand_side_has_optimum_zero(n_ineq):
+    g, h, b = _instance(np.random.default_rng(SEED), True, n_ineq)
+    weights, pm, y, lam = master_for(4, n_ineq, 40).solve(g, h, None, None, b, TOL)
+    assert np.all(weights >= 0.0) and np.all(pm == 0.0)
+    assert np.abs(g @ weights - b).sum() < 1e-8
+    assert lam.shape == (n_ineq,) and np.all(lam >= 0.0)
+    if n_ineq:
+        assert np.all(h @ weights >= -1e-8)
+
+
+def test_an_infeasible_right_hand_side_is_separated_by_the_dual():
+    """Farkas: y . G_j >= 0 for every column and y . b = -(L1 optimum) < 0."""
+    g, h, b = _instance(np.random.default_rng(SEED + 1), False)
+    weights, _, y, _ = master_for(4, 0, 40).solve(g, h, None, None, b, TOL)
+    optimum = np.abs(g @ weights - b).sum()
+    assert optimum > 1.0
+    assert y @ b == pytest.approx(-optimum, rel=1e-6)
+    assert np.all(y @ g >= -1e-7) and np.max(np.abs(y)) <= 1.0 + 1e-7
+
+
+def test_capacities_grow_by_doubling_and_pad_with_column_zero():
+    m = master_for(4, 0, BASE_CAPACITY + 1)
+    assert m.capacity == 2 * BASE_CAPACITY
+    g, h, b = _instance(np.random.default_rng(SEED + 2), True)
+    weights, *_ = m.solve(g, h, None, None, b, TOL)  # 40 columns in a 640-column problem
+    assert weights.shape == (40,) and np.abs(g @ weights - b).sum() < 1e-8
+
+
+def test_compiled_masters_are_per_thread():
+    mine = master_for(5, 0, 10)
+    assert master_for(5, 0, 200) is mine
+    other = []
+    t = threading.Thread(target=lambda: other.append(master_for(5, 0, 10)))
+    t.start()
+    t.join()
+    assert other[0] is not mine
+
+
+def test_answers_do_not_depend_on_what_was_solved_before():
+    """No warm start: the same master solved after a different one gives bitwise the same
+    answer."""
+    rng = np.random.default_rng(SEED + 3)
+    g1, h1, b1 = _instance(rng, False)
+    g2, h2, b2 = _instance(rng, True)
+    m = master_for(4, 0, 40)
+    first = m.solve(g1, h1, None, None, b1, TOL)
+    m.solve(g2, h2, None, None, b2, TOL)
+    again = m.solve(g1, h1, None, None, b1, TOL)
+    for x, z in zip(first, again):
+        assert np.array_equal(x, z)
+
+
+def test_a_failing_conic_solve_is_not_converged(monkeypatch):
+    def boom(*args, **kwargs):
+        raise cp.error.SolverError("boom")
+
+    monkeypatch.setattr(cp.Problem, "solve", boom)
+    g, h, b = _instance(np.random.default_rng(SEED), True)
+    with pytest.raises(NotConverged) as err:
+        master_for(4, 0, 40).solve(g, h, None, None, b, TOL)
+    assert isinstance(err.value, SolverError)
