@@ -69,7 +69,10 @@ def sketch_candidates(sketch: CorSketch) -> tuple[np.ndarray, list[str]]:
     return np.asarray(pts, dtype=float), src
 
 
-def _extreme(sketch: CorSketch, rate: Callable, largest: bool):
+def extreme_over_sketch(sketch: CorSketch, rate: Callable, largest: bool):
+    """(value, COR, source) of the largest (or smallest) ``rate`` over the sketch: a rate
+    linear or linear-fractional in the COR is extreme at a vertex of the slipping polygons
+    or an end of the sticking segment (4.2)."""
     return _extreme_of(sketch_candidates(sketch), rate, largest)
 
 
@@ -284,7 +287,7 @@ def encounter_bounds_exact(
                     "and the encounter length is unbounded",
                 )
             for k, (rate, largest) in rates.items():
-                per_key[k].append(_extreme(sk, lambda r, rate=rate, beta=beta: rate(beta, r), largest))
+                per_key[k].append(extreme_over_sketch(sk, lambda r, rate=rate, beta=beta: rate(beta, r), largest))
         rules[n] = (betas, w, per_key)
     elapsed = time.perf_counter() - t0
     out = {}

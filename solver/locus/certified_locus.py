@@ -150,7 +150,7 @@ class CertifiedDiskBoundary:
         return text
 
 
-def _outward_normals(ring: np.ndarray) -> np.ndarray:
+def outward_normals(ring: np.ndarray) -> np.ndarray:
     """Unit outward normals of a closed counter-clockwise polyline from central differences."""
     tangent = np.roll(ring, -1, axis=0) - np.roll(ring, 1, axis=0)
     normal = np.stack([tangent[:, 1], -tangent[:, 0]], axis=1)
@@ -198,7 +198,7 @@ def certified_disk_boundary(
     if scene.is_translation:
         raise InvalidInput("contact_point", "the line of force passes through the CM: the only COR is at infinity")
     ring = disk_cor_locus(scene, outputs=["boundary"], n_points=n_points).boundary
-    normals = _outward_normals(ring)
+    normals = outward_normals(ring)
     ell = scene.disk_radius
     delta = 0.5 * tol.boundary_bracket * ell
     pairs = certify_brackets(scene, ring, normals, delta, None, tol, budget)
@@ -283,7 +283,7 @@ class CertifiedPolygonBoundary:
         return text
 
 
-def _ray_exit(ring: np.ndarray, centre: np.ndarray, direction: np.ndarray) -> float:
+def ray_exit(ring: np.ndarray, centre: np.ndarray, direction: np.ndarray) -> float:
     """Largest t with centre + t direction on the closed polyline ``ring`` (world)."""
     a = ring - centre
     b = np.roll(ring, -1, axis=0) - centre
@@ -479,7 +479,7 @@ def trace_ray(trace: PolygonTrace, direction, warm_points=None) -> RayCrossing:
     direction = np.asarray(direction, dtype=float) / float(np.linalg.norm(direction))
     strict = _strict(trace.tol)
     scan_tol = dataclasses.replace(trace.tol, max_cg_iter=1)
-    t_disk = _ray_exit(trace.disk_ring, centre, direction)
+    t_disk = ray_exit(trace.disk_ring, centre, direction)
     t_max = (t_disk if math.isfinite(t_disk) else 2.0 * ell) + 4.0 * width
     scan_t = t_max * np.arange(1, trace.scan_points + 1) / trace.scan_points
     scan = np.array([

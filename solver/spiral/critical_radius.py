@@ -356,6 +356,12 @@ _TABLES: OrderedDict = OrderedDict()
 _TABLES_LOCK = threading.Lock()
 
 
+def cached_table_count() -> int:
+    """How many complete tables the cache holds (at most TABLE_CACHE_SIZE)."""
+    with _TABLES_LOCK:
+        return len(_TABLES)
+
+
 def scale_table(table: CriticalRadiusTable, a: float) -> CriticalRadiusTable:
     """The table of the disk of radius ``a`` from one of radius ``table.a``: r*, its
     bracket, the margin and the envelope scale with a (4.5.3 is a length per a); the

@@ -20,7 +20,7 @@ import pytest
 from models.locus import cor_disk as cd
 from models.footprint import Footprint
 from solver.core.tolerances import SOLVER_DEFAULT
-from solver.locus.certified_locus import _outward_normals, certified_disk_boundary, certified_polygon_boundary
+from solver.locus.certified_locus import outward_normals, certified_disk_boundary, certified_polygon_boundary
 from solver.locus.membership import membership
 from tests.benchmarks._docs import write_section
 from tests.scenes import scene_for_mu
@@ -69,7 +69,7 @@ def test_membership_and_certified_loci():
         for mu in MUS:
             sc = scene_for_mu(mu)
             ring = cd.disk_cor_locus(sc, n_points=64).boundary
-            nu = _outward_normals(ring)
+            nu = outward_normals(ring)
             t_in, s_in = query_times(sc, ring - offset * nu, verify=False)
             t_inf, _ = query_times(sc, ring[::4] - offset * nu[::4], verify=True)
             t_out, s_out = query_times(sc, ring + offset * nu, verify=False)

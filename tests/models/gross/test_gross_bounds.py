@@ -112,7 +112,7 @@ def test_fence_slip_bounds_hold_every_simulated_support():
     COR (forward solves) lies between the sketch's extremes at that beta; the rate formula
     equals the scene's own slip per push times dx/dbeta; sticking CORs do not slip."""
     from models.locus.cor_sketch import cor_sketch
-    from models.gross.gross_bounds import _extreme, fence_slip_bounds_exact, fence_slip_rate
+    from models.gross.gross_bounds import extreme_over_sketch, fence_slip_bounds_exact, fence_slip_rate
     from models.scene import PushScene
 
     geo = dict(a=1.0, c=0.9, alpha=math.radians(60.0), beta_initial=math.radians(35.0), beta_final=math.radians(75.0))
@@ -127,8 +127,8 @@ def test_fence_slip_bounds_hold_every_simulated_support():
         beta = float(sim.beta_nodes[k])
         scene = PushScene.create(1.0, c * np.array([-math.cos(beta), math.sin(beta)]), alpha, 0.0)
         sk = cor_sketch(scene, mu_c, n_points=1024)
-        top = _extreme(sk, lambda r: fence_slip_rate(beta, c, alpha, r), True)[0]
-        bottom = _extreme(sk, lambda r: fence_slip_rate(beta, c, alpha, r), False)[0]
+        top = extreme_over_sketch(sk, lambda r: fence_slip_rate(beta, c, alpha, r), True)[0]
+        bottom = extreme_over_sketch(sk, lambda r: fence_slip_rate(beta, c, alpha, r), False)[0]
         cors = sim.cor[k][np.all(np.isfinite(sim.cor[k]), axis=1)]
         rates = fence_slip_rate(beta, c, alpha, cors)
         scale = max(1.0, abs(top), abs(bottom))

@@ -18,8 +18,8 @@ from models.support import random_balanced_tripods
 from solver.core.tolerances import SOLVER_DEFAULT
 from solver.locus.certified_locus import (
     STRICT_WITNESS_RESIDUAL,
-    _outward_normals,
-    _ray_exit,
+    outward_normals,
+    ray_exit,
     certified_disk_boundary,
     certified_polygon_boundary,
     certify_brackets,
@@ -29,7 +29,7 @@ from solver.locus.certified_locus import (
 from solver.motion.forward import solve_forward_batch
 from tests.scenes import SEED, point_in_polygon, scene_for_mu
 from solver.locus.membership import membership
-from tests.solver.locus.test_membership import FRAME, SQUARE, check_dual, disk_samples, equations_residual, polygon_samples
+from tests.solver.locus.membership_checks import FRAME, SQUARE, check_dual, disk_samples, equations_residual, polygon_samples
 from solver.core.budget import Budget
 
 TOL = SOLVER_DEFAULT
@@ -81,7 +81,7 @@ def test_a_wrong_boundary_is_caught(factor, verdict):
     sc = scene_for_mu(0.3, **FRAME)
     ring = cd.disk_cor_locus(sc, n_points=16).boundary
     moved = sc.center_of_mass + factor * (ring - sc.center_of_mass)
-    pairs = certify_brackets(sc, moved, _outward_normals(moved), 0.5 * TOL.boundary_bracket * sc.disk_radius)
+    pairs = certify_brackets(sc, moved, outward_normals(moved), 0.5 * TOL.boundary_bracket * sc.disk_radius)
     assert [p.verdict for p in pairs] == [verdict] * len(pairs)
 
 
@@ -111,7 +111,7 @@ def _disk_scene(sc: PushScene, radius: float) -> PushScene:
 
 
 def _ray_distances(traced, ring):
-    return np.array([_ray_exit(ring, traced.centre, ray.direction) for ray in traced.rays])
+    return np.array([ray_exit(ring, traced.centre, ray.direction) for ray in traced.rays])
 
 
 @pytest.fixture(scope="module")

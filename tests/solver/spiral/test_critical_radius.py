@@ -185,7 +185,7 @@ def test_cached_tables_scale_with_a_and_carry_their_margin():
     cache): the scaled table equals the one computed for that a; the margin moves the
     envelope (and the floor, b_inf + margin) but not the reported radii; a time-limited
     table is not kept."""
-    from solver.spiral.critical_radius import _TABLES, cached_critical_radius_table, scale_table
+    from solver.spiral.critical_radius import cached_critical_radius_table, cached_table_count, scale_table
 
     a = 3e-4
     direct = critical_radius_table(a, 0.7, "tip_line", r_max=30 * a, margin_rel=2e-3)
@@ -199,9 +199,9 @@ def test_cached_tables_scale_with_a_and_carry_their_margin():
     assert np.allclose(again.envelope.radii, again.radii + again.margin, rtol=1e-12)
     back = scale_table(again, a)
     assert np.allclose(back.envelope.distances, first.envelope.distances, rtol=1e-12)
-    n_kept = len(_TABLES)
+    n_kept = cached_table_count()
     cut, hit = cached_critical_radius_table(1.0, 0.123, "sweep", 10.0, budget=Budget.of(0.0))
-    assert not hit and cut.time_limited and len(_TABLES) == n_kept
+    assert not hit and cut.time_limited and cached_table_count() == n_kept
     assert "before the first collision parameter" in cut.message
     with pytest.raises(InvalidInput):
         critical_radius_table(1.0, 0.7, "tip_line", r_max=10.0, margin_rel=-1.0)
