@@ -342,32 +342,8 @@ def test_tips_for_all_edge_angles_lie_on_the_tip_line():
 # --- rotation per unit push (3.3) ------------------------------------------------------------
 
 
-@pytest.mark.parametrize("cor", [[0.0, -2.0], [0.5, 0.1], [-3.0, 4.0]])
-def test_rotation_per_push_3_3_matches_kinematics(cor):
-    """Turn the part by a small angle about the COR and measure how far the contact's
-    normal component moved: it must equal the pusher's advance times n . p (3.3)."""
-    sc = PushScene.create(1.0, [0.2, 0.3], 1.1, 0.4, [0.1, -0.2])
-    w = sc.rotation_per_push(cor)
-    dth = 1e-7
-    rot = np.array([[math.cos(dth), -math.sin(dth)], [math.sin(dth), math.cos(dth)]])
-    moved = np.asarray(cor) + rot @ (sc.contact_point - np.asarray(cor))
-    advance = (moved - sc.contact_point) @ sc.normal / sc.sin_alpha
-    assert w == pytest.approx(dth / advance, rel=1e-6)
-    # Mason/3.3.1: a COR of the locus turns the part the locus' way
-    if cor == [0.0, -2.0]:
-        assert (w < 0) == (sc.sense == "cw")
 
 
-def test_scene_validation_names_the_field():
-    with pytest.raises(InvalidInput) as err:
-        PushScene.create(0.0, [0, 0], 1.0)
-    assert err.value.field == "disk_radius"
-    with pytest.raises(InvalidInput) as err:
-        PushScene.create(1.0, [0, 0], 0.5, 0.5)  # pushing along the edge
-    assert err.value.field == "push_direction"
-    with pytest.raises(InvalidInput) as err:
-        PushScene.create(1.0, [0, float("nan")], 0.5)
-    assert err.value.field == "contact_point"
 
 
 def test_absurd_moment_arm_is_an_input_error_not_an_overflow():

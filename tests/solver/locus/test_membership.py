@@ -29,25 +29,6 @@ from tests.solver.locus.membership_checks import FRAME, L_SHAPE, SQUARE, TOL, ch
 # --- the reduction behind the pricing problem ----------------------------------------------
 
 
-def test_columns_are_affine_along_rays_from_r():
-    """Module docstring: on a ray w = r + rho u every component of G(w) = (1, w/L, g_r(w)/L)
-    of (3.8) is affine in rho, so y . G is too and its minimum over the footprint lies on the
-    outline or at r. Checked with second differences of models.mpp.membership_columns."""
-    rng = np.random.default_rng(SEED)
-    for _ in range(50):
-        r, c = rng.normal(size=2), rng.normal(size=2)
-        alpha = rng.normal(size=2)
-        alpha /= np.linalg.norm(alpha)
-        u = rng.normal(size=2)
-        u /= np.linalg.norm(u)
-        rho = np.sort(rng.uniform(0.01, 5.0, 3))
-        g = membership_columns(r, r + rho[:, None] * u, c, alpha, 1.7)
-        slope = (g[:, 1] - g[:, 0]) / (rho[1] - rho[0])
-        assert np.allclose(g[:, 2], g[:, 0] + slope * (rho[2] - rho[0]), atol=1e-12)
-        # and the limit rho -> 0 is the point-mass column with zeta = u
-        s = lever(c, alpha, r)
-        limit = np.concatenate([[1.0], r / 1.7, -s * u / 1.7])
-        assert np.allclose(g[:, 0] - slope * rho[0], limit, atol=1e-12)
 
 
 
