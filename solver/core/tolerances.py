@@ -59,5 +59,5 @@ class SolverTolerances:
 
 
 SOLVER_DEFAULT = SolverTolerances()
-SOLVER_HIGH_ACCURACY = SolverTolerances(kkt=1e-12, kkt_accept=1e-11, membership_residual=1e-10, boundary_bracket=1e-8)
+SOLVER_HIGH_ACCURACY = SolverTolerances(kkt=1e-12, kkt_accept=1e-11, membership_residual=1e-13, boundary_bracket=1e-8)
 SOLVER_FAST = SolverTolerances(kkt=1e-8, kkt_accept=1e-7, membership_residual=1e-6, boundary_bracket=1e-4, max_cg_iter=20)
