@@ -77,11 +77,10 @@ class Outline:
             if abs(rad - 1.0) <= ON_BOUNDARY_REL:
                 return r / rad, True
             return r, False
+        vertex = self.snap_to_vertex(r)
+        if vertex is not None:
+            return vertex, True
         v = self.vertices
-        dv = np.hypot(v[:, 0] - r[0], v[:, 1] - r[1])
-        k = int(np.argmin(dv))
-        if dv[k] <= ON_BOUNDARY_REL:
-            return v[k].copy(), True
         a, b = v, np.roll(v, -1, axis=0)
         ab = b - a
         t = np.clip(np.einsum("ij,ij->i", r - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
@@ -91,6 +90,15 @@ class Outline:
         if d[k] <= ON_BOUNDARY_REL:
             return foot[k], True
         return r, False
+
+    def snap_to_vertex(self, r: np.ndarray) -> np.ndarray | None:
+        """The polygon's vertex within ON_BOUNDARY_REL of r, or None (also for the disk)."""
+        if self.vertices is None:
+            return None
+        v = self.vertices
+        dv = np.hypot(v[:, 0] - r[0], v[:, 1] - r[1])
+        k = int(np.argmin(dv))
+        return v[k].copy() if dv[k] <= ON_BOUNDARY_REL else None
 
     def contains(self, r: np.ndarray, on_outline: bool) -> bool:
         """Whether r lies in the closed footprint."""

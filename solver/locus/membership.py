@@ -75,6 +75,7 @@ from models.footprint import Footprint
 from models.mpp import perp
 from models.scene import PushScene
 from models.support import Support
+from solver.certify.answer import CertifiedPoint, answer_fields
 from solver.certify.colgen import Decision, Messages, decide
 from solver.certify.functional import RayFunctional, far_delta
 from solver.certify.outline import Outline, outline_in_frame, pieces_seen_from
@@ -93,62 +94,25 @@ MESSAGES = Messages(
 
 
 @dataclass(frozen=True)
-class MembershipResult:
-    """Answer to "can ``cor`` be the COR of a push of this footprint?" with its certificate.
+class MembershipResult(CertifiedPoint):
+    """Answer to "can ``cor`` be the COR of a push of this footprint?" with its certificate
+    (the fields of :class:`solver.certify.answer.CertifiedPoint`), where
 
-    * ``status``: "inside" | "outside" | "undecided"; ``complete`` unless undecided.
-    * ``cor``: the point decided (world frame). It is the query, except within
-      ``ON_BOUNDARY_REL`` * L of the footprint's outline, where it is moved onto it.
-    * ``certificate_kind``: "witness" (inside), "dual" (outside, sound), or "none".
-    * ``witness_points`` (k, 2) world frame, ``witness_weights`` (k,), and
-      ``point_mass_at_cor``: a support with its centroid at the CM for which ``cor`` is the
-      COR, weights summing to 1 with the point mass. ``point_mass_subgradient`` z (2,),
-      |z| <= point_mass_at_cor: the point mass contributes -s z / L to (3.8) (the
-      subgradient of |w - r| at w = r scaled by the mass). For "outside" and "undecided"
-      results the support is the best one of the last restricted master.
-    * ``witness_residual``: L1 residual (dimensionless) of the membership equations for
-      that support (on the conditioned rows for a far candidate, ``rows`` "far"); for an
-      "outside" result it is the restricted master's optimum.
-    * ``witness_forward_cor_error``: |COR of the witness found by the forward minimum-power
-      solver - cor| / L, or None when not re-verified.
-    * ``dual`` (5,): the separating functional y on the columns of
+    * the witness support has its centroid at the CM and ``cor`` as its COR, weights
+      summing to 1 with the point mass; the point mass contributes -s z / L to (3.8) (the
+      subgradient of |w - r| at w = r scaled by the mass);
+    * ``witness_residual`` is the L1 residual of the membership equations (on the
+      conditioned rows for a far candidate, ``rows`` "far");
+    * ``witness_forward_cor_error`` compares with the forward minimum-power solver's COR;
+    * ``dual`` (5,) is the separating functional y on the columns of
       :func:`models.mpp.membership_columns` (world-aligned CM frame, lengths / L). Near the
       footprint it is computed with |y|_inf <= 1 in the locus frame, so |y_w|, |y_g| <=
       sqrt(2) here; a far candidate's is converted from the conditioned rows and can be
-      larger. ``dual_lower_bound`` m_F: a lower bound of y . G over the footprint and the
-      point-mass set; ``dual_margin`` = m_F - y . b, > 0 proves ``cor`` outside. With
-      ``lower_bound_method`` "grid" (from ``certify=False``) the bound is only the minimum
-      over sampled points and refined local minima: NOT a certificate. "branch_and_bound"
-      is sound over the continuous outline.
-    * ``in_footprint``: whether ``cor`` lies in the (closed) footprint, so that a point mass
-      at it is allowed. ``rows``: "near" or "far" (module docstring).
+      larger; ``dual_margin`` = m_F - y . b;
+    * ``rows``: "near" or "far" (module docstring).
     """
 
-    status: str
-    cor: np.ndarray
-    certificate_kind: str
-    witness_points: np.ndarray
-    witness_weights: np.ndarray
-    point_mass_at_cor: float
-    point_mass_subgradient: np.ndarray
-    witness_residual: float
-    witness_forward_cor_error: float | None
-    dual: np.ndarray | None
-    dual_lower_bound: float | None
-    dual_margin: float | None
-    lower_bound_method: str | None
-    iterations: int
-    n_columns: int
-    bnb_intervals: int
-    in_footprint: bool
-    length_scale: float
-    message: str
-    solve_time_s: float
     rows: str = "near"
-
-    @property
-    def complete(self) -> bool:
-        return self.status != "undecided"
 
 
 def outline_of(scene: PushScene, footprint: Footprint | None, tol: SolverTolerances = SOLVER_DEFAULT) -> Outline:
@@ -293,41 +257,18 @@ def membership(
         dec = dataclasses.replace(dec, iterations=plain.iterations + dec.iterations,
                                   bnb_intervals=plain.bnb_intervals + dec.bnb_intervals)
 
-    wit_pts = outline.to_world(dec.points)
-    p_mass = float(dec.point_mass[0]) if in_f else 0.0
-    cor_world = outline.to_world(r)
     forward_err = None
     if dec.status == "inside" and verify_witness:
-        supp, sw = wit_pts, dec.weights
+        supp, sw = outline.to_world(dec.points), dec.weights
+        p_mass = float(dec.point_mass[0]) if in_f else 0.0
         if p_mass > 0.0:
-            supp = np.vstack([supp, cor_world])
+            supp = np.vstack([supp, outline.to_world(r)])
             sw = np.concatenate([sw, [p_mass]])
         fwd = _forward_cor(scene, supp, sw, tol)
-        forward_err = None if fwd is None else float(np.linalg.norm(fwd - cor_world) / ell)
+        forward_err = None if fwd is None else float(np.linalg.norm(fwd - outline.to_world(r)) / ell)
     dual = None
     if dec.y is not None:
         y = rows.plain_dual(dec.y)
         dual = np.concatenate([[y[0]], outline.vector_to_world(y[1:3]), outline.vector_to_world(y[3:5])])
-    return MembershipResult(
-        status=dec.status,
-        cor=cor_world,
-        certificate_kind=dec.certificate_kind,
-        witness_points=wit_pts,
-        witness_weights=dec.weights,
-        point_mass_at_cor=p_mass,
-        point_mass_subgradient=outline.vector_to_world(dec.point_mass[1:3]) if in_f else np.zeros(2),
-        witness_residual=dec.residual,
-        witness_forward_cor_error=forward_err,
-        dual=dual,
-        dual_lower_bound=dec.lower_bound,
-        dual_margin=dec.margin,
-        lower_bound_method=dec.lower_bound_method,
-        iterations=dec.iterations,
-        n_columns=dec.n_columns,
-        bnb_intervals=dec.bnb_intervals,
-        in_footprint=in_f,
-        length_scale=ell,
-        message=dec.message,
-        solve_time_s=time.perf_counter() - t_start,
-        rows="far" if isinstance(rows, ConditionedRows) else "near",
-    )
+    fields = answer_fields(dec, outline, r, in_f, dual, forward_err, time.perf_counter() - t_start)
+    return MembershipResult(**fields, rows="far" if isinstance(rows, ConditionedRows) else "near")

@@ -114,6 +114,7 @@ from models.footprint import Footprint
 from models.mpp import perp
 from models.scene import PushScene
 from models.support import Support
+from solver.certify.answer import CertifiedPoint, answer_fields
 from solver.certify.colgen import Messages, decide
 from solver.certify.functional import RayFunctional, far_delta
 from solver.certify.outline import ON_BOUNDARY_REL, Outline, outline_in_frame, pieces_seen_from
@@ -130,77 +131,48 @@ projected onto it."""
 
 
 @dataclass(frozen=True)
-class StickingResult:
-    """Answer to "can ``cor`` on the sticking line be the COR of a sticking push?".
+class StickingResult(CertifiedPoint):
+    """Answer to "can ``cor`` on the sticking line be the COR of a sticking push?" (the
+    fields of :class:`solver.certify.answer.CertifiedPoint`), where
 
-    * ``status``: "inside" | "outside" | "undecided".
-    * ``cor`` (world): the point decided; ``position`` s = (cor - contact) . J p (world
-      length); ``omega`` = 1/s the rotation per unit push (CCW positive), ``sense``.
-      Within ``ON_BOUNDARY_REL`` L of the footprint's outline the point is moved onto it.
-    * ``certificate_kind``: "witness" (inside), "dual" (outside, sound), "contact" (r is
-      the contact point: v(c) = 0 cannot follow the pusher), or "none".
-    * ``witness_points`` (k, 2) world, ``witness_weights`` (k,), ``point_mass_at_cor`` P0
-      and ``point_mass_subgradient`` z (world, |z| <= P0): a support with centroid at the
-      CM whose sticking COR is ``cor`` (for non-inside results: the last master's support).
-    * ``contact_force`` F (world, per mu_s times the weight, as
-      :attr:`solver.motion.forward.ForwardResult.contact_force`), ``force_angle`` its angle from n
-      (CCW positive, within +-``friction_angle`` for a witness; NaN when F = 0, which
-      happens only at the CM with all weight there), ``cone_slack`` min(e_+- . F) / |F|.
-    * ``witness_residual``: L1 residual of the equalities plus the cone rows' violation
-      (dimensionless); for "outside" the master's optimum.
-    * Forward re-verification of a witness (:func:`solver.motion.forward.solve_forward`, Newton),
-      None when not done: ``witness_forward_mode`` and ``witness_forward_slip`` (world
-      length along alpha_hat per unit push) of the solve with ``mu_c``;
+    * ``position`` s = (cor - contact) . J p (world length); ``omega`` = 1/s the rotation
+      per unit push (CCW positive), ``sense``; ``mu_c`` and ``friction_angle`` nu;
+    * ``certificate_kind`` may also be "contact" (r is the contact point: v(c) = 0 cannot
+      follow the pusher);
+    * the witness support has its centroid at the CM and ``cor`` as its sticking COR;
+      ``contact_force`` F (world, per mu_s times the weight, as
+      :attr:`solver.motion.forward.ForwardResult.contact_force`), ``force_angle`` its angle
+      from n (CCW positive, within +-``friction_angle`` for a witness; NaN when F = 0, which
+      happens only at the CM with all weight there), ``cone_slack`` min(e_+- . F) / |F|;
+    * ``witness_residual``: L1 residual of the equalities plus the cone rows' violation;
+    * forward re-verification of a witness (:func:`solver.motion.forward.solve_forward`,
+      Newton), None when not done: ``witness_forward_mode`` and ``witness_forward_slip``
+      (world length along alpha_hat per unit push) of the solve with ``mu_c``;
       ``witness_forward_cor_error`` = |COR - cor| / L of the minimum-power *sticking*
-      motion of the witness: from that solve when its mode is "sticking" (``witness_check``
-      "forward"), else from a direct 1-D minimisation of the power over the sticking twists
-      ("power_1d"). The mode differs from "sticking" when a point mass sits at r: the COR
-      is then on a support point, the contact force is a set, and the forward solver tests
-      one element of it (ours is in the cone); its slipping answer then has zero slip (the
-      same motion), is flagged inconsistent, or is a second consistent motion (4.1 does not
-      make the mode unique there). It also happens with F on the cone's edge.
+      motion of the witness: from that solve when its mode is "sticking"
+      (``witness_check`` "forward"), else from a direct 1-D minimisation of the power over
+      the sticking twists ("power_1d"). The mode differs from "sticking" when a point mass
+      sits at r: the COR is then on a support point, the contact force is a set, and the
+      forward solver tests one element of it (ours is in the cone); its slipping answer
+      then has zero slip (the same motion), is flagged inconsistent, or is a second
+      consistent motion (4.1 does not make the mode unique there). It also happens with F
+      on the cone's edge;
     * ``dual``: (y0, y_w (2), y_m, lambda_+, lambda_-) on the world-aligned CM-frame
-      columns G, H of the module docstring (lengths / L); ``dual_lower_bound`` m of
-      phi = y . G - lambda . H over the footprint and point-mass set, ``dual_margin`` =
-      m - y0 > 0 proves ``cor`` outside when ``lower_bound_method`` is
-      "branch_and_bound"; "grid" (``certify=False``) is NOT a certificate.
+      columns G, H of the module docstring (lengths / L); the bound is of
+      phi = y . G - lambda . H.
     """
 
-    status: str
-    cor: np.ndarray
     position: float
     omega: float
     sense: str
     mu_c: float
     friction_angle: float
-    certificate_kind: str
-    witness_points: np.ndarray
-    witness_weights: np.ndarray
-    point_mass_at_cor: float
-    point_mass_subgradient: np.ndarray
     contact_force: np.ndarray
     force_angle: float
     cone_slack: float
-    witness_residual: float
-    witness_forward_cor_error: float | None
     witness_forward_mode: str | None
     witness_forward_slip: float | None
     witness_check: str | None
-    dual: np.ndarray | None
-    dual_lower_bound: float | None
-    dual_margin: float | None
-    lower_bound_method: str | None
-    iterations: int
-    n_columns: int
-    bnb_intervals: int
-    in_footprint: bool
-    length_scale: float
-    message: str
-    solve_time_s: float
-
-    @property
-    def complete(self) -> bool:
-        return self.status != "undecided"
 
 
 # --------------------------------------------------------------------------------------
@@ -276,11 +248,10 @@ def snap_on_line(geo: StickingGeometry, r: np.ndarray) -> tuple[np.ndarray, bool
             if abs(y - r[1]) <= 2.0 * ON_BOUNDARY_REL:
                 return np.array([x, y]), True
         return r / rad, True
+    vertex = outline.snap_to_vertex(r)
+    if vertex is not None:
+        return vertex, True
     v = outline.vertices
-    dv = np.hypot(v[:, 0] - r[0], v[:, 1] - r[1])
-    k = int(np.argmin(dv))
-    if dv[k] <= ON_BOUNDARY_REL:
-        return v[k].copy(), True
     a, b = v, np.roll(v, -1, axis=0)
     ab = b - a
     # crossings of the vertical line x = r[0] with the edges
@@ -394,21 +365,17 @@ def decide_on_line(
     s_loc = float(r[1] - geo.c[1])
     cor_world = outline.to_world(r)
     position = s_loc * ell
-    common = dict(
-        cor=cor_world, position=position, mu_c=geo.mu_c, friction_angle=geo.nu, in_footprint=in_f,
-        length_scale=ell,
-    )
     if s_loc == 0.0:
         return StickingResult(
-            status="outside", omega=math.nan, sense="none", certificate_kind="contact",
-            witness_points=np.zeros((0, 2)), witness_weights=np.zeros(0), point_mass_at_cor=0.0,
-            point_mass_subgradient=np.zeros(2), contact_force=np.zeros(2), force_angle=math.nan,
-            cone_slack=math.nan, witness_residual=math.inf, witness_forward_cor_error=None,
-            witness_forward_mode=None, witness_forward_slip=None, witness_check=None, dual=None,
-            dual_lower_bound=None, dual_margin=None,
-            lower_bound_method=None, iterations=0, n_columns=0, bnb_intervals=0,
+            status="outside", cor=cor_world, certificate_kind="contact", witness_points=np.zeros((0, 2)),
+            witness_weights=np.zeros(0), point_mass_at_cor=0.0, point_mass_subgradient=np.zeros(2),
+            witness_residual=math.inf, witness_forward_cor_error=None, dual=None, dual_lower_bound=None,
+            dual_margin=None, lower_bound_method=None, iterations=0, n_columns=0, bnb_intervals=0,
+            in_footprint=in_f, length_scale=ell,
             message="the contact point: a rotation about it cannot move the contact along the push",
-            solve_time_s=time.perf_counter() - t_start, **common,
+            solve_time_s=time.perf_counter() - t_start, position=position, omega=math.nan, sense="none",
+            mu_c=geo.mu_c, friction_angle=geo.nu, contact_force=np.zeros(2), force_angle=math.nan,
+            cone_slack=math.nan, witness_forward_mode=None, witness_forward_slip=None, witness_check=None,
         )
     rows = StickingRows(geo, r, on_outline, in_f)
     warm_local = None
@@ -426,42 +393,21 @@ def decide_on_line(
     f_norm = float(np.hypot(f_loc[0], f_loc[1]))
     angle = math.atan2(float(f_loc @ geo.t), float(f_loc @ geo.n)) if f_norm > 0.0 else math.nan
     slack = float(np.min(geo.cone @ f_loc)) / f_norm if f_norm > 0.0 else 0.0
-    wit_pts = outline.to_world(wl)
     forward_err = forward_mode = forward_slip = check = None
     if dec.status == "inside" and verify_witness:
-        forward_err, forward_mode, forward_slip, check = _forward_check(scene, geo, wit_pts, ww, p_mass, cor_world, tol)
+        forward_err, forward_mode, forward_slip, check = _forward_check(
+            scene, geo, outline.to_world(wl), ww, p_mass, cor_world, tol)
     dual = None
     if dec.y is not None and dec.lam is not None:
         yo, lo_ = rows.original_dual(dec.y, dec.lam)
         dual = np.concatenate([[yo[0]], outline.vector_to_world(yo[1:3]), [yo[3]], lo_])
     omega = 1.0 / position
     return StickingResult(
-        status=dec.status,
-        omega=omega,
-        sense="ccw" if omega > 0.0 else "cw",
-        certificate_kind=dec.certificate_kind,
-        witness_points=wit_pts,
-        witness_weights=ww,
-        point_mass_at_cor=p_mass,
-        point_mass_subgradient=outline.vector_to_world(z_loc),
-        contact_force=outline.vector_to_world(f_loc),
-        force_angle=angle,
-        cone_slack=slack,
-        witness_residual=dec.residual,
-        witness_forward_cor_error=forward_err,
-        witness_forward_mode=forward_mode,
-        witness_forward_slip=forward_slip,
+        **answer_fields(dec, outline, r, in_f, dual, forward_err, time.perf_counter() - t_start),
+        position=position, omega=omega, sense="ccw" if omega > 0.0 else "cw", mu_c=geo.mu_c,
+        friction_angle=geo.nu, contact_force=outline.vector_to_world(f_loc), force_angle=angle,
+        cone_slack=slack, witness_forward_mode=forward_mode, witness_forward_slip=forward_slip,
         witness_check=check,
-        dual=dual,
-        dual_lower_bound=dec.lower_bound,
-        dual_margin=dec.margin,
-        lower_bound_method=dec.lower_bound_method,
-        iterations=dec.iterations,
-        n_columns=dec.n_columns,
-        bnb_intervals=dec.bnb_intervals,
-        message=dec.message,
-        solve_time_s=time.perf_counter() - t_start,
-        **common,
     )
 
 
