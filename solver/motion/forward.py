@@ -38,7 +38,7 @@ from models.errors import InvalidInput
 from models.mpp import perp
 from models.scene import PushScene
 from models.support import Support
-from solver.core.errors import SolverError
+from solver.core.errors import BackendNotFound, NotConverged
 from solver.core.threads import PerThreadCache, ignore_inaccurate_solution_warning
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.motion import newton as _newton
@@ -84,6 +84,18 @@ class ForwardResult:
     solve_time_s: float
     raw_twist_error: float | None = None
 
+    @property
+    def complete(self) -> bool:
+        """The answer is the optimum (``status`` "optimal"); "not_converged" (the KKT
+        residual missed ``kkt_accept``) and "inconsistent" (no mode's assumptions held)
+        are not."""
+        return self.status == "optimal"
+
+    @property
+    def message(self) -> str:
+        where = "a translation" if self.cor is None else f"COR ({self.cor[0]:.6g}, {self.cor[1]:.6g})"
+        return f"{self.status} {self.mode} motion by {self.method}: {where}, KKT residual {self.kkt_residual:.2g}"
+
 
 @dataclass(frozen=True)
 class BatchResult:
@@ -107,6 +119,23 @@ class BatchResult:
     fallbacks: int = 0
 
     MODES = _MODE_NAMES
+
+    @property
+    def status(self) -> str:
+        """"optimal" when every support converged, else "not_converged"."""
+        return "optimal" if bool(np.all(self.converged)) else "not_converged"
+
+    @property
+    def complete(self) -> bool:
+        return self.status == "optimal"
+
+    @property
+    def message(self) -> str:
+        n = int(self.converged.size)
+        text = f"{int(np.count_nonzero(self.converged))} of {n} supports converged"
+        if self.fallbacks:
+            text += f" ({self.fallbacks} re-solved by the conic solver)"
+        return text
 
 
 # --------------------------------------------------------------------------------------
@@ -239,9 +268,9 @@ class _CvxpyBackend(_Backend):
                     tol_ktratio=1e-12,
                 )
             except cp.error.SolverError as exc:
-                raise SolverError(f"Clarabel failed on the minimum-power problem: {exc}") from exc
+                raise NotConverged(f"Clarabel failed on the minimum-power problem: {exc}") from exc
             if prob.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
-                raise SolverError(f"minimum-power problem ended with status {prob.status}")
+                raise NotConverged(f"minimum-power problem ended with status {prob.status}")
             xs[i] = xv.value
         if not self.polish:
             kkt, mult, vtx = _newton.kkt_residual(w, p, m, q, xs)
@@ -304,10 +333,10 @@ class _CasadiBackend(_Backend):
             try:
                 res = solver(x0=np.zeros(2 * k + rows), p=par, lbg=lbg, ubg=ubg)
             except RuntimeError as exc:
-                raise SolverError(f"IPOPT failed on the dual minimum-power problem: {exc}") from exc
+                raise NotConverged(f"IPOPT failed on the dual minimum-power problem: {exc}") from exc
             stats = solver.stats()
             if not stats.get("success", False):
-                raise SolverError(f"IPOPT ended with {stats.get('return_status')}")
+                raise NotConverged(f"IPOPT ended with {stats.get('return_status')}")
             # Lagrangian f + lam_g . g: the balance multipliers are -x (f = -mu.q).
             xs[i] = np.asarray(res["lam_g"]).reshape(-1)[:3]
             its[i] = int(stats.get("iter_count", 0))
@@ -331,7 +360,7 @@ def _backend(method: str, polish: bool) -> _Backend:
         return _CvxpyBackend(polish=polish)
     if method == "casadi":
         return _CasadiBackend()
-    raise InvalidInput("method", f"must be one of {', '.join(METHODS)}")
+    raise BackendNotFound("method", method, METHODS)
 
 
 # --------------------------------------------------------------------------------------
