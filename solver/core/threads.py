@@ -77,6 +77,8 @@ def ignore_inaccurate_solution_warning() -> None:
             warnings.filterwarnings("ignore", message=INACCURATE_SOLUTION_WARNING, category=UserWarning)
 
 
-def _is_inaccurate_filter(entry: tuple[str, re.Pattern[str] | None, type[Warning], re.Pattern[str] | None, int]) -> bool:
+def _is_inaccurate_filter(
+    entry: tuple[str, re.Pattern[str] | None, type[Warning] | tuple[type[Warning], ...], re.Pattern[str] | None, int],
+) -> bool:
     action, message, category, _, _ = entry
     return action == "ignore" and category is UserWarning and message is not None and message.pattern == INACCURATE_SOLUTION_WARNING
