@@ -98,10 +98,11 @@ class ForwardResult:
 
 
 @dataclass(frozen=True)
-class BatchResult:
+class BatchResult(_newton.BatchConvergence):
     """Arrays over a batch; ``cor`` rows are NaN for translations; ``mode`` holds indices
     into MODES; ``converged`` is True where kkt <= tol.kkt_accept and the mode was
-    consistent. ``slip``, ``gap`` and ``iterations`` as in ForwardResult."""
+    consistent (``status`` "optimal" when it is everywhere). ``slip``, ``gap`` and
+    ``iterations`` as in ForwardResult."""
 
     cor: np.ndarray
     omega: np.ndarray
@@ -121,18 +122,8 @@ class BatchResult:
     MODES = _MODE_NAMES
 
     @property
-    def status(self) -> str:
-        """"optimal" when every support converged, else "not_converged"."""
-        return "optimal" if bool(np.all(self.converged)) else "not_converged"
-
-    @property
-    def complete(self) -> bool:
-        return self.status == "optimal"
-
-    @property
     def message(self) -> str:
-        n = int(self.converged.size)
-        text = f"{int(np.count_nonzero(self.converged))} of {n} supports converged"
+        text = f"{self.converged_count()} supports converged"
         if self.fallbacks:
             text += f" ({self.fallbacks} re-solved by the conic solver)"
         return text

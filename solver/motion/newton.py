@@ -47,8 +47,27 @@ _VERTEX_FIRST_MAX_K = 16
 _NEAREST = 3
 
 
+class BatchConvergence:
+    """The Outcome of a batch result with a boolean array ``converged`` (one entry per
+    problem): "optimal" and complete when every problem converged, else "not_converged"."""
+
+    converged: np.ndarray
+
+    @property
+    def status(self) -> str:
+        return "optimal" if bool(np.all(self.converged)) else "not_converged"
+
+    @property
+    def complete(self) -> bool:
+        return self.status == "optimal"
+
+    def converged_count(self) -> str:
+        """"k of n": how many problems converged."""
+        return f"{int(np.count_nonzero(self.converged))} of {int(self.converged.size)}"
+
+
 @dataclass(frozen=True)
-class BatchSolution:
+class BatchSolution(BatchConvergence):
     """Per-problem results over the batch.
 
     x: (B, 3) optimal twists (normalised units). multipliers: (B, rows): grad f = M^T mult.
@@ -67,17 +86,8 @@ class BatchSolution:
     solve_time_s: float
 
     @property
-    def status(self) -> str:
-        """"optimal" when every problem met the KKT tolerance, else "not_converged"."""
-        return "optimal" if bool(np.all(self.converged)) else "not_converged"
-
-    @property
-    def complete(self) -> bool:
-        return self.status == "optimal"
-
-    @property
     def message(self) -> str:
-        return f"{int(np.count_nonzero(self.converged))} of {int(self.converged.size)} problems met the KKT tolerance"
+        return f"{self.converged_count()} problems met the KKT tolerance"
 
 
 def _unit_or_zero(ux, uy):
