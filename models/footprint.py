@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from models.errors import InvalidInput
 from models.tolerances import DEFAULT, Tolerances
@@ -61,7 +62,7 @@ def _segments_cross(vertices: np.ndarray, rel: float) -> bool:
     span = float(np.max(np.abs(vertices - vertices.mean(axis=0))))
     flat = rel * span * span
 
-    def within(a, b, c):  # c inside the bounding box of segment ab
+    def within(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:  # c inside the bounding box of segment ab
         return np.all((np.minimum(a, b) - rel * span <= c) & (c <= np.maximum(a, b) + rel * span), axis=-1)
 
     # An end point of one edge lying on the other edge: the polygon touches itself.
@@ -76,8 +77,8 @@ def _inside_convex_hull(points: np.ndarray, x: np.ndarray, slack: float) -> bool
     if len(pts) < 3:
         return False
 
-    def half(seq):
-        out: list[tuple[float, float]] = []
+    def half(seq: list[tuple[float, ...]]) -> list[tuple[float, ...]]:
+        out: list[tuple[float, ...]] = []
         for pt in seq:
             while len(out) >= 2 and (out[-1][0] - out[-2][0]) * (pt[1] - out[-2][1]) - (out[-1][1] - out[-2][1]) * (pt[0] - out[-2][0]) <= 0:
                 out.pop()
@@ -103,7 +104,8 @@ class Footprint:
     circumradius: float
 
     @classmethod
-    def create(cls, vertices, center_of_mass=None, tolerances: Tolerances = DEFAULT) -> "Footprint":
+    def create(cls, vertices: ArrayLike, center_of_mass: ArrayLike | None = None,
+               tolerances: Tolerances = DEFAULT) -> "Footprint":
         v = np.asarray(vertices, dtype=float)
         if v.ndim != 2 or v.shape[1] != 2:
             raise InvalidInput("workpiece", "must be a list of [x, y] vertices")
@@ -138,7 +140,7 @@ class Footprint:
         radius = float(np.max(np.linalg.norm(v - cm, axis=1)))
         return cls(vertices=v, center_of_mass=cm, area=area, circumradius=radius)
 
-    def distance_to_outline(self, point) -> float:
+    def distance_to_outline(self, point: ArrayLike) -> float:
         """Distance from ``point`` to the nearest edge of the polygon."""
         p = np.asarray(point, dtype=float)
         a = self.vertices

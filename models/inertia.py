@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from models.errors import InvalidInput
 from models.footprint import Footprint
@@ -32,7 +33,7 @@ from models.scene import PushScene
 from models.tolerances import SUPPORT_DEFAULT
 
 
-def _positive_length(name: str, value) -> float:
+def _positive_length(name: str, value: float) -> float:
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -52,7 +53,7 @@ def ring_radius_of_gyration(radius: float) -> float:
     return _positive_length("disk_radius", radius)
 
 
-def polygon_second_moments(vertices, about) -> tuple[float, float]:
+def polygon_second_moments(vertices: ArrayLike, about: ArrayLike) -> tuple[float, float]:
     """Signed area A and polar second moment J = integral |x - about|^2 dA of a simple
     polygon of uniform density, from its vertices (Green's theorem, the shoelace pattern):
 
@@ -70,7 +71,7 @@ def polygon_second_moments(vertices, about) -> tuple[float, float]:
     return area, polar
 
 
-def polygon_radius_of_gyration(footprint: Footprint, about=None) -> float:
+def polygon_radius_of_gyration(footprint: Footprint, about: ArrayLike | None = None) -> float:
     """Polar radius of gyration of a uniform lamina with the footprint's shape, about
     ``about`` (default: the footprint's centre of mass): rho^2 = J_about / A.
 
@@ -87,7 +88,8 @@ def polygon_radius_of_gyration(footprint: Footprint, about=None) -> float:
     return math.sqrt(polar / area)
 
 
-def support_radius_of_gyration(points, weights, center_of_mass=None, centroid_rel: float = SUPPORT_DEFAULT.centroid_rel) -> float:
+def support_radius_of_gyration(points: ArrayLike, weights: ArrayLike, center_of_mass: ArrayLike | None = None,
+                               centroid_rel: float = SUPPORT_DEFAULT.centroid_rel) -> float:
     """Radius of gyration of point masses: rho^2 = sum_i P_i |w_i - CM|^2, P normalised.
 
     The CM of point masses is their weighted centroid; a given ``center_of_mass`` must be

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
 def perp(v: np.ndarray) -> np.ndarray:
@@ -53,12 +54,12 @@ def power(x: np.ndarray, w: np.ndarray, weights: np.ndarray) -> float:
     return float(np.asarray(weights) @ np.linalg.norm(point_velocities(x, w), axis=1))
 
 
-def lever(contact_rel: np.ndarray, alpha_hat: np.ndarray, r: np.ndarray) -> float:
+def lever(contact_rel: ArrayLike, alpha_hat: ArrayLike, r: ArrayLike) -> float:
     """s = alpha . (c - r), the book's moment arm of (3.3) for a COR ``r``."""
     return float(np.asarray(alpha_hat) @ (np.asarray(contact_rel) - np.asarray(r)))
 
 
-def weighted_distance_direction(r: np.ndarray, w: np.ndarray, weights: np.ndarray):
+def weighted_distance_direction(r: ArrayLike, w: ArrayLike, weights: ArrayLike) -> tuple[float, np.ndarray]:
     """(d_r, v_r) of (3.9)-(3.10) for a support of points ``w`` none of which is ``r``."""
     d = np.asarray(w, dtype=float) - np.asarray(r, dtype=float)
     dist = np.linalg.norm(d, axis=1)
@@ -66,7 +67,8 @@ def weighted_distance_direction(r: np.ndarray, w: np.ndarray, weights: np.ndarra
     return float(p @ dist), (p / dist) @ d
 
 
-def stationarity_residual(r, w, weights, contact_rel, alpha_hat) -> np.ndarray:
+def stationarity_residual(r: ArrayLike, w: ArrayLike, weights: ArrayLike, contact_rel: ArrayLike,
+                          alpha_hat: ArrayLike) -> np.ndarray:
     """d_r alpha - s v_r of (3.8): zero exactly when ``r`` is the COR of the support
     (for a COR on no support point)."""
     d_r, v_r = weighted_distance_direction(r, w, weights)
@@ -74,7 +76,7 @@ def stationarity_residual(r, w, weights, contact_rel, alpha_hat) -> np.ndarray:
     return d_r * np.asarray(alpha_hat, dtype=float) - s * v_r
 
 
-def membership_columns(r, w, contact_rel, alpha_hat, length: float) -> np.ndarray:
+def membership_columns(r: ArrayLike, w: ArrayLike, contact_rel: ArrayLike, alpha_hat: ArrayLike, length: float) -> np.ndarray:
     """Columns G(w) = (1, w/L, g_r(w)/L) of the membership problem for a candidate COR r.
 
     ``r`` is the COR of a support (no mass at r) iff ``sum_i P_i G(w_i) = (1, 0, 0, 0, 0)``
@@ -92,7 +94,7 @@ def membership_columns(r, w, contact_rel, alpha_hat, length: float) -> np.ndarra
     return np.vstack([np.ones(len(w)), w.T / length, g.T / length])
 
 
-def mason_sense(contact_rel, normal, push_hat, mu_c: float) -> str:
+def mason_sense(contact_rel: ArrayLike, normal: ArrayLike, push_hat: ArrayLike, mu_c: float) -> str:
     """Sense of rotation by Mason's rules (1.6.2): 'ccw', 'cw' or 'none' (translation).
 
     The pusher's force lies in the friction cone of half-angle atan(mu_c) about the inward
@@ -110,7 +112,7 @@ def mason_sense(contact_rel, normal, push_hat, mu_c: float) -> str:
     cn = math.hypot(float(c[0]), float(c[1]))
     c_hat = c / cn if cn > 0.0 else c
 
-    def moment(f):
+    def moment(f: np.ndarray) -> float:
         f = f / math.hypot(float(f[0]), float(f[1]))
         return float(c_hat[0] * f[1] - c_hat[1] * f[0])
 

@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from models.arrays import Real
 from models.errors import InvalidInput, ModelError
 from models.tolerances import DEFAULT, Tolerances
 
@@ -103,24 +104,24 @@ class ParticleScene:
         return self.mg / self.eta
 
 
-def balance_function(v_y, v_x: float, n: float):
+def balance_function(v_y: Real, v_x: float, n: float) -> np.ndarray:
     """g_n(v_y) = v_y (v_x^2 + v_y^2)^((n-1)/2): the right-hand side of (2.29) (vectorised)."""
     u = np.asarray(v_y, dtype=float)
     return u * np.power(v_x * v_x + u * u, 0.5 * (n - 1.0))
 
 
-def power(v_y, scene: ParticleScene):
+def power(v_y: Real, scene: ParticleScene) -> np.ndarray:
     """Total power (2.30): -mg v_y + eta (v_x^2 + v_y^2)^((n+1)/2) (vectorised in v_y)."""
     u = np.asarray(v_y, dtype=float)
     return -scene.mg * u + scene.eta * np.power(scene.v_x**2 + u * u, 0.5 * (scene.n + 1.0))
 
 
-def power_derivative(v_y, scene: ParticleScene):
+def power_derivative(v_y: Real, scene: ParticleScene) -> np.ndarray:
     """dP/dv_y of (2.31): -mg + (n + 1) eta v_y (v_x^2 + v_y^2)^((n-1)/2)."""
     return -scene.mg + (scene.n + 1.0) * scene.eta * balance_function(v_y, scene.v_x, scene.n)
 
 
-def force_balance_residual(v_y, scene: ParticleScene):
+def force_balance_residual(v_y: Real, scene: ParticleScene) -> np.ndarray:
     """Newton's y balance (2.27), relative: (eta |v|^n v_y/|v| - mg) / mg. Zero at the
     Newtonian steady state."""
     return (scene.eta * balance_function(v_y, scene.v_x, scene.n) - scene.mg) / scene.mg

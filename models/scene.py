@@ -20,6 +20,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from models.errors import InvalidInput
 from models.tolerances import DEFAULT, Tolerances
@@ -27,7 +28,7 @@ from models.tolerances import DEFAULT, Tolerances
 Sense = str  # "cw" | "ccw" | "none"
 
 
-def _finite_point(name: str, value) -> np.ndarray:
+def _finite_point(name: str, value: ArrayLike) -> np.ndarray:
     arr = np.asarray(value, dtype=float)
     if arr.shape != (2,):
         raise InvalidInput(name, f"must be a point [x, y], got shape {arr.shape}")
@@ -36,7 +37,7 @@ def _finite_point(name: str, value) -> np.ndarray:
     return arr
 
 
-def _finite_scalar(name: str, value) -> float:
+def _finite_scalar(name: str, value: float) -> float:
     x = float(value)
     if not math.isfinite(x):
         raise InvalidInput(name, "must be a finite number")
@@ -67,22 +68,22 @@ class PushScene:
     edge_angle: float
     push_direction: float
     tolerances: Tolerances = DEFAULT
-    # Derived in create():
-    contact_rel: np.ndarray = field(default=None, repr=False)  # c = contact - CM
-    push_hat: np.ndarray = field(default=None, repr=False)  # p
-    normal: np.ndarray = field(default=None, repr=False)  # n, n . p > 0
-    alpha_hat: np.ndarray = field(default=None, repr=False)  # z x n (book's alpha vector)
-    moment_arm: float = field(default=None)  # m = alpha_hat . c, signed
-    book_alpha: float = field(default=None)  # angle from p to alpha_hat, in (0, pi)
+    # Derived in create() (keyword-only, required):
+    contact_rel: np.ndarray = field(kw_only=True, repr=False)  # c = contact - CM
+    push_hat: np.ndarray = field(kw_only=True, repr=False)  # p
+    normal: np.ndarray = field(kw_only=True, repr=False)  # n, n . p > 0
+    alpha_hat: np.ndarray = field(kw_only=True, repr=False)  # z x n (book's alpha vector)
+    moment_arm: float = field(kw_only=True)  # m = alpha_hat . c, signed
+    book_alpha: float = field(kw_only=True)  # angle from p to alpha_hat, in (0, pi)
 
     @classmethod
     def create(
         cls,
         disk_radius: float,
-        contact_point,
+        contact_point: ArrayLike,
         edge_angle: float,
         push_direction: float = 0.0,
-        center_of_mass=(0.0, 0.0),
+        center_of_mass: ArrayLike = (0.0, 0.0),
         tolerances: Tolerances = DEFAULT,
     ) -> "PushScene":
         a = _finite_scalar("disk_radius", disk_radius)
@@ -167,7 +168,7 @@ class PushScene:
         local = np.asarray(local, dtype=float)
         return self.center_of_mass + local[..., :1] * e1 + local[..., 1:2] * e2
 
-    def rotation_per_push(self, cor_world) -> float:
+    def rotation_per_push(self, cor_world: ArrayLike) -> float:
         """Rotation of the workpiece per unit advance of the pusher, rad per unit length,
         CCW positive, for a COR given in the world frame (equation 3.3).
 
@@ -182,7 +183,7 @@ class PushScene:
             raise InvalidInput("cor", "lies on the line of force: no rotation about it can advance the contact")
         return -self.sin_alpha / s
 
-    def slip_per_push(self, cor_world) -> float:
+    def slip_per_push(self, cor_world: ArrayLike) -> float:
         """Slip of the pusher along the edge per unit advance, positive along alpha_hat:
         the book's dx2 term of (3.2)."""
         r = _finite_point("cor", cor_world) - self.center_of_mass

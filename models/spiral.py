@@ -85,7 +85,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from models.arrays import Real
 from models.errors import InvalidInput
 from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 
@@ -95,21 +97,21 @@ from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 # Checks
 
 
-def _radius(a) -> float:
+def _radius(a: float) -> float:
     a = float(a)
     if not (math.isfinite(a) and a > 0.0):
         raise InvalidInput("a", "the disk radius must be a positive finite number")
     return a
 
 
-def _mu(mu_c) -> float:
+def _mu(mu_c: float) -> float:
     mu = float(mu_c)
     if not (math.isfinite(mu) and mu >= 0.0):
         raise InvalidInput("mu_c", "must be a finite number >= 0")
     return mu
 
 
-def _as_out(x: np.ndarray, scalar: bool):
+def _as_out(x: np.ndarray, scalar: bool) -> Real:
     return float(x) if scalar else x
 
 
@@ -117,7 +119,7 @@ def _as_out(x: np.ndarray, scalar: bool):
 # (4.24), (4.25) and the tip line
 
 
-def distance_from_grazing(a: float, beta):
+def distance_from_grazing(a: float, beta: ArrayLike) -> Real:
     """(4.24): the pusher's distance from grazing d = a (1 - sin beta) at collision
     parameter beta (4.5.1, figure 4-16), for beta in [-pi/2, pi/2]. Computed as
     2 a sin^2((pi/2 - beta)/2), which keeps full relative accuracy as beta -> pi/2."""
@@ -130,7 +132,7 @@ def distance_from_grazing(a: float, beta):
     return _as_out(d, scalar)
 
 
-def collision_parameter(a: float, d):
+def collision_parameter(a: float, d: ArrayLike) -> Real:
     """The inverse of (4.24): beta = pi/2 - 2 asin(sqrt(d / 2a)) for d in [0, 2a] (accurate
     for small d, where asin(1 - d/a) would lose the digits of d)."""
     a = _radius(a)
@@ -150,7 +152,7 @@ def limiting_radius(a: float, mu_c: float) -> float:
     return a * (1.0 + min(mu, 1.0))
 
 
-def tip_line_critical_radius(a: float, beta):
+def tip_line_critical_radius(a: float, beta: ArrayLike) -> Real:
     """The book's tip-line approximation of r*(beta) (4.1.4, 4.4.1.1): the sticking
     line meets the tip line at y_COR = a (sin^2 beta - 2) / sin beta ((4.13), figure 4-13),
     so its distance from the pusher line y = a sin beta is 2a / sin beta, independent of
@@ -163,7 +165,7 @@ def tip_line_critical_radius(a: float, beta):
     return _as_out(2.0 * a / np.sin(b), scalar)
 
 
-def tip_line_critical_distance(a: float, r):
+def tip_line_critical_distance(a: float, r: ArrayLike) -> Real:
     """d*(r) of the tip-line approximation: beta*(r) = asin(2a/r) for r >= 2a, so
     d*(r) = a (1 - 2a/r) by (4.24); 0 below 2a."""
     a = _radius(a)
@@ -206,11 +208,11 @@ class CriticalEnvelope:
     n_violations: int
     b_floor: float = field(default=0.0)
 
-    def index(self, r):
+    def index(self, r: ArrayLike) -> np.ndarray:
         """Index k* of beta*(r) (the smallest k with R_k <= r); len(betas) when none."""
         return np.searchsorted(-self.envelope, -np.asarray(r, dtype=float), side="left")
 
-    def beta_star(self, r):
+    def beta_star(self, r: ArrayLike) -> Real:
         """beta*(r) (4.5.3): the smallest tabulated collision parameter whose whole tail
         beta' >= beta_k has r*(beta') <= r; nan below ``b_floor`` (no guarantee)."""
         scalar = np.ndim(r) == 0
@@ -218,7 +220,7 @@ class CriticalEnvelope:
         ext = np.append(self.betas, np.nan)
         return _as_out(ext[k], scalar)
 
-    def d_star(self, r, max_step: float | None = None):
+    def d_star(self, r: ArrayLike, max_step: float | None = None) -> Real:
         """d*(r) (4.5.3, via 4.24): the largest distance from grazing with a guarantee at
         pusher radius r; 0 below ``b_floor``. With ``max_step`` the robot's cap min(d*, M)."""
         scalar = np.ndim(r) == 0
@@ -240,7 +242,7 @@ class CriticalEnvelope:
         return min(y, best)
 
 
-def critical_envelope(betas, radii, a: float, tol: SpiralTolerances = SPIRAL_DEFAULT) -> CriticalEnvelope:
+def critical_envelope(betas: ArrayLike, radii: ArrayLike, a: float, tol: SpiralTolerances = SPIRAL_DEFAULT) -> CriticalEnvelope:
     """The safe envelope of a critical-radius table (module docstring): sorts by beta,
     checks 0 < beta < pi/2 and positive finite radii, and takes the suffix maximum."""
     a = _radius(a)
@@ -265,7 +267,7 @@ def critical_envelope(betas, radii, a: float, tol: SpiralTolerances = SPIRAL_DEF
                             max_increase=max_inc, n_violations=n_viol, b_floor=float(env[-1]))
 
 
-def tip_line_envelope(a: float, betas) -> CriticalEnvelope:
+def tip_line_envelope(a: float, betas: ArrayLike) -> CriticalEnvelope:
     """The envelope of the tip-line approximation 2a / sin beta on a beta grid."""
     b = np.asarray(betas, dtype=float)
     return critical_envelope(b, tip_line_critical_radius(a, b), a)
@@ -275,7 +277,8 @@ def tip_line_envelope(a: float, betas) -> CriticalEnvelope:
 # Arc length of a revolution, path length, polyline
 
 
-def revolution_length(b_start, b_end, nodes: int = SPIRAL_DEFAULT.arc_nodes):
+def revolution_length(b_start: ArrayLike, b_end: ArrayLike,
+                      nodes: int = SPIRAL_DEFAULT.arc_nodes) -> tuple[Real, Real]:
     """Length of one revolution whose radius runs linearly in the angle from ``b_start`` to
     ``b_end`` (an Archimedean piece rho(theta) = b_start + k theta, k = (b_end -
     b_start) / 2 pi): L = int_0^2pi sqrt(rho^2 + k^2) dtheta
@@ -294,7 +297,7 @@ def revolution_length(b_start, b_end, nodes: int = SPIRAL_DEFAULT.arc_nodes):
     if np.any(r0 <= 0.0) or np.any(r1 <= 0.0):
         raise InvalidInput("radii", "revolution radii must be positive")
 
-    def rule(n):
+    def rule(n: int) -> np.ndarray:
         x, w = np.polynomial.legendre.leggauss(n)
         t = 0.5 * (x + 1.0)  # theta / 2 pi in (0, 1)
         rho = r0[..., None] + (r1 - r0)[..., None] * t
@@ -318,13 +321,13 @@ def revolution_length_closed_form(b_start: float, b_end: float) -> float:
     if k == 0.0:
         return 2.0 * math.pi * float(b_start)
 
-    def anti(rho):
+    def anti(rho: float) -> float:
         return rho * math.sqrt(rho * rho + k * k) + k * k * math.asinh(rho / abs(k))
 
     return (anti(float(b_end)) - anti(float(b_start))) / (2.0 * k)
 
 
-def spiral_path_length(radii, final_circle: bool = True, nodes: int = SPIRAL_DEFAULT.arc_nodes) -> tuple[float, float]:
+def spiral_path_length(radii: ArrayLike, final_circle: bool = True, nodes: int = SPIRAL_DEFAULT.arc_nodes) -> tuple[float, float]:
     """Length of the pusher path (module docstring): revolutions b_n -> b_{n+1} for n < N
     plus, with ``final_circle``, the circle of radius b_N. Returns (length, error bound =
     sum of the per-revolution error estimates)."""
@@ -357,7 +360,7 @@ class SpiralPolyline:
     clockwise: bool
 
 
-def spiral_polyline(radii, points_per_revolution: int = 64, center=(0.0, 0.0), phase: float = 0.5 * math.pi,
+def spiral_polyline(radii: ArrayLike, points_per_revolution: int = 64, center: ArrayLike = (0.0, 0.0), phase: float = 0.5 * math.pi,
                     clockwise: bool = True, final_circle: bool = True) -> SpiralPolyline:
     """The path of :func:`spiral_path_length` sampled at ``points_per_revolution`` equal
     angles per revolution (plus the closing point). The default starts at the top
@@ -486,7 +489,7 @@ def tip_line_spiral(a: float, b_1: float, target: float | None = None, max_revol
     return np.asarray(out)
 
 
-def unsafe_revolutions(radii, betas, r_star, a: float) -> np.ndarray:
+def unsafe_revolutions(radii: ArrayLike, betas: ArrayLike, r_star: ArrayLike, a: float) -> np.ndarray:
     """Which steps of a schedule are provably unsafe against a table of critical radii
     (4.5.1, 4.5.3): revolution n (radius b_n after a step Delta b = b_{n-1} - b_n) can meet
     the disk at any beta' >= beta_Delta (4.24, d = Delta b), and it is unsafe when some
@@ -533,7 +536,7 @@ class PowerLawFit:
     local_exponent_range: tuple[float, float]
 
 
-def power_law_fit(radii, b_inf: float, n_min: int = 1, n_max: int | None = None) -> PowerLawFit:
+def power_law_fit(radii: ArrayLike, b_inf: float, n_min: int = 1, n_max: int | None = None) -> PowerLawFit:
     """Fit (b_n - b_inf) ~ C n^-k (figure 4-21) with n counted from 1 at b_1; points with
     b_n <= b_inf are left out."""
     b = np.asarray(radii, dtype=float).ravel()
@@ -599,9 +602,9 @@ def schedule_grid(envelope: CriticalEnvelope, b_1: float, target: float, spacing
         n = int(math.ceil((b_1 - target) / h))
         if n + 1 > max_nodes:
             raise InvalidInput("spacing", f"gives {n + 1} grid radii, more than max_nodes = {max_nodes}")
-        x = target + h * np.arange(n + 1)
-        x[-1] = b_1
-        return x
+        grid = target + h * np.arange(n + 1)
+        grid[-1] = b_1
+        return grid
     if resolution < 1:
         raise InvalidInput("resolution", "must be at least 1")
     out = [target]
@@ -624,7 +627,7 @@ def schedule_grid(envelope: CriticalEnvelope, b_1: float, target: float, spacing
     return np.asarray(out)
 
 
-def schedule_graph(envelope: CriticalEnvelope, x, min_step: float | None = None,
+def schedule_graph(envelope: CriticalEnvelope, x: ArrayLike, min_step: float | None = None,
                    max_step: float | None = None) -> ScheduleGraph:
     """The safe-revolution DAG on the radii ``x`` (see :class:`ScheduleGraph`)."""
     x = np.asarray(x, dtype=float)

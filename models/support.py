@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from models.errors import InvalidInput
 from models.footprint import Footprint
@@ -28,7 +29,8 @@ class Support:
     center_of_mass: np.ndarray
 
     @classmethod
-    def create(cls, points, weights, center_of_mass, tol: CentroidTolerance = SUPPORT_DEFAULT) -> "Support":
+    def create(cls, points: ArrayLike, weights: ArrayLike, center_of_mass: ArrayLike,
+               tol: CentroidTolerance = SUPPORT_DEFAULT) -> "Support":
         w = np.asarray(points, dtype=float)
         if w.ndim != 2 or w.shape[1] != 2 or w.shape[0] == 0:
             raise InvalidInput("points", "need a list of [x, y] support points")
@@ -62,7 +64,7 @@ class Support:
         return cls(points=w, weights=p, center_of_mass=cm)
 
     @classmethod
-    def balanced(cls, points, center_of_mass, tol: CentroidTolerance = SUPPORT_DEFAULT) -> "Support":
+    def balanced(cls, points: ArrayLike, center_of_mass: ArrayLike, tol: CentroidTolerance = SUPPORT_DEFAULT) -> "Support":
         """The weights of 3 points that put their centroid at the CM (book 3.3.3), if they
         are all non-negative; raises InvalidInput otherwise (the book discards such tripods)."""
         w = np.asarray(points, dtype=float).reshape(-1, 2)
@@ -79,7 +81,7 @@ class Support:
         return cls.create(w, p, cm, tol)
 
 
-def uniform_disk_support(radius: float, center_of_mass=(0.0, 0.0), rings: int = 32) -> Support:
+def uniform_disk_support(radius: float, center_of_mass: ArrayLike = (0.0, 0.0), rings: int = 32) -> Support:
     """Uniform pressure on a disk (figure 7-1), as annular-sector cells.
 
     Ring i spans radii [a i/n, a (i+1)/n] and is cut into 6(2i+1) equal sectors, so cells
@@ -110,7 +112,7 @@ def _ear_clip(v: np.ndarray) -> list[tuple[int, int, int]]:
     idx = list(range(len(v)))
     tris: list[tuple[int, int, int]] = []
 
-    def cross(o, a, b):
+    def cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
         return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 
     guard = 0
@@ -136,7 +138,8 @@ def _ear_clip(v: np.ndarray) -> list[tuple[int, int, int]]:
                 break
         else:  # pragma: no cover - a simple polygon always has an ear
             raise InvalidInput("vertices", "could not be triangulated (is the polygon simple?)")
-    tris.append(tuple(idx))
+    i0, i1, i2 = idx
+    tris.append((i0, i1, i2))
     return tris
 
 
@@ -185,10 +188,10 @@ def random_balanced_tripods(
     rng: np.random.Generator,
     n: int,
     radius: float,
-    center_of_mass=(0.0, 0.0),
+    center_of_mass: ArrayLike = (0.0, 0.0),
     footprint: Footprint | None = None,
     max_draws: int = 200,
-):
+) -> tuple[np.ndarray, np.ndarray]:
     """``n`` random tripods as in the book's figure 3-5 (3.3.3): three points uniform in the
     disk of ``radius`` about the CM (or in ``footprint``), weighted so that their centroid
     is the CM; draws needing a negative weight are discarded, as the book does.

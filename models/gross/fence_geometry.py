@@ -77,6 +77,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from models.gross import gross_motion as gm
 from models.errors import InvalidInput, ModelError
@@ -91,13 +92,13 @@ def _rotation(angle: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
-def _cross(u, v) -> np.ndarray:
+def _cross(u: ArrayLike, v: ArrayLike) -> np.ndarray:
     u = np.asarray(u, dtype=float)
     v = np.asarray(v, dtype=float)
     return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
-def _finite(name: str, value) -> float:
+def _finite(name: str, value: float) -> float:
     x = float(value)
     if not math.isfinite(x):
         raise InvalidInput(name, "must be a finite number")
@@ -114,7 +115,7 @@ def convex_hull_indices(points: np.ndarray, collinear_rel: float = 1e-12) -> lis
     slack = collinear_rel * span * span
     order = sorted(range(len(pts)), key=lambda i: (pts[i, 0], pts[i, 1]))
 
-    def chain(seq):
+    def chain(seq: list[int]) -> list[int]:
         out: list[int] = []
         for i in seq:
             while len(out) >= 2 and _cross(pts[out[-1]] - pts[out[-2]], pts[i] - pts[out[-2]]) <= slack:
@@ -127,7 +128,7 @@ def convex_hull_indices(points: np.ndarray, collinear_rel: float = 1e-12) -> lis
     return lower[:-1] + upper[:-1]
 
 
-def fence_frame_alpha(fence_angle: float, push_direction: float, tolerances: Tolerances = DEFAULT):
+def fence_frame_alpha(fence_angle: float, push_direction: float, tolerances: Tolerances = DEFAULT) -> tuple[float, np.ndarray]:
     """The book's alpha of a fence with direction ``fence_angle`` pushed along
     ``push_direction`` (both world, radians), and the fence's inward normal n (world):
     n is normal to the fence with n . p > 0, alpha_hat = z x n, alpha = the angle from p to
@@ -265,7 +266,7 @@ def fence_alignment(
     grazing = tolerances.grazing_sin
     arm_tol = tolerances.translation_rel * a
 
-    def frame_normals(al):
+    def frame_normals(al: float) -> tuple[np.ndarray, np.ndarray]:
         return np.array([math.sin(al), -math.cos(al)]), np.array([math.cos(al), math.sin(al)])
 
     hull = convex_hull_indices(q / a)
@@ -275,7 +276,7 @@ def fence_alignment(
     k = hull[pos]
     nxt, prv = hull[(pos + 1) % len(hull)], hull[pos - 1]
 
-    def unit(v):
+    def unit(v: np.ndarray) -> np.ndarray:
         return v / float(np.hypot(*v))
 
     flush_edge = None
@@ -359,7 +360,7 @@ def fence_alignment(
     )
 
 
-def frictionless_push_bounds(a: float, c: float, alpha: float, beta_initial: float, beta_final: float):
+def frictionless_push_bounds(a: float, c: float, alpha: float, beta_initial: float, beta_final: float) -> tuple[float, float]:
     """Longest and shortest push of a frictionless fence over one stage: (3.41) (every COR
     at the tip of {COR}_alpha, the slowest) and the r_min push (every COR at r_min (3.31),
     the fastest), both exact for mu_c = 0 (models.gross.gross_motion). The same differences of

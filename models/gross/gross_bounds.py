@@ -24,16 +24,19 @@ from __future__ import annotations
 
 import math
 import time
+from functools import partial
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from models.gross import gross_motion as gm
 from models.locus.cor_disk import disk_cor_locus
 from models.locus.cor_sketch import CorSketch, cor_sketch
 from models.errors import InvalidInput
 from models.scene import PushScene
+from models.arrays import Real
 
 
 @dataclass(frozen=True)
@@ -69,14 +72,24 @@ def sketch_candidates(sketch: CorSketch) -> tuple[np.ndarray, list[str]]:
     return np.asarray(pts, dtype=float), src
 
 
-def extreme_over_sketch(sketch: CorSketch, rate: Callable, largest: bool):
+Extreme = tuple[float, np.ndarray, str]
+"""(the extreme rate, the COR attaining it (2,), its source in the sketch)."""
+
+RateOfCors = Callable[[np.ndarray], Real]
+"""A rate at CORs r (k, 2) of one sketch."""
+
+RateAtBeta = Callable[[float, np.ndarray], Real]
+"""A rate at collision parameter beta and CORs r (k, 2)."""
+
+
+def extreme_over_sketch(sketch: CorSketch, rate: RateOfCors, largest: bool) -> Extreme:
     """(value, COR, source) of the largest (or smallest) ``rate`` over the sketch: a rate
     linear or linear-fractional in the COR is extreme at a vertex of the slipping polygons
     or an end of the sticking segment (4.2)."""
     return _extreme_of(sketch_candidates(sketch), rate, largest)
 
 
-def _extreme_of(candidates: tuple[np.ndarray, list[str]], rate: Callable, largest: bool):
+def _extreme_of(candidates: tuple[np.ndarray, list[str]], rate: RateOfCors, largest: bool) -> Extreme:
     pts, src = candidates
     if len(pts) == 0:
         raise InvalidInput("mu_c", "the COR sketch is empty here: no consistent motion")
@@ -85,11 +98,12 @@ def _extreme_of(candidates: tuple[np.ndarray, list[str]], rate: Callable, larges
     return float(vals[k]), pts[k], src[k]
 
 
-def _integrate(f_node: Callable, lo: float, hi: float, n_nodes: int):
+def _integrate(f_node: Callable[[float], Extreme], lo: float, hi: float,
+               n_nodes: int) -> tuple[tuple[float, np.ndarray, np.ndarray, np.ndarray, tuple[str, ...]], float]:
     """Gauss-Legendre with n and n/2 nodes on [lo, hi]; f_node(beta) -> (rate, cor, src)."""
     if n_nodes < 4:
         raise InvalidInput("n_nodes", "must be at least 4")
-    results = {}
+    results: dict[int, tuple[float, np.ndarray, np.ndarray, np.ndarray, tuple[str, ...]]] = {}
     for n in (n_nodes, max(2, n_nodes // 2)):
         x, w = np.polynomial.legendre.leggauss(n)
         betas = 0.5 * (hi - lo) * x + 0.5 * (hi + lo)
@@ -157,7 +171,7 @@ def fence_bounds_exact(
     t0 = time.perf_counter()
     cache: dict[float, tuple[np.ndarray, list[str]]] = {}
 
-    def candidates(beta: float):
+    def candidates(beta: float) -> tuple[np.ndarray, list[str]]:
         if beta not in cache:
             checkpoint(f"the sketch at beta = {beta:.6g} ({len(cache)} of {n_nodes + max(2, n_nodes // 2)} done)")
             scene = fence_scene(a, c, alpha, beta)
@@ -177,7 +191,7 @@ def fence_bounds_exact(
     for key in which:
         rate, largest = rates[key]
 
-        def node(beta, rate=rate, largest=largest):
+        def node(beta: float, rate: RateAtBeta = rate, largest: bool = largest) -> Extreme:
             return _extreme_of(candidates(beta), lambda r: rate(beta, r), largest)
 
         (value, betas, vals, cors, srcs), err = _integrate(node, beta_initial, beta_final, n_nodes)
@@ -201,7 +215,7 @@ def fence_push_bound_exact(
     return fence_bounds_exact(a, c, alpha, beta_initial, beta_final, mu_c, n_nodes, n_points, (key,))[key]
 
 
-def fence_slip_rate(beta, c: float, alpha: float, cor) -> np.ndarray:
+def fence_slip_rate(beta: float, c: float, alpha: float, cor: ArrayLike) -> np.ndarray:
     """Slip of the pusher along the fence face, relative to the part, per radian of turn:
     dslip/dbeta for CORs r (k, 2) in the fence frame, positive along alpha_hat (the sign of
     models.scene.PushScene.slip_per_push). With omega = -sin(alpha)/(alpha . (c - r)) (3.3)
@@ -274,7 +288,7 @@ def encounter_bounds_exact(
         us = 0.5 * (u1 - u0) * x + 0.5 * (u1 + u0)
         betas = 2.0 * np.arctan(np.exp(us))
         w = w * np.sin(betas)  # dbeta = sin(beta) du
-        per_key = {k: [] for k in rates}
+        per_key: dict[str, list[Extreme]] = {key: [] for key in rates}
         for k, beta in enumerate(betas):
             checkpoint(f"the sketch at beta = {float(beta):.6g} (rule with {n} nodes, node {k + 1})")
             sk = cor_sketch(encounter_scene(a, float(beta)), mu_c, n_points=n_points, sweep_points=n_points)
@@ -286,29 +300,29 @@ def encounter_bounds_exact(
                     f"is too close to a head-on push: at beta = {float(beta):.3g} the disk only translates "
                     "and the encounter length is unbounded",
                 )
-            for k, (rate, largest) in rates.items():
-                per_key[k].append(extreme_over_sketch(sk, lambda r, rate=rate, beta=beta: rate(beta, r), largest))
+            for key, (rate, largest) in rates.items():
+                per_key[key].append(extreme_over_sketch(sk, partial(rate, float(beta)), largest))
         rules[n] = (betas, w, per_key)
     elapsed = time.perf_counter() - t0
     out = {}
     half = 0.5 * (u1 - u0)
-    for k in rates:
+    for key in rates:
         # Rotation rates are bounded and equal 1 on the sticking line (rolling without
         # slip): integrate their deviation from 1 and add beta_final - beta_initial exactly.
-        base = 1.0 if k.startswith("rotation") else 0.0
+        base = 1.0 if key.startswith("rotation") else 0.0
         vals = {}
         for n, (betas, w, per_key) in rules.items():
-            dev = np.array([v[0] for v in per_key[k]]) - base
+            dev = np.array([v[0] for v in per_key[key]]) - base
             vals[n] = half * float(w @ dev) + base * (beta_final - beta_initial)
         betas, _, per_key = rules[n_nodes]
         book = None
-        if k == "length_max":
+        if key == "length_max":
             book = gm.encounter_length_max(beta_initial, a, beta_final)
-        elif k == "rotation_max":
+        elif key == "rotation_max":
             book = gm.rotation_max(beta_initial, beta_final)
-        out[k] = SketchBound(
+        out[key] = SketchBound(
             vals[n_nodes], abs(vals[n_nodes] - vals[max(2, n_nodes // 2)]), betas,
-            np.array([v[0] for v in per_key[k]]), np.array([v[1] for v in per_key[k]]),
-            tuple(v[2] for v in per_key[k]), book, elapsed,
+            np.array([v[0] for v in per_key[key]]), np.array([v[1] for v in per_key[key]]),
+            tuple(v[2] for v in per_key[key]), book, elapsed,
         )
     return out

@@ -51,11 +51,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from models.errors import InvalidInput
+from models.arrays import Real
 
 HALF_PI = 0.5 * math.pi
 
@@ -101,7 +103,15 @@ class QuadResult:
     converged: bool
 
 
-def _kronrod(f, lo: np.ndarray, hi: np.ndarray):
+CorOfBeta = Callable[[Any], ArrayLike]
+"""A COR callback r(beta) = (x, y): of one float, or (vectorised) of an array of betas
+giving (n, 2)."""
+
+RateOfCor = Callable[[np.ndarray, np.ndarray, np.ndarray, float], Real]
+"""rate(beta, x_COR, y_COR, a) over arrays."""
+
+
+def _kronrod(f: Callable[[np.ndarray], ArrayLike], lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """K15 and G7 on many intervals at once; ``f`` takes an array of points."""
     mid = 0.5 * (lo + hi)
     half = 0.5 * (hi - lo)
@@ -115,7 +125,7 @@ def _kronrod(f, lo: np.ndarray, hi: np.ndarray):
 
 
 def adaptive_quadrature(
-    f: Callable,
+    f: Callable[..., Real],
     lo: float,
     hi: float,
     rtol: float = 1e-10,
@@ -206,7 +216,7 @@ def _mu(mu_c: float) -> float:
     return v
 
 
-def _fence_inputs(a, c, alpha):
+def _fence_inputs(a: float, c: float, alpha: float) -> tuple[float, float, float]:
     a = _positive("disk_radius", a)
     c = _positive("contact_distance", c)
     if c > a * (1.0 + 1e-12):
@@ -219,13 +229,13 @@ def _fence_inputs(a, c, alpha):
     return a, c, alpha
 
 
-def _log_tan_quarter(u):
+def _log_tan_quarter(u: Real) -> Real:
     """ln|tan(u/2 + pi/4)| = ln|sec u + tan u| = (1/2) ln|(1 + sin u)/(1 - sin u)|, an
     antiderivative of sec u, without the cancellation of 1 - sin u near u = pi/2."""
     return np.log(np.abs(np.tan(0.5 * np.asarray(u, dtype=float) + 0.25 * math.pi)))
 
 
-def _log_tan_half(beta):
+def _log_tan_half(beta: Real) -> Real:
     """ln|tan(beta/2)| = (1/2) ln|(1 - cos beta)/(1 + cos beta)|, an antiderivative of
     1/sin beta."""
     return np.log(np.abs(np.tan(0.5 * np.asarray(beta, dtype=float))))
@@ -236,13 +246,13 @@ def _log_tan_half(beta):
 # ---------------------------------------------------------------------------------------
 
 
-def fence_contact(beta, c):
+def fence_contact(beta: Real, c: Real) -> np.ndarray:
     """Contact vertex relative to the CM in the fence frame: c (-cos beta, sin beta)."""
     beta = np.asarray(beta, dtype=float)
     return np.stack([-c * np.cos(beta), c * np.sin(beta)], axis=-1)
 
 
-def fence_moment_arm(beta, c, alpha):
+def fence_moment_arm(beta: Real, c: Real, alpha: Real) -> Real:
     """alpha_hat . c = -c cos(alpha + beta): the signed distance from the CM to the line of
     force of a frictionless fence (3.3); > 0 turns the part clockwise."""
     return -c * np.cos(alpha + np.asarray(beta, dtype=float))
@@ -259,7 +269,7 @@ def fence_final_beta(alpha: float, vertex_edge_angle: float) -> float:
     return math.pi - float(alpha) - float(vertex_edge_angle)
 
 
-def fence_rate_frictionless(beta, a, c, alpha):
+def fence_rate_frictionless(beta: Real, a: Real, c: Real, alpha: Real) -> Real:
     """dx/dbeta with the COR at the tip of {COR}_alpha, equation (3.40):
     alpha_hat . (c - r_tip) / sin alpha = (m + a^2/m) / sin alpha, m = -c cos(alpha+beta),
     r_tip = a^2/m along -alpha_hat (3.37). The tip is the farthest point of the locus along
@@ -269,7 +279,7 @@ def fence_rate_frictionless(beta, a, c, alpha):
     return (m + a * a / m) / math.sin(alpha)
 
 
-def fence_push_frictionless_indefinite(beta, a, c, alpha):
+def fence_push_frictionless_indefinite(beta: Real, a: Real, c: Real, alpha: Real) -> Real:
     """Equation (3.41): x(beta) = [-c sin(alpha+beta)
     - (a^2/2c) log|(1 + sin(alpha+beta))/(1 - sin(alpha+beta))|] / sin alpha,
     the antiderivative of (3.40) (confirmed; the log is evaluated as
@@ -278,7 +288,8 @@ def fence_push_frictionless_indefinite(beta, a, c, alpha):
     return (-c * np.sin(u) - (a * a / c) * _log_tan_quarter(u)) / math.sin(alpha)
 
 
-def _check_fence_range(beta_initial, beta_final, alpha, margin_angle: float = 0.0):
+def _check_fence_range(beta_initial: float, beta_final: float, alpha: float,
+                       margin_angle: float = 0.0) -> tuple[float, float]:
     bi = _angle("beta_initial", beta_initial, 0.0, math.pi)
     bf = _angle("beta_final", beta_final, 0.0, math.pi)
     if bf < bi:
@@ -297,7 +308,7 @@ def _check_fence_range(beta_initial, beta_final, alpha, margin_angle: float = 0.
     return bi, bf
 
 
-def fence_push_frictionless(a, c, alpha, beta_initial, beta_final) -> float:
+def fence_push_frictionless(a: float, c: float, alpha: float, beta_initial: float, beta_final: float) -> float:
     """Longest push of a frictionless fence that turns the part from beta_initial to
     beta_final: (3.41) at beta_final minus (3.41) at beta_initial (3.4)."""
     a, c, alpha = _fence_inputs(a, c, alpha)
@@ -306,7 +317,7 @@ def fence_push_frictionless(a, c, alpha, beta_initial, beta_final) -> float:
     return float(f(bf, a, c, alpha) - f(bi, a, c, alpha))
 
 
-def fence_rate_least_frictionless(beta, a, c, alpha):
+def fence_rate_least_frictionless(beta: Real, a: Real, c: Real, alpha: Real) -> Real:
     """Not in the book: dx/dbeta with the COR at r_min (3.31), the locus point farthest
     along +alpha_hat (checked against the boundary in the tests), i.e. the fastest
     rotation: (m - a m/(2a + m)) / sin alpha = m (a + m) / ((2a + m) sin alpha)."""
@@ -314,7 +325,7 @@ def fence_rate_least_frictionless(beta, a, c, alpha):
     return m * (a + m) / ((2.0 * a + m) * math.sin(alpha))
 
 
-def fence_push_least_frictionless_indefinite(beta, a, c, alpha):
+def fence_push_least_frictionless_indefinite(beta: Real, a: Real, c: Real, alpha: Real) -> Real:
     """Antiderivative of :func:`fence_rate_least_frictionless` (not in the book).
 
     m (a + m)/(2a + m) = m - a + 2a^2/(2a + m) with m = -c cos u, u = alpha + beta, and
@@ -328,7 +339,7 @@ def fence_push_least_frictionless_indefinite(beta, a, c, alpha):
     return (-c * np.sin(u) - a * beta + (4.0 * a * a / root) * at) / math.sin(alpha)
 
 
-def fence_push_least_frictionless(a, c, alpha, beta_initial, beta_final) -> float:
+def fence_push_least_frictionless(a: float, c: float, alpha: float, beta_initial: float, beta_final: float) -> float:
     """Not in the book: the shortest push that can turn the part from beta_initial to
     beta_final with a frictionless fence (every COR at r_min, (3.31)); a lower bound
     that any support must respect."""
@@ -343,7 +354,7 @@ def fence_push_least_frictionless(a, c, alpha, beta_initial, beta_final) -> floa
 # ---------------------------------------------------------------------------------------
 
 
-def fence_rate(beta, c, alpha, cor):
+def fence_rate(beta: Real, c: Real, alpha: Real, cor: Real) -> Real:
     """Equation (4.2) = (3.39): dx/dbeta = alpha_hat . (c - r) / sin alpha for a COR r
     (fence frame, relative to the CM). It is the contact condition n . v(c) = n . p with
     the part turning clockwise by dbeta; it holds for every mode (the pusher's normal
@@ -355,7 +366,7 @@ def fence_rate(beta, c, alpha, cor):
     return (math.cos(alpha) * d[..., 0] + math.sin(alpha) * d[..., 1]) / math.sin(alpha)
 
 
-def fence_tip(beta, a, c, phi):
+def fence_tip(beta: Real, a: Real, c: Real, phi: Real) -> Real:
     """Tip of {COR}_phi, the frictionless locus for force angle phi - pi/2 (3.37):
     -(a^2/k) (cos phi, sin phi) with k = phi_hat . c = -c cos(phi + beta). NaN where
     k <= 0 (the locus is "wrapped", 4.1.5: the line of force passes through or on the
@@ -367,7 +378,7 @@ def fence_tip(beta, a, c, phi):
     return np.stack([-rt * math.cos(phi), -rt * math.sin(phi)], axis=-1)
 
 
-def fence_tip_side(beta, a, c, phi):
+def fence_tip_side(beta: Real, a: Real, c: Real, phi: Real) -> Real:
     """E(beta) = a^2 cos phi + c^2 cos beta cos(phi + beta) (derived here): the tip of
     {COR}_phi lies right of the sticking line (x_tip > -c cos beta) when E < 0 and left of
     it when E > 0, for a locus that is not wrapped (x_tip + c cos beta = -E / k).
@@ -382,14 +393,14 @@ def fence_tip_side(beta, a, c, phi):
     return a * a * math.cos(phi) + c * c * np.cos(beta) * np.cos(phi + beta)
 
 
-def fence_tip_condition_4_3(beta, a, c, phi):
+def fence_tip_condition_4_3(beta: Real, a: Real, c: Real, phi: Real) -> Real:
     """(4.3) as a residual: (a^2 + c^2) + a^2 tan beta tan(phi + beta), left side minus
     right side; zero where the tip of {COR}_phi crosses the sticking line."""
     beta = np.asarray(beta, dtype=float)
     return a * a + c * c + a * a * np.tan(beta) * np.tan(phi + beta)
 
 
-def fence_transition_tan_4_4(a, c, phi):
+def fence_transition_tan_4_4(a: float, c: float, phi: float) -> tuple[float, float]:
     """Both roots of (4.4) as printed: tan beta = [c^2 tan phi -+ (c^4 tan^2 phi
     - 4a^2 (a^2 + c^2))^(1/2)] / 2a^2 (confirmed: (4.3) is the quadratic
     a^2 t^2 - c^2 tan(phi) t + (a^2 + c^2) = 0 in t = tan beta). Returns (t_minus, t_plus),
@@ -402,7 +413,7 @@ def fence_transition_tan_4_4(a, c, phi):
     return ((c * c * tp - s) / (2.0 * a * a), (c * c * tp + s) / (2.0 * a * a))
 
 
-def fence_transition_betas(a, c, phi, lo: float = 0.0, hi: float = math.pi) -> np.ndarray:
+def fence_transition_betas(a: float, c: float, phi: float, lo: float = 0.0, hi: float = math.pi) -> np.ndarray:
     """Angles beta in (lo, hi) where the tip of {COR}_phi crosses the sticking line, on the
     range where that locus is not wrapped (phi + beta in (pi/2, 3pi/2)).
 
@@ -430,7 +441,7 @@ def fence_transition_betas(a, c, phi, lo: float = 0.0, hi: float = math.pi) -> n
     return np.unique(np.round(np.array(out), 15))
 
 
-def fence_rate_slipping(beta, a, c, alpha, mu_c, sign: int):
+def fence_rate_slipping(beta: Real, a: Real, c: Real, alpha: Real, mu_c: Real, sign: int) -> Real:
     """Equation (4.5), dx/dbeta with the COR at the tip of {COR}_(alpha + sign nu),
     nu = atan(mu_c) (4.1):
 
@@ -447,7 +458,7 @@ def fence_rate_slipping(beta, a, c, alpha, mu_c, sign: int):
     return (m + a * a * math.cos(nu) / k) / math.sin(alpha)
 
 
-def fence_push_slipping_indefinite(beta, a, c, alpha, mu_c, sign: int):
+def fence_push_slipping_indefinite(beta: Real, a: Real, c: Real, alpha: Real, mu_c: Real, sign: int) -> Real:
     """Antiderivative of (4.5), re-derived (corrects the printed (4.6)):
 
         x = [-c sin(alpha + beta)
@@ -463,7 +474,7 @@ def fence_push_slipping_indefinite(beta, a, c, alpha, mu_c, sign: int):
     return (-c * np.sin(u) - (a * a * math.cos(nu) / c) * _log_tan_quarter(u + sign * nu)) / math.sin(alpha)
 
 
-def fence_push_slipping_indefinite_book_printed(beta, a, c, alpha, mu_c, sign: int):
+def fence_push_slipping_indefinite_book_printed(beta: Real, a: Real, c: Real, alpha: Real, mu_c: Real, sign: int) -> Real:
     """(4.6) exactly as printed, for comparison: [-c sin(alpha +- nu + beta)
     - (a^2/2c) log|(1 + sin(alpha +- nu + beta))/(1 - sin(alpha +- nu + beta))|] / sin alpha.
     Its derivative is not (4.5); see :func:`fence_push_slipping_indefinite`."""
@@ -472,7 +483,7 @@ def fence_push_slipping_indefinite_book_printed(beta, a, c, alpha, mu_c, sign: i
     return (-c * np.sin(u) - (a * a / c) * _log_tan_quarter(u)) / math.sin(alpha)
 
 
-def fence_sticking_cor(beta, a, c):
+def fence_sticking_cor(beta: Real, a: Real, c: Real) -> Real:
     """Point B of figure 4-7: the tip line (perpendicular to c at distance a^2/c beyond the
     CM, 3.3.11.1) meets the sticking line x = -c cos beta:
     B = (-c cos beta, -(a^2 + c^2 cos^2 beta) / (c sin beta)). The book's approximation of
@@ -481,14 +492,14 @@ def fence_sticking_cor(beta, a, c):
     return np.stack([-c * np.cos(beta), -(a * a + c * c * np.cos(beta) ** 2) / (c * np.sin(beta))], axis=-1)
 
 
-def fence_rate_sticking(beta, a, c):
+def fence_rate_sticking(beta: Real, a: Real, c: Real) -> Real:
     """(4.5) with (4.7): |c - B| = (c^2 + a^2)/(c sin beta) (confirmed; c - B is vertical,
     so alpha_hat . (c - B) = sin alpha |c - B| and sin alpha cancels):
     dx/dbeta = (a^2 + c^2)/(c sin beta), independent of alpha and of mu_c."""
     return (a * a + c * c) / (c * np.sin(np.asarray(beta, dtype=float)))
 
 
-def fence_push_sticking_indefinite(beta, a, c):
+def fence_push_sticking_indefinite(beta: Real, a: Real, c: Real) -> Real:
     """Equation (4.8), confirmed: x = ((c^2 + a^2)/2c) log|(1 - cos beta)/(1 + cos beta)|
     = ((c^2 + a^2)/c) log|tan(beta/2)|."""
     return ((a * a + c * c) / c) * _log_tan_half(beta)
@@ -502,7 +513,8 @@ tip of {COR}_(alpha-nu) in the up-slipping zone (sketches a, b, c: both tips rig
 "-" sign)."""
 
 
-def fence_slowest(beta, a, c, alpha, mu_c):
+def fence_slowest(beta: Real, a: float, c: float, alpha: float,
+                  mu_c: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Slowest COR of the COR sketch by the book's rules (4.3, figure 4-6), pointwise.
 
     The tip of {COR}_(alpha+nu) belongs to the sketch when it lies left of (or on) the
@@ -556,7 +568,8 @@ class FencePushBound:
     transitions: tuple[float, ...]
 
 
-def fence_push_bound(a, c, alpha, beta_initial, beta_final, mu_c) -> FencePushBound:
+def fence_push_bound(a: float, c: float, alpha: float, beta_initial: float, beta_final: float,
+                     mu_c: float) -> FencePushBound:
     """Composite bound of 4.3: split [beta_initial, beta_final] where a tip of
     {COR}_(alpha +- nu) crosses the sticking line (4.4) or {COR}_(alpha - nu) stops being
     wrapped, find the regime of each piece (:func:`fence_slowest` at its midpoint) and add
@@ -571,7 +584,7 @@ def fence_push_bound(a, c, alpha, beta_initial, beta_final, mu_c) -> FencePushBo
     if mu_c == 0.0:
         push = fence_push_frictionless(a, c, alpha, bi, bf)
         return FencePushBound(push, (FencePiece(bi, bf, "frictionless", push),), ())
-    cuts = set()
+    cuts: set[float] = set()
     for phi in (alpha + nu, alpha - nu):
         cuts.update(float(b) for b in fence_transition_betas(a, c, phi, bi, bf))
     for n in range(-2, 3):  # {COR}_(alpha - nu) wrapped <-> not: alpha - nu + beta = pi/2 + n pi
@@ -601,7 +614,7 @@ def fence_push_bound(a, c, alpha, beta_initial, beta_final, mu_c) -> FencePushBo
 
 
 def integrate_fence_push(
-    cor_of_beta: Callable,
+    cor_of_beta: CorOfBeta,
     c: float,
     alpha: float,
     beta_initial: float,
@@ -614,10 +627,10 @@ def integrate_fence_push(
     callback r(beta) = (x, y) in the fence frame (relative to the CM). With
     ``vectorized`` the callback takes an array of betas and returns (n, 2)."""
     if vectorized:
-        def f(b):
+        def f(b: np.ndarray) -> Real:
             return fence_rate(b, c, alpha, np.asarray(cor_of_beta(b), dtype=float).reshape(-1, 2))
     else:
-        def f(b):
+        def f(b: np.ndarray) -> Real:
             r = np.array([np.asarray(cor_of_beta(float(t)), dtype=float) for t in b]).reshape(-1, 2)
             return fence_rate(b, c, alpha, r)
     return adaptive_quadrature(f, beta_initial, beta_final, rtol, atol)
@@ -628,12 +641,12 @@ def integrate_fence_push(
 # ---------------------------------------------------------------------------------------
 
 
-def encounter_contact(beta, a):
+def encounter_contact(beta: Real, a: Real) -> Real:
     """The pusher point relative to the disk's CM: a (-cos beta, sin beta)."""
     return fence_contact(beta, a)
 
 
-def encounter_rate(beta, x_cor, y_cor, a):
+def encounter_rate(beta: Real, x_cor: Real, y_cor: Real, a: Real) -> Real:
     """Equation (4.12), confirmed: dx/dbeta = a (sin beta + cos beta / tan theta) with
     tan theta = x_COR / y_COR (4.13), theta the angle below the horizontal of the CM's
     motion. From a sin beta = y_pusher - y_CM (4.10) and x_pusher = x_CM - a cos beta (the
@@ -642,20 +655,20 @@ def encounter_rate(beta, x_cor, y_cor, a):
     return a * (np.sin(beta) + np.cos(beta) * np.asarray(y_cor, dtype=float) / np.asarray(x_cor, dtype=float))
 
 
-def encounter_tip_line_cor(beta, a):
+def encounter_tip_line_cor(beta: Real, a: Real) -> Real:
     """(4.13): the tip line meets the sticking line at x_COR = -a cos beta,
     y_COR = a (sin^2 beta - 2)/sin beta (confirmed: point B of 4.3 with c = a)."""
     return fence_sticking_cor(beta, a, a)
 
 
-def encounter_tan_theta_min(beta):
+def encounter_tan_theta_min(beta: Real) -> Real:
     """(4.14), confirmed: tan theta = cos beta sin beta / (1 + cos^2 beta) at the COR of
     (4.13): the smallest theta, hence the largest dx/dbeta, for sketches g and h."""
     beta = np.asarray(beta, dtype=float)
     return np.cos(beta) * np.sin(beta) / (1.0 + np.cos(beta) ** 2)
 
 
-def encounter_rate_max(beta, a):
+def encounter_rate_max(beta: Real, a: Real) -> Real:
     """(4.15) re-derived: (4.12) with (4.14) is
     dx = a dbeta [sin beta + (1 + cos^2 beta)/sin beta] = 2a dbeta / sin beta.
     The OCR prints "a dbeta (sin beta) + (1 + cos^2 beta)/sin beta": the bracket closes too
@@ -663,20 +676,20 @@ def encounter_rate_max(beta, a):
     return 2.0 * a / np.sin(np.asarray(beta, dtype=float))
 
 
-def encounter_rate_max_book_printed(beta, a):
+def encounter_rate_max_book_printed(beta: Real, a: Real) -> Real:
     """(4.15) as the OCR prints it, read as dx/dbeta = a sin beta + (1 + cos^2 beta)/sin beta
     (not even dimensionally consistent unless a = 1); kept for the test that shows it."""
     beta = np.asarray(beta, dtype=float)
     return a * np.sin(beta) + (1.0 + np.cos(beta) ** 2) / np.sin(beta)
 
 
-def encounter_length_max_indefinite(beta, a):
+def encounter_length_max_indefinite(beta: Real, a: Real) -> Real:
     """(4.16), confirmed: x = a ln((1 - cos beta)/(1 + cos beta)) = 2a ln tan(beta/2), the
     antiderivative of 2a / sin beta; zero at beta = pi/2."""
     return 2.0 * a * _log_tan_half(beta)
 
 
-def encounter_length_max(beta_initial, a, beta_final: float = HALF_PI) -> float:
+def encounter_length_max(beta_initial: float, a: float, beta_final: float = HALF_PI) -> float:
     """Greatest length of the encounter (4.4.1.1): (4.16) at beta_final (pi/2: zero) minus
     its value at beta_initial, = a ln((1 + cos beta_i)/(1 - cos beta_i)) for beta_final =
     pi/2. Neglects the dip of the sticking locus below the tip line (underestimates) and uses
@@ -687,7 +700,7 @@ def encounter_length_max(beta_initial, a, beta_final: float = HALF_PI) -> float:
     return float(encounter_length_max_indefinite(bf, a) - encounter_length_max_indefinite(bi, a))
 
 
-def encounter_length_frictionless(beta_initial, a, beta_final: float = HALF_PI) -> float:
+def encounter_length_frictionless(beta_initial: float, a: float, beta_final: float = HALF_PI) -> float:
     """Length of the encounter with mu_c = 0: the force passes through the CM, the disk
     translates along the contact normal (4.4.2.1, [42]), theta = beta, and (4.12) gives
     dx = a dbeta / sin beta: x = a ln tan(beta_f/2) - a ln tan(beta_i/2), half of the
@@ -698,7 +711,7 @@ def encounter_length_frictionless(beta_initial, a, beta_final: float = HALF_PI) 
     return float(a * (_log_tan_half(bf) - _log_tan_half(bi)))
 
 
-def sketch_i(beta, mu_c):
+def sketch_i(beta: Real, mu_c: Real) -> Real:
     """(4.17), confirmed: the COR sketch is of type i (the tip of {COR}_(alpha+nu) left of
     the sticking line) when tan beta > 2 tan nu = 2 mu_c. From E of
     :func:`fence_tip_side` with c = a, phi = pi/2 - beta + nu:
@@ -706,12 +719,12 @@ def sketch_i(beta, mu_c):
     return np.tan(np.asarray(beta, dtype=float)) > 2.0 * mu_c
 
 
-def sketch_i_onset(mu_c) -> float:
+def sketch_i_onset(mu_c: float) -> float:
     """beta above which the sketch is of type i: atan(2 mu_c) (4.17)."""
     return math.atan(2.0 * _mu(mu_c))
 
 
-def rotation_max(beta_initial, beta_final: float = HALF_PI) -> float:
+def rotation_max(beta_initial: float, beta_final: float = HALF_PI) -> float:
     """(4.18) re-derived: with the COR on the sticking line the pusher rolls on the disk
     without slipping, so the disk turns by exactly the change of beta:
     xi_encounter = pi/2 - beta_initial (radians; the arc rolled is a xi). The OCR prints
@@ -722,7 +735,7 @@ def rotation_max(beta_initial, beta_final: float = HALF_PI) -> float:
     return float(beta_final) - bi
 
 
-def rotation_rate(beta, x_cor, y_cor, a):
+def rotation_rate(beta: Real, x_cor: Real, y_cor: Real, a: Real) -> Real:
     """dxi/dbeta re-derived: -a cos beta / x_COR (clockwise rotation xi of the disk).
 
     The disk turns at omega = -sin(alpha)/(alpha_hat . (c - r)) per unit push (3.3), with
@@ -740,7 +753,7 @@ def rotation_rate(beta, x_cor, y_cor, a):
     return -a * np.cos(beta) / np.asarray(x_cor, dtype=float)
 
 
-def rotation_rate_book_printed(beta, x_cor, y_cor, a):
+def rotation_rate_book_printed(beta: Real, x_cor: Real, y_cor: Real, a: Real) -> Real:
     """(4.22) as printed: a (y cos beta + x sin beta) / (x (a sin beta - y)); see
     :func:`rotation_rate`."""
     beta = np.asarray(beta, dtype=float)
@@ -749,11 +762,12 @@ def rotation_rate_book_printed(beta, x_cor, y_cor, a):
     return a * (y * np.cos(beta) + x * np.sin(beta)) / (x * (a * np.sin(beta) - y))
 
 
-def _cor_integrand(cor_of_beta, vectorized, rate, a):
+def _cor_integrand(cor_of_beta: CorOfBeta, vectorized: bool, rate: RateOfCor,
+                   a: float) -> Callable[[np.ndarray], Real]:
     """The integrand rate(beta, x_COR, y_COR, a) for a COR callback; a COR that makes it
     infinite (x_COR = 0) is reported by the quadrature as InvalidInput."""
 
-    def f(b):
+    def f(b: np.ndarray) -> Real:
         if vectorized:
             r = np.asarray(cor_of_beta(b), dtype=float).reshape(-1, 2)
         else:
@@ -765,7 +779,7 @@ def _cor_integrand(cor_of_beta, vectorized, rate, a):
 
 
 def integrate_encounter_length(
-    cor_of_beta: Callable,
+    cor_of_beta: CorOfBeta,
     a: float,
     beta_initial: float,
     beta_final: float = HALF_PI,
@@ -783,7 +797,7 @@ def integrate_encounter_length(
 
 
 def integrate_rotation(
-    cor_of_beta: Callable,
+    cor_of_beta: CorOfBeta,
     a: float,
     beta_initial: float,
     beta_final: float = HALF_PI,

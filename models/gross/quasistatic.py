@@ -80,6 +80,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from models.errors import InvalidInput
 from models.footprint import Footprint
@@ -152,7 +153,7 @@ DEFAULT_THRESHOLDS = QuasiStaticThresholds()
 # ---------------------------------------------------------------------------------------
 
 
-def _number(name: str, value) -> float:
+def _number(name: str, value: float) -> float:
     if isinstance(value, bool):
         raise InvalidInput(name, "must be a number")
     try:
@@ -164,14 +165,14 @@ def _number(name: str, value) -> float:
     return x
 
 
-def _positive(name: str, value, what: str = "number") -> float:
+def _positive(name: str, value: float, what: str = "number") -> float:
     x = _number(name, value)
     if not x > 0.0:
         raise InvalidInput(name, f"must be a positive finite {what}")
     return x
 
 
-def _non_negative(name: str, value, what: str = "number") -> float:
+def _non_negative(name: str, value: float, what: str = "number") -> float:
     x = _number(name, value)
     if x < 0.0:
         raise InvalidInput(name, f"must be a non-negative finite {what}")
@@ -201,7 +202,7 @@ def _sqrt_product(*factors: float) -> float:
 # ---------------------------------------------------------------------------------------
 
 
-def polygon_mean_distance(vertices, about) -> float:
+def polygon_mean_distance(vertices: ArrayLike, about: ArrayLike) -> float:
     """rbar = (1/A) integral |x - about| dA over a simple polygon, exactly.
 
     Green / triangle fan from ``about``: the triangle (about, p_i, p_j) contributes the

@@ -25,13 +25,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Iterable
+from typing import Any, Iterable
 
 import numpy as np
 
 from models.errors import InvalidInput, ModelError
 from models.scene import PushScene
 from models.tolerances import DEFAULT, Tolerances
+from models.arrays import Real
 
 SQRT_HALF = math.sqrt(0.5)
 
@@ -48,13 +49,13 @@ class BoundaryNotConverged(ModelError):
 # ---------------------------------------------------------------------------------------
 
 
-def tip_distance_book(mu):
+def tip_distance_book(mu: Real) -> Real:
     """r_tip / a = a / (alpha . c), equation (3.37): the distance of the tip of the outer
     dipod boundary, the farthest COR when it lies outside the disk (mu < 1)."""
     return 1.0 / np.asarray(mu, dtype=float)
 
 
-def tip_distance(mu):
+def tip_distance(mu: Real) -> Real:
     """Farthest distance of the COR locus from the CM, / a.
 
     (3.37) for mu < 1; for mu >= 1 the book's tip a^2/(alpha . c) falls inside the disk and
@@ -63,7 +64,7 @@ def tip_distance(mu):
     return 1.0 / np.minimum(np.asarray(mu, dtype=float), 1.0)
 
 
-def tip_radius_of_curvature(mu):
+def tip_radius_of_curvature(mu: Real) -> Real:
     """Radius of curvature of the boundary at the tip, / a.
 
     The book prints (3.38) as s = r_tip / (1/2 + r_tip^4 / a^4), which the OCR may have
@@ -75,33 +76,33 @@ def tip_radius_of_curvature(mu):
     return np.where(mu < 1.0, 0.5 * np.minimum(mu, 1.0) ** 3, 1.0)
 
 
-def tip_radius_of_curvature_book_printed(mu):
+def tip_radius_of_curvature_book_printed(mu: Real) -> Real:
     """(3.38) exactly as printed in the book's text, for comparison: r_tip/(1/2 + r_tip^4)."""
     rt = tip_distance_book(mu)
     return rt / (0.5 + rt**4)
 
 
-def r_min(mu):
+def r_min(mu: Real) -> Real:
     """r_min / a = (alpha . c) / (2a + alpha . c), equation (3.31): the boundary's nearest
     point to the CM, on the axis at epsilon = alpha (eta = pi)."""
     mu = np.asarray(mu, dtype=float)
     return mu / (2.0 + mu)
 
 
-def r_min_radius_of_curvature(mu):
+def r_min_radius_of_curvature(mu: Real) -> Real:
     """Radius of curvature of the boundary at r_min, / a, equation (3.33)."""
     mu = np.asarray(mu, dtype=float)
     return mu * (mu + 2.0) ** 2 / (mu**3 + 4.0 * mu**2 + 8.0 * mu + 4.0)
 
 
-def disk_crossing_cos_eta(mu):
+def disk_crossing_cos_eta(mu: Real) -> Real:
     """cos(eta) where the inner boundary (3.30) meets the disk, equation (3.32):
     ((alpha . c)^2 + 4a^2)^(1/2) - alpha . c) / 2a, written without cancellation."""
     mu = np.asarray(mu, dtype=float)
     return 2.0 / (np.sqrt(mu * mu + 4.0) + mu)
 
 
-def inner_boundary_cos_eta(rho, mu):
+def inner_boundary_cos_eta(rho: Real, mu: Real) -> Real:
     """cos(eta) of the inner boundary at distance rho = r/a < 1, equation (3.30).
 
     (3.30): cos eta = (r ((r+a)^2 + (alpha.c)^2)^(1/2) - a alpha.c) / (r (r + a)),
@@ -114,7 +115,7 @@ def inner_boundary_cos_eta(rho, mu):
     return (rho * rho * (rho + 1.0) + mu * mu * (rho - 1.0)) / (rho * (rho * np.sqrt(x) + mu))
 
 
-def inner_boundary_residual(rho, eta, mu):
+def inner_boundary_residual(rho: Real, eta: Real, mu: Real) -> Real:
     """Residual of (3.26)/(3.28) at (rho, eta): how far the required quotient moment
     q = r^2 / (alpha . (c - r)) alpha (3.23) is from the circle of radius b (3.20) about
     -(r - b) r_hat (3.19), relative to b. Zero on the inner boundary, < 0 inside."""
@@ -126,7 +127,7 @@ def inner_boundary_residual(rho, eta, mu):
     return (np.sqrt(lhs) - b) / b
 
 
-def dipod_quotient(rho, omega):
+def dipod_quotient(rho: Real, omega: Real) -> tuple[np.ndarray, np.ndarray]:
     """Moments of the diametral dipod of figure 3-12 at a COR distance rho > 1, (3.21).
 
     Returns (mu, eta): the moment arm alpha . c / a that makes this dipod's quotient
@@ -155,7 +156,7 @@ def dipod_quotient(rho, omega):
     return mu, eta
 
 
-def dipod_quotient_printed(rho, omega):
+def dipod_quotient_printed(rho: Real, omega: Real) -> tuple[np.ndarray, np.ndarray]:
     """(3.21), (3.34), (3.35) evaluated exactly as printed (an independent check of
     :func:`dipod_quotient`; accurate only for moderate rho)."""
     rho = np.asarray(rho, dtype=float)
@@ -187,7 +188,7 @@ def outer_corner_omega(mu: float) -> float:
     return 0.5 * math.pi - 2.0 * math.acos(min(mu, 1.0))
 
 
-def outer_boundary(omega: np.ndarray, mu: float, tol: Tolerances = DEFAULT):
+def outer_boundary(omega: np.ndarray, mu: float, tol: Tolerances = DEFAULT) -> tuple[np.ndarray, np.ndarray, int]:
     """Solve (3.35) for rho at each dipod angle omega (vectorised, no Python loop per point).
 
     For fixed omega the dipod moment arm decreases from >= mu at rho = 1 to <= mu at
@@ -199,7 +200,7 @@ def outer_boundary(omega: np.ndarray, mu: float, tol: Tolerances = DEFAULT):
     x_lo = np.zeros_like(omega)
     x_hi = np.full_like(omega, math.log(1.0 / mu))
 
-    def g(x):
+    def g(x: Real) -> Real:
         m, _ = dipod_quotient(np.exp(x), omega)
         return np.log(m / mu)
 
@@ -239,7 +240,7 @@ def outer_boundary(omega: np.ndarray, mu: float, tol: Tolerances = DEFAULT):
     return rho, eta, it
 
 
-def outer_boundary_residual(rho, eta, omega, mu):
+def outer_boundary_residual(rho: Real, eta: Real, omega: Real, mu: Real) -> Real:
     """Relative residual of (3.35), r^2 = |q_r| (alpha . c + r cos eta), at solved points."""
     m, e = dipod_quotient(rho, omega)
     return np.maximum(np.abs(m - mu) / mu, np.abs(e - eta))
@@ -250,7 +251,7 @@ def outer_boundary_residual(rho, eta, omega, mu):
 # ---------------------------------------------------------------------------------------
 
 
-def polar_to_local(rho, eta) -> np.ndarray:
+def polar_to_local(rho: Real, eta: Real) -> np.ndarray:
     """Locus-frame point(s) (..., 2) at distance rho and relative angle eta (3.24):
     rho (-cos eta, sin eta)."""
     rho = np.asarray(rho, dtype=float)
@@ -364,7 +365,7 @@ def half_boundary(mu: float, n_half: int, tol: Tolerances = DEFAULT) -> PolarBou
     )
 
 
-def boundary_local(mu: float, n_points: int, tol: Tolerances = DEFAULT):
+def boundary_local(mu: float, n_points: int, tol: Tolerances = DEFAULT) -> tuple[np.ndarray, float, int]:
     """Closed boundary polygon (n_points, 2), counter-clockwise, in the dimensionless
     locus frame, starting at the tip. The boundary is mirror symmetric, so an odd
     ``n_points`` is rounded up to the next even number. Returns (points, residual,
@@ -503,7 +504,7 @@ def disk_cor_locus(
             distance=a * a / c_norm,
         )
 
-    common = dict(
+    common: dict[str, Any] = dict(
         sense=scene.sense,
         moment_arm=abs(scene.moment_arm),
         relative_moment_arm=mu,

@@ -58,11 +58,13 @@ solves the same question as a convex feasibility problem in the pressure distrib
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from models.locus.cor_disk import disk_cor_locus
+from models.locus.cor_disk import DiskCorLocus, disk_cor_locus
 from models.errors import InvalidInput
 from models.mpp import mason_sense, perp
 from models.scene import PushScene
@@ -216,7 +218,7 @@ def _line_intervals(poly: np.ndarray, origin: np.ndarray, direction: np.ndarray)
     return [(ts[k], ts[k + 1]) for k in range(0, len(ts) - 1, 2)]
 
 
-def _locus(scene: PushScene, phi: float, n_points: int):
+def _locus(scene: PushScene, phi: float, n_points: int) -> tuple[int, PushScene, DiskCorLocus | None]:
     """(moment sign of the turned force, its analytic locus or None for a translation)."""
     sc, m_sign = force_scene(scene, phi)
     if m_sign == 0:
@@ -228,7 +230,7 @@ def _sticking_span(scene: PushScene, phi: float, n_points: int) -> tuple[float, 
     """The part of the sticking line inside {COR}_phi where sticking is consistent with
     that locus's sense: (t_min, t_max) or None."""
     m_sign, _, loc = _locus(scene, phi, n_points)
-    if loc is None:
+    if loc is None or loc.boundary is None:
         return None
     c = scene.contact_point
     jp = perp(scene.push_hat)
@@ -247,7 +249,7 @@ def _sticking_span(scene: PushScene, phi: float, n_points: int) -> tuple[float, 
     return min(s[0] for s in spans), max(s[1] for s in spans)
 
 
-def _golden(f, lo: float, hi: float, steps: int) -> float:
+def _golden(f: Callable[[float], float], lo: float, hi: float, steps: int) -> float:
     """Argmin of f on [lo, hi] by golden section (f unimodal near the bracket)."""
     g = (math.sqrt(5.0) - 1.0) / 2.0
     x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
@@ -288,21 +290,22 @@ def sticking_locus_sweep(scene: PushScene, mu_c: float, n_points: int = 1024) ->
     refined by golden-section search over phi around the best coarse angle."""
     nu = math.atan(mu_c)
     phis = _sweep_angles(scene, nu)
-    spans = [_sticking_span(scene, float(ph), n_points) for ph in phis]
-    have = [i for i, s in enumerate(spans) if s is not None]
+    found = [_sticking_span(scene, float(ph), n_points) for ph in phis]
+    spans = {i: s for i, s in enumerate(found) if s is not None}
+    have = list(spans)
     if not have:
         return None
     big = 1e300
 
-    def low(ph):
+    def low(ph: float) -> float:
         s = _sticking_span(scene, ph, n_points)
         return big if s is None else s[0]
 
-    def neg_high(ph):
+    def neg_high(ph: float) -> float:
         s = _sticking_span(scene, ph, n_points)
         return big if s is None else -s[1]
 
-    def bracket(i):
+    def bracket(i: int) -> tuple[float, float]:
         return float(phis[max(i - 1, 0)]), float(phis[min(i + 1, len(phis) - 1)])
 
     i_lo = min(have, key=lambda i: spans[i][0])
@@ -342,7 +345,7 @@ def disk_elementary_locus(scene: PushScene, sigma: float, mu_c: float, sense: st
     nu = math.atan(mu_c)
     m_sign, sc, loc = _locus(scene, sigma * nu, n_points)
     return classify_locus(scene, sigma, mu_c, sense, m_sign,
-                          None if loc is None else loc.boundary, None if loc is None else loc.tip.point)
+                          None if loc is None else loc.boundary, None if loc is None or loc.tip is None else loc.tip.point)
 
 
 def classify_locus(
@@ -358,10 +361,14 @@ def classify_locus(
     own_sense = {1: "cw", -1: "ccw", 0: "none"}[m_sign]
     if boundary is None or own_sense != sense:
         return ElementaryLocus(label, force, boundary, tip, m_sign, "wrapped", False, None)
+    if tip is None:
+        raise InvalidInput("tip", "a locus boundary needs its tip")
     c = scene.contact_point
     jp = perp(scene.push_hat)
     crosses = bool(_line_intervals(boundary, c, jp))
-    side = lambda x: float((x - c) @ scene.push_hat)  # noqa: E731 - sign of the side of the sticking line
+    def side(x: np.ndarray) -> float:  # sign of the side of the sticking line
+        return float((x - c) @ scene.push_hat)
+
     tip_same = bool(np.sign(side(tip)) == np.sign(side(scene.center_of_mass)))
     if not crosses:
         config = "pure_slipping"
@@ -483,7 +490,7 @@ class ExtremeCor:
     source: str
 
 
-def extreme_cor(sketch: CorSketch, direction) -> ExtremeCor | None:
+def extreme_cor(sketch: CorSketch, direction: ArrayLike) -> ExtremeCor | None:
     """max over all CORs of the sketch of direction . r (4.2: the COR that makes a gross
     motion slowest or fastest, e.g. direction -alpha for the longest push of (4.2)).
 

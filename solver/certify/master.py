@@ -13,19 +13,18 @@ inequalities) satisfy y . G_j - lambda . H_j >= 0 on every column and y . b = -o
 the separating functional that pricing minimises over the outline
 (:mod:`solver.certify.functional`).
 
-Compiled problems are kept per thread (``threading.local``): no cvxpy problem is ever used
-by two threads at once, and threads never wait for each other's solves.
+Compiled problems are kept per thread (:class:`solver.core.threads.PerThreadCache`): no
+cvxpy problem is ever used by two threads at once, and threads never wait for each other's
+solves.
 """
 
 from __future__ import annotations
-
-import threading
-import warnings
 
 import cvxpy as cp
 import numpy as np
 
 from solver.core.errors import NotConverged
+from solver.core.threads import PerThreadCache, ignore_inaccurate_solution_warning
 from solver.core.tolerances import SolverTolerances
 
 BASE_CAPACITY = 320
@@ -77,15 +76,14 @@ class RestrictedMaster:
             self.h.value = hm
             self.ph.value = np.zeros((self.n_ineq, 3)) if ph is None else ph
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", UserWarning)
-                # warm_start=False: a fresh Clarabel solve, so that the answer does not depend on
-                # the queries this thread solved before (cvxpy otherwise updates the previous
-                # solver's data in place, which changes the last digits)
-                self.problem.solve(
-                    solver=cp.CLARABEL, warm_start=False,
-                    tol_gap_abs=tol.conic_gap, tol_gap_rel=tol.conic_gap, tol_feas=tol.conic_gap,
-                )
+            ignore_inaccurate_solution_warning()
+            # warm_start=False: a fresh Clarabel solve, so that the answer does not depend on
+            # the queries this thread solved before (cvxpy otherwise updates the previous
+            # solver's data in place, which changes the last digits)
+            self.problem.solve(
+                solver=cp.CLARABEL, warm_start=False,
+                tol_gap_abs=tol.conic_gap, tol_gap_rel=tol.conic_gap, tol_feas=tol.conic_gap,
+            )
         except cp.error.SolverError as exc:
             raise NotConverged(f"Clarabel failed on the restricted master: {exc}") from exc
         if self.problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or self.p.value is None:
@@ -102,7 +100,8 @@ class RestrictedMaster:
         return weights, pm, y, lam
 
 
-_LOCAL = threading.local()
+_MASTERS: PerThreadCache[tuple[int, int, int], RestrictedMaster] = PerThreadCache()
+"""(n_eq, n_ineq, capacity) -> this thread's compiled master."""
 
 
 def master_for(n_eq: int, n_ineq: int, n_columns: int) -> RestrictedMaster:
@@ -110,10 +109,4 @@ def master_for(n_eq: int, n_ineq: int, n_columns: int) -> RestrictedMaster:
     cap = BASE_CAPACITY
     while cap < n_columns:
         cap *= 2
-    cache = getattr(_LOCAL, "masters", None)
-    if cache is None:
-        cache = _LOCAL.masters = {}
-    key = (n_eq, n_ineq, cap)
-    if key not in cache:
-        cache[key] = RestrictedMaster(n_eq, n_ineq, cap)
-    return cache[key]
+    return _MASTERS.get((n_eq, n_ineq, cap), lambda: RestrictedMaster(n_eq, n_ineq, cap))

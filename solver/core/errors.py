@@ -44,8 +44,11 @@ class TimeLimitReached(SolverError):
         self.partial = partial
 
 
-class BackendNotFound(SolverError, InvalidInput):
-    """No back end called ``name`` for the field ``field``; ``available`` lists them."""
+class BackendNotFound(InvalidInput, SolverError):
+    """No back end called ``name`` for the field ``field``; ``available`` lists them.
+
+    InvalidInput comes first in its method resolution order, so that a handler chosen by
+    the exception's MRO (Starlette's) treats it as the input error on ``field``."""
 
     def __init__(self, field: str, name: object, available: Sequence[str]) -> None:
         InvalidInput.__init__(self, field, f"unknown {field} {name!r}: use one of {', '.join(map(repr, available))}")

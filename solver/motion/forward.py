@@ -14,8 +14,9 @@ Three independent back ends solve the convex minimum-power problem:
 
 * ``newton``: solver.motion.newton, vectorised over batches; exact non-smooth optima (COR on a
   support point) by a subgradient test, damped Newton elsewhere;
-* ``cvxpy``: the second-order cone programme, compiled once per support size with
-  cvxpy Parameters and re-solved with Clarabel; optionally polished by exact KKT steps;
+* ``cvxpy``: the second-order cone programme, compiled once per support size and thread
+  with cvxpy Parameters (DPP) and re-solved with Clarabel; optionally polished by exact
+  KKT steps;
 * ``casadi``: the dual problem (largest contact force that the support's friction forces,
   each of size at most P_i, can balance) solved by IPOPT; the twist is the multiplier of
   the balance equations.
@@ -28,7 +29,6 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from dataclasses import dataclass
 from typing import Literal
 
@@ -38,9 +38,10 @@ from models.errors import InvalidInput
 from models.mpp import perp
 from models.scene import PushScene
 from models.support import Support
+from solver.core.errors import BackendNotFound, NotConverged
+from solver.core.threads import PerThreadCache, ignore_inaccurate_solution_warning
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.motion import newton as _newton
-from solver.core.errors import SolverError
 
 Method = Literal["newton", "cvxpy", "casadi"]
 Mode = Literal["frictionless", "sticking", "slipping_up", "slipping_down"]
@@ -83,12 +84,25 @@ class ForwardResult:
     solve_time_s: float
     raw_twist_error: float | None = None
 
+    @property
+    def complete(self) -> bool:
+        """The answer is the optimum (``status`` "optimal"); "not_converged" (the KKT
+        residual missed ``kkt_accept``) and "inconsistent" (no mode's assumptions held)
+        are not."""
+        return self.status == "optimal"
+
+    @property
+    def message(self) -> str:
+        where = "a translation" if self.cor is None else f"COR ({self.cor[0]:.6g}, {self.cor[1]:.6g})"
+        return f"{self.status} {self.mode} motion by {self.method}: {where}, KKT residual {self.kkt_residual:.2g}"
+
 
 @dataclass(frozen=True)
-class BatchResult:
+class BatchResult(_newton.BatchConvergence):
     """Arrays over a batch; ``cor`` rows are NaN for translations; ``mode`` holds indices
     into MODES; ``converged`` is True where kkt <= tol.kkt_accept and the mode was
-    consistent. ``slip``, ``gap`` and ``iterations`` as in ForwardResult."""
+    consistent (``status`` "optimal" when it is everywhere). ``slip``, ``gap`` and
+    ``iterations`` as in ForwardResult."""
 
     cor: np.ndarray
     omega: np.ndarray
@@ -106,6 +120,13 @@ class BatchResult:
     fallbacks: int = 0
 
     MODES = _MODE_NAMES
+
+    @property
+    def message(self) -> str:
+        text = f"{self.converged_count()} supports converged"
+        if self.fallbacks:
+            text += f" ({self.fallbacks} re-solved by the conic solver)"
+        return text
 
 
 # --------------------------------------------------------------------------------------
@@ -174,52 +195,51 @@ class _NewtonBackend(_Backend):
         return x, mult, kkt, vertex, iters, None
 
 
-def _remember(cache: dict, key, value):
-    """Insert into a per-size cache of compiled problems, evicting the oldest entry beyond
-    _CACHE_SIZE (support sizes are client-chosen)."""
-    if len(cache) >= _CACHE_SIZE:
-        cache.pop(next(iter(cache)))
-    cache[key] = value
-    return value
+CACHE_SIZE = 32
+"""Compiled problems kept per back end and thread (one per support size and row count;
+support sizes are chosen by clients, so the oldest is dropped beyond this)."""
 
+_CONIC_PROBLEMS: PerThreadCache = PerThreadCache(CACHE_SIZE)
+"""(k, rows) -> this thread's compiled cvxpy problem and its variables and Parameters."""
 
-_CACHE_SIZE = 32
+_IPOPT_SOLVERS: PerThreadCache = PerThreadCache(CACHE_SIZE)
+"""(k, rows, casadi_tol) -> this thread's CasADi/IPOPT Function of the dual problem."""
 
 
 class _CvxpyBackend(_Backend):
-    """Clarabel on the cone programme, one compiled problem per (k, rows), re-solved
-    (the most recent _CACHE_SIZE sizes are kept)."""
+    """Clarabel on the cone programme, one compiled problem per (k, rows) and thread,
+    re-solved with new Parameter values."""
 
     name = "cvxpy"
-    _cache: dict = {}
 
     def __init__(self, polish: bool = True):
         self.polish = polish
         self.cone = None
 
-    def _problem(self, k: int, rows: int):
-        key = (k, rows)
-        if key not in self._cache:
-            import cvxpy as cp
+    @staticmethod
+    def _build(k: int, rows: int):
+        import cvxpy as cp
 
-            x = cp.Variable(3)
-            jw = cp.Parameter((k, 2))
-            pw = cp.Parameter(k, nonneg=True)
-            m = cp.Parameter((rows, 3))
-            q = cp.Parameter(rows)
-            vel = cp.vstack([x[0] + x[2] * jw[:, 0], x[1] + x[2] * jw[:, 1]])  # (2, k)
-            obj = cp.sum(cp.multiply(pw, cp.norm(vel, 2, axis=0)))
-            con = m @ x == q
-            prob = cp.Problem(cp.Minimize(obj), [con])
-            _remember(self._cache, key, (prob, x, jw, pw, m, q, con))
-        return self._cache[key]
+        x = cp.Variable(3)
+        jw = cp.Parameter((k, 2))
+        pw = cp.Parameter(k, nonneg=True)
+        m = cp.Parameter((rows, 3))
+        q = cp.Parameter(rows)
+        vel = cp.vstack([x[0] + x[2] * jw[:, 0], x[1] + x[2] * jw[:, 1]])  # (2, k)
+        # sum_i P_i |v(w_i)| through epigraph variables t_i >= |v(w_i)|: the objective is
+        # then affine in the Parameter P (DPP), so cvxpy compiles the problem once and only
+        # substitutes new Parameter values on each solve
+        speed = cp.Variable(k)
+        con = m @ x == q
+        prob = cp.Problem(cp.Minimize(pw @ speed), [con, cp.norm(vel, 2, axis=0) <= speed])
+        return prob, x, jw, pw, m, q, con
 
     def solve(self, w, p, m, q, tol):
         import cvxpy as cp
 
         b, k, _ = w.shape
         rows = m.shape[1]
-        prob, xv, jwp, pwp, mp, qp, con = self._problem(k, rows)
+        prob, xv, jwp, pwp, mp, qp, con = _CONIC_PROBLEMS.get((k, rows), lambda: self._build(k, rows))
         xs = np.zeros((b, 3))
         for i in range(b):
             jwp.value = perp(w[i])
@@ -227,19 +247,21 @@ class _CvxpyBackend(_Backend):
             mp.value = m[i]
             qp.value = q[i]
             try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", UserWarning)
-                    prob.solve(
-                        solver=cp.CLARABEL,
-                        tol_gap_abs=tol.conic_gap,
-                        tol_gap_rel=tol.conic_gap,
-                        tol_feas=tol.conic_gap,
-                        tol_ktratio=1e-12,
-                    )
+                ignore_inaccurate_solution_warning()
+                # warm_start=False: a fresh Clarabel solve, so that the answer does not
+                # depend on the problems this thread solved before
+                prob.solve(
+                    solver=cp.CLARABEL,
+                    warm_start=False,
+                    tol_gap_abs=tol.conic_gap,
+                    tol_gap_rel=tol.conic_gap,
+                    tol_feas=tol.conic_gap,
+                    tol_ktratio=1e-12,
+                )
             except cp.error.SolverError as exc:
-                raise SolverError(f"Clarabel failed on the minimum-power problem: {exc}") from exc
+                raise NotConverged(f"Clarabel failed on the minimum-power problem: {exc}") from exc
             if prob.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
-                raise SolverError(f"minimum-power problem ended with status {prob.status}")
+                raise NotConverged(f"minimum-power problem ended with status {prob.status}")
             xs[i] = xv.value
         if not self.polish:
             kkt, mult, vtx = _newton.kkt_residual(w, p, m, q, xs)
@@ -258,44 +280,41 @@ class _CasadiBackend(_Backend):
     """
 
     name = "casadi"
-    _cache: dict = {}
 
-    def _solver(self, k: int, rows: int, tol: SolverTolerances):
-        key = (k, rows, tol.casadi_tol)
-        if key not in self._cache:
-            import casadi as ca
+    @staticmethod
+    def _build(k: int, rows: int, tol: SolverTolerances):
+        import casadi as ca
 
-            z = ca.SX.sym("z", 2 * k)  # z_i = P_i * zeta_i, |zeta_i| <= 1
-            mu = ca.SX.sym("mu", rows)
-            par = ca.SX.sym("par", 3 * k + 3 * rows + rows)  # jw (2k), P (k), M (3 rows), q
-            jw = ca.reshape(par[: 2 * k], 2, k)
-            pw = par[2 * k : 3 * k]
-            mm = ca.reshape(par[3 * k : 3 * k + 3 * rows], rows, 3)
-            q = par[3 * k + 3 * rows :]
-            zz = ca.reshape(z, 2, k)
-            force = ca.vertcat(
-                ca.sum2(pw.T * zz[0, :]),
-                ca.sum2(pw.T * zz[1, :]),
-                ca.sum2(pw.T * (zz[0, :] * jw[0, :] + zz[1, :] * jw[1, :])),
-            )
-            balance = force - mm.T @ mu
-            norms = zz[0, :].T ** 2 + zz[1, :].T ** 2
-            nlp = {"x": ca.vertcat(z, mu), "p": par, "f": -ca.dot(mu, q), "g": ca.vertcat(balance, norms)}
-            opts = {
-                "ipopt.tol": tol.casadi_tol,
-                "ipopt.acceptable_tol": tol.casadi_tol,
-                "ipopt.print_level": 0,
-                "print_time": False,
-                "ipopt.sb": "yes",
-                "ipopt.max_iter": 500,
-            }
-            _remember(self._cache, key, ca.nlpsol("mpp_dual", "ipopt", nlp, opts))
-        return self._cache[key]
+        z = ca.SX.sym("z", 2 * k)  # z_i = P_i * zeta_i, |zeta_i| <= 1
+        mu = ca.SX.sym("mu", rows)
+        par = ca.SX.sym("par", 3 * k + 3 * rows + rows)  # jw (2k), P (k), M (3 rows), q
+        jw = ca.reshape(par[: 2 * k], 2, k)
+        pw = par[2 * k : 3 * k]
+        mm = ca.reshape(par[3 * k : 3 * k + 3 * rows], rows, 3)
+        q = par[3 * k + 3 * rows :]
+        zz = ca.reshape(z, 2, k)
+        force = ca.vertcat(
+            ca.sum2(pw.T * zz[0, :]),
+            ca.sum2(pw.T * zz[1, :]),
+            ca.sum2(pw.T * (zz[0, :] * jw[0, :] + zz[1, :] * jw[1, :])),
+        )
+        balance = force - mm.T @ mu
+        norms = zz[0, :].T ** 2 + zz[1, :].T ** 2
+        nlp = {"x": ca.vertcat(z, mu), "p": par, "f": -ca.dot(mu, q), "g": ca.vertcat(balance, norms)}
+        opts = {
+            "ipopt.tol": tol.casadi_tol,
+            "ipopt.acceptable_tol": tol.casadi_tol,
+            "ipopt.print_level": 0,
+            "print_time": False,
+            "ipopt.sb": "yes",
+            "ipopt.max_iter": 500,
+        }
+        return ca.nlpsol("mpp_dual", "ipopt", nlp, opts)
 
     def solve(self, w, p, m, q, tol):
         b, k, _ = w.shape
         rows = m.shape[1]
-        solver = self._solver(k, rows, tol)
+        solver = _IPOPT_SOLVERS.get((k, rows, tol.casadi_tol), lambda: self._build(k, rows, tol))
         xs = np.zeros((b, 3))
         its = np.zeros(b, dtype=int)
         lbg = np.concatenate([np.zeros(3), np.zeros(k)])
@@ -305,10 +324,10 @@ class _CasadiBackend(_Backend):
             try:
                 res = solver(x0=np.zeros(2 * k + rows), p=par, lbg=lbg, ubg=ubg)
             except RuntimeError as exc:
-                raise SolverError(f"IPOPT failed on the dual minimum-power problem: {exc}") from exc
+                raise NotConverged(f"IPOPT failed on the dual minimum-power problem: {exc}") from exc
             stats = solver.stats()
             if not stats.get("success", False):
-                raise SolverError(f"IPOPT ended with {stats.get('return_status')}")
+                raise NotConverged(f"IPOPT ended with {stats.get('return_status')}")
             # Lagrangian f + lam_g . g: the balance multipliers are -x (f = -mu.q).
             xs[i] = np.asarray(res["lam_g"]).reshape(-1)[:3]
             its[i] = int(stats.get("iter_count", 0))
@@ -332,7 +351,7 @@ def _backend(method: str, polish: bool) -> _Backend:
         return _CvxpyBackend(polish=polish)
     if method == "casadi":
         return _CasadiBackend()
-    raise InvalidInput("method", f"must be one of {', '.join(METHODS)}")
+    raise BackendNotFound("method", method, METHODS)
 
 
 # --------------------------------------------------------------------------------------

@@ -31,6 +31,7 @@ Work is vectorised over the batch, structure-of-arrays, with closed-form 2x2 alg
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,13 +47,33 @@ _VERTEX_FIRST_MAX_K = 16
 _NEAREST = 3
 
 
+class BatchConvergence:
+    """The Outcome of a batch result with a boolean array ``converged`` (one entry per
+    problem): "optimal" and complete when every problem converged, else "not_converged"."""
+
+    converged: np.ndarray
+
+    @property
+    def status(self) -> str:
+        return "optimal" if bool(np.all(self.converged)) else "not_converged"
+
+    @property
+    def complete(self) -> bool:
+        return self.status == "optimal"
+
+    def converged_count(self) -> str:
+        """"k of n": how many problems converged."""
+        return f"{int(np.count_nonzero(self.converged))} of {int(self.converged.size)}"
+
+
 @dataclass(frozen=True)
-class BatchSolution:
+class BatchSolution(BatchConvergence):
     """Per-problem results over the batch.
 
     x: (B, 3) optimal twists (normalised units). multipliers: (B, rows): grad f = M^T mult.
     kkt: (B,) KKT residual. vertex: (B,) support index the COR sits on, -1 if none.
-    iterations: (B,) Newton iterations. converged: (B,) kkt <= tolerance.
+    iterations: (B,) Newton iterations. converged: (B,) kkt <= tolerance. solve_time_s:
+    seconds for the batch.
     """
 
     x: np.ndarray
@@ -62,6 +83,11 @@ class BatchSolution:
     vertex: np.ndarray
     iterations: np.ndarray
     converged: np.ndarray
+    solve_time_s: float
+
+    @property
+    def message(self) -> str:
+        return f"{self.converged_count()} problems met the KKT tolerance"
 
 
 def _unit_or_zero(ux, uy):
@@ -334,6 +360,7 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None, cone=None) -
     the COR sits on a support point the contact force is a set, and the member deepest
     inside the friction cone is reported (:func:`_vertex_contact_force`).
     """
+    t0 = time.perf_counter()
     w = np.asarray(w, dtype=float)
     p = np.asarray(p, dtype=float)
     m = np.asarray(m, dtype=float)
@@ -404,7 +431,7 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None, cone=None) -
     else:  # pragma: no cover - guarded by callers
         raise ValueError("one or two constraint rows")
     pw = power(x, wx, wy, p)
-    return BatchSolution(x, mult, pw, kkt, vertex, iters, kkt <= kkt_tol)
+    return BatchSolution(x, mult, pw, kkt, vertex, iters, kkt <= kkt_tol, time.perf_counter() - t0)
 
 
 def _escape_kinks(wx, wy, p, a, q, x, lam, kkt, vertex, iters, kkt_tol, max_iter, rounds=3):

@@ -25,8 +25,8 @@ import casadi as ca
 
 from models import particle as mp
 from models.errors import InvalidInput
+from solver.core.errors import NotConverged, SolverError
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.core.errors import SolverError
 
 
 @dataclass(frozen=True)
@@ -51,6 +51,17 @@ class ParticleSolution:
     status: str
     iterations: int
     solve_time_s: float
+
+    @property
+    def complete(self) -> bool:
+        """Always True: a solution is returned only when IPOPT succeeded
+        (:func:`minimise_power` raises NotConverged otherwise)."""
+        return True
+
+    @property
+    def message(self) -> str:
+        return (f"IPOPT {self.status} in {self.iterations} iterations: v_y = {self.mpp_v_y_numeric:.6g} "
+                f"(closed form {self.mpp_v_y:.6g}, Newton {self.newton_v_y:.6g})")
 
 
 def _ipopt_options(tol: SolverTolerances) -> dict:
@@ -81,7 +92,8 @@ def _scales(scene: mp.ParticleScene) -> tuple[float, float]:
 
 def minimise_power(scene: mp.ParticleScene, tol: SolverTolerances = SOLVER_DEFAULT) -> tuple[float, str, int, float]:
     """IPOPT's minimiser v_y of (2.30) for a validated scene: (v_y, status, iterations,
-    seconds). Raises SolverError when CasADi fails or IPOPT does not succeed."""
+    seconds). Raises SolverError when CasADi cannot build the problem, NotConverged when
+    IPOPT fails or does not succeed."""
     k, scale = _scales(scene)
     tau = ca.SX.sym("tau")
     t = scale * tau
@@ -89,14 +101,17 @@ def minimise_power(scene: mp.ParticleScene, tol: SolverTolerances = SOLVER_DEFAU
     t0 = time.perf_counter()
     try:
         nlp = ca.nlpsol("particle_mpp", "ipopt", {"x": tau, "f": objective}, _ipopt_options(tol))
+    except RuntimeError as exc:
+        raise SolverError(f"CasADi could not build the particle power (2.30): {exc}") from exc
+    try:
         out = nlp(x0=1.0)  # tau = 1: the a-priori scale, not the answer
         stats = nlp.stats()
     except RuntimeError as exc:
-        raise SolverError(f"CasADi/IPOPT failed on the particle power (2.30): {exc}") from exc
+        raise NotConverged(f"IPOPT failed on the particle power (2.30): {exc}") from exc
     elapsed = time.perf_counter() - t0
     status = str(stats.get("return_status", "unknown"))
     if not stats.get("success", False):
-        raise SolverError(f"IPOPT ended with status {status} on the particle power (2.30)")
+        raise NotConverged(f"IPOPT ended with status {status} on the particle power (2.30)")
     return scene.v_x * scale * float(out["x"]), status, int(stats.get("iter_count", -1)), elapsed
 
 

@@ -23,12 +23,27 @@ from solver.motion.forward import BatchResult, ForwardResult, solve_forward, sol
 
 @dataclass(frozen=True)
 class TripodSample:
-    """CORs (world, NaN rows for translations) of ``n`` random tripods, and their solve."""
+    """CORs (world, NaN rows for translations) of ``n`` random tripods, and their solve.
+    ``solve_time_s``: seconds to draw and solve them; ``status`` and ``complete`` are the
+    batch's (every tripod converged)."""
 
     points: np.ndarray
     weights: np.ndarray
     batch: BatchResult
     seed: int
+    solve_time_s: float
+
+    @property
+    def status(self) -> str:
+        return self.batch.status
+
+    @property
+    def complete(self) -> bool:
+        return self.batch.complete
+
+    @property
+    def message(self) -> str:
+        return f"{len(self.weights)} random tripods (seed {self.seed}): {self.batch.message}"
 
 
 def tripod_sample(
@@ -44,10 +59,11 @@ def tripod_sample(
         raise InvalidInput("n_tripods", "must be at least 1")
     if footprint is not None and not np.allclose(footprint.center_of_mass, scene.center_of_mass):
         raise InvalidInput("footprint", "its centre of mass differs from the scene's")
+    t0 = time.perf_counter()
     rng = np.random.default_rng(seed)
     pts, wts = random_balanced_tripods(rng, n, scene.disk_radius, scene.center_of_mass, footprint)
     batch = solve_forward_batch(scene, pts, wts, mu_c=mu_c, tol=tol, check_centroid=False)
-    return TripodSample(points=pts, weights=wts, batch=batch, seed=seed)
+    return TripodSample(points=pts, weights=wts, batch=batch, seed=seed, solve_time_s=time.perf_counter() - t0)
 
 
 @dataclass(frozen=True)
@@ -57,7 +73,8 @@ class StickingHistogram:
     Positions are signed distances from the contact point along J p (the book's "up",
     perpendicular to the push), in world length units. ``counts`` over ``edges``;
     ``sticking_fraction`` of tripods that stick; CORs of slipping tripods are off the line
-    and are not counted; ``outside_range`` sticking CORs beyond the edges.
+    and are not counted; ``outside_range`` sticking CORs beyond the edges. ``n_converged``:
+    tripods whose forward solve converged (all of them for a ``complete`` histogram).
     """
 
     edges: np.ndarray
@@ -66,6 +83,21 @@ class StickingHistogram:
     outside_range: int
     n_tripods: int
     solve_time_s: float
+    n_converged: int
+
+    @property
+    def status(self) -> str:
+        """"optimal" when every tripod's solve converged, else "not_converged"."""
+        return "optimal" if self.n_converged == self.n_tripods else "not_converged"
+
+    @property
+    def complete(self) -> bool:
+        return self.status == "optimal"
+
+    @property
+    def message(self) -> str:
+        return (f"{self.n_tripods} tripods, {100.0 * self.sticking_fraction:.3g}% sticking, "
+                f"{self.outside_range} sticking CORs outside the range; {self.n_converged} converged")
 
 
 def sticking_line_histogram(
@@ -103,6 +135,7 @@ def sticking_line_histogram(
         outside_range=outside,
         n_tripods=n,
         solve_time_s=time.perf_counter() - t0,
+        n_converged=int(np.count_nonzero(b.converged)),
     )
 
 

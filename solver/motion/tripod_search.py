@@ -62,8 +62,8 @@ from models.footprint import Footprint
 from models.scene import PushScene
 from models.support import Support
 from solver.core.budget import Budget
+from solver.core.errors import NotConverged, SolverError
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.core.errors import SolverError
 from solver.motion.forward import solve_forward
 
 # Centroid check for NLP tripods, whose balance holds to the NLP's feasibility only.
@@ -112,6 +112,15 @@ class TripodStart:
     solve_time_s: float
 
     @property
+    def complete(self) -> bool:
+        """The start was run (it was not skipped for the time limit)."""
+        return self.status != "skipped_time_limit"
+
+    @property
+    def message(self) -> str:
+        return f"start {self.index}: {self.status}, verification {self.verification}"
+
+    @property
     def verified(self) -> bool:
         """The forward solve reproduced the COR ("cor" verification)."""
         return self.verification == "cor"
@@ -153,6 +162,26 @@ class ExtremeCorResult:
     n_power_verified: int
     time_limit_reached: bool
     solve_time_s: float
+
+    @property
+    def status(self) -> str:
+        """"found": a result always holds a verified optimum (the search raises
+        NotConverged otherwise)."""
+        return "found"
+
+    @property
+    def complete(self) -> bool:
+        """Every start was run (none skipped for the time limit)."""
+        return not self.time_limit_reached
+
+    @property
+    def message(self) -> str:
+        skipped = sum(s.status == "skipped_time_limit" for s in self.starts)
+        text = (f"extreme COR verified by {self.verification} check: {self.n_verified} of {len(self.starts)} "
+                f"starts verified by the COR, {self.n_power_verified} by the power")
+        if skipped:
+            text += f"; {skipped} not run (time limit)"
+        return text
 
 
 # ---------------------------------------------------------------------------------------
@@ -237,7 +266,7 @@ def _draw_start(rng: np.random.Generator, tris: np.ndarray | None, areas: np.nda
         p0 = _centring_weights(feet)
         if p0 is not None and np.all(p0 >= MIN_START_WEIGHT):
             return feet, q0, tri_idx, p0
-    raise SolverError("could not draw a tripod centred on the CM: is the CM on the footprint's edge?")
+    raise NotConverged("could not draw a tripod centred on the CM: is the CM on the footprint's edge?")
 
 
 # ---------------------------------------------------------------------------------------
@@ -372,7 +401,8 @@ def extreme_cor_search(
     a running one. Seeded: equal arguments give equal results.
 
     Raises InvalidInput for a pure translation (the COR is at infinity) or bad arguments,
-    SolverError when CasADi fails or no start yields a verified optimum.
+    SolverError when CasADi cannot build the NLP or a start's forward solve fails,
+    NotConverged when IPOPT fails or no start yields a verified optimum.
     """
     t_begin = time.perf_counter()
     budget = Budget.of(DEFAULT_TIME_LIMIT_S) if budget is None else budget
@@ -438,7 +468,7 @@ def extreme_cor_search(
             out = nlp(x0=np.concatenate([q0, p0, r0]), p=par, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
             stats = nlp.stats()
         except RuntimeError as exc:
-            raise SolverError(f"IPOPT failed on the tripod NLP: {exc}") from exc
+            raise NotConverged(f"IPOPT failed on the tripod NLP: {exc}") from exc
         status = str(stats.get("return_status", "unknown"))
         z = np.asarray(out["x"], dtype=float).reshape(-1)
         g = np.asarray(out["g"], dtype=float).reshape(-1)
@@ -490,7 +520,7 @@ def extreme_cor_search(
     )
     if not ranked:
         summary = ", ".join(sorted({s.status for s in starts}))
-        raise SolverError(f"no start of the tripod search reached a verified optimum (IPOPT statuses: {summary})")
+        raise NotConverged(f"no start of the tripod search reached a verified optimum (IPOPT statuses: {summary})")
     optima: list[LocalOptimum] = []
     for s in ranked:
         scale = max(a, float(np.linalg.norm(s.cor - scene.center_of_mass)))

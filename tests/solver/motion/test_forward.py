@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+import cvxpy as cp
 import numpy as np
 import pytest
 
@@ -15,7 +16,10 @@ from models import mpp
 from models.errors import InvalidInput
 from models.scene import PushScene
 from models.support import Support, random_balanced_tripods, uniform_disk_support
-from solver.motion.forward import solve_forward, solve_forward_batch
+from solver.core.errors import BackendNotFound, NotConverged, SolverError
+from solver.core.outcome import Outcome
+from solver.core.tolerances import SolverTolerances
+from solver.motion.forward import METHODS, solve_forward, solve_forward_batch
 from tests.scenes import SEED, point_in_polygon, distance_to_polyline, scene_for_mu
 
 MUS = (0.05, 0.3, 0.9, 1.5)
@@ -414,3 +418,42 @@ def _sticking_power(sc, sup, r):
     omega = (mpp.perp(cr) @ sc.push_hat) / np.einsum("ij,ij->i", cr, cr)
     dist = np.linalg.norm(sup.points[None, :, :] - r[:, None, :], axis=2)
     return np.abs(omega) * (dist @ sup.weights)
+
+
+def test_an_unknown_method_is_backend_not_found_on_the_method_field():
+    """BackendNotFound is an InvalidInput before it is a SolverError: a handler picked by the
+    exception's MRO (the service's, Starlette's) answers it as the input error on "method"."""
+    with pytest.raises(BackendNotFound) as e:
+        solve_forward(scene_for_mu(0.3), Support.create([[1, 0], [-1, 0]], [1, 1], (0, 0)), method="simplex")
+    assert e.value.field == "method" and e.value.available == METHODS and "'simplex'" in e.value.reason
+    mro = type(e.value).__mro__
+    assert mro.index(InvalidInput) < mro.index(SolverError)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_results_say_how_good_they_are(method):
+    """ForwardResult and BatchResult implement Outcome: complete exactly when optimal."""
+    scene = scene_for_mu(0.3)
+    sup = random_support(np.random.default_rng(SEED), 5)
+    r = solve_forward(scene, sup, mu_c=0.4, method=method)
+    assert isinstance(r, Outcome) and r.status == "optimal" and r.complete
+    assert r.message.startswith(f"optimal {r.mode} motion by {method}: COR (")
+    never = SolverTolerances(kkt_accept=-1.0)  # no residual is accepted
+    r = solve_forward(scene, sup, mu_c=0.4, method=method, tol=never)
+    assert r.status == "not_converged" and not r.complete
+    pts, wts = random_balanced_tripods(np.random.default_rng(SEED), 20, 1.0)
+    b = solve_forward_batch(scene, pts, wts, mu_c=0.4)
+    assert isinstance(b, Outcome) and b.status == "optimal" and b.complete and b.solve_time_s > 0.0
+    assert b.message == "20 of 20 supports converged"
+    b = solve_forward_batch(scene, pts, wts, mu_c=0.4, tol=never)
+    assert b.status == "not_converged" and not b.complete and b.message == "0 of 20 supports converged"
+
+
+def test_a_failing_conic_solve_is_not_converged(monkeypatch):
+    def boom(*args, **kwargs):
+        raise cp.error.SolverError("numerical trouble")
+
+    monkeypatch.setattr(cp.Problem, "solve", boom)
+    sup = random_support(np.random.default_rng(SEED), 4)
+    with pytest.raises(NotConverged, match="numerical trouble"):
+        solve_forward(scene_for_mu(0.3), sup, method="cvxpy")

@@ -10,7 +10,8 @@ import pytest
 from models import particle as mp
 from models.errors import InvalidInput
 from solver.motion import particle as sp
-from solver.core.errors import SolverError
+from solver.core.errors import NotConverged, SolverError
+from solver.core.outcome import Outcome
 
 
 @pytest.mark.parametrize("v_x,mg,eta", [(1.0, 1.0, 2.0), (0.2, 3.0, 4.0), (5.0, 0.1, 0.11)])
@@ -77,8 +78,9 @@ def test_ipopt_failure_becomes_solver_error(monkeypatch):
     """An IPOPT run that stops early (iteration cap 0) is reported, not returned."""
     real = sp._ipopt_options
     monkeypatch.setattr(sp, "_ipopt_options", lambda tol: {**real(tol), "ipopt.max_iter": 0})
-    with pytest.raises(SolverError, match="Maximum_Iterations_Exceeded"):
+    with pytest.raises(NotConverged, match="Maximum_Iterations_Exceeded") as err:
         sp.solve_particle(1.0, 1.0, 2.0, 2.0)
+    assert isinstance(err.value, SolverError)
 
 
 def test_casadi_exception_becomes_solver_error(monkeypatch):
@@ -93,3 +95,10 @@ def test_solve_is_timed_and_fast():
     sol = sp.solve_particle(1.0, 1.0, 2.0, 0.5)
     assert 0.0 < sol.solve_time_s < 1.0
     assert sol.iterations >= 1
+
+
+def test_solution_is_an_outcome():
+    """2.5: a returned solution is complete (IPOPT succeeded) and says what it found."""
+    sol = sp.solve_particle(1.0, 1.0, 2.0, 1.0)
+    assert isinstance(sol, Outcome) and sol.complete and sol.status == "Solve_Succeeded"
+    assert sol.message.startswith(f"IPOPT Solve_Succeeded in {sol.iterations} iterations: v_y = ")

@@ -10,6 +10,8 @@ import pytest
 from models.errors import InvalidInput
 from models.footprint import Footprint
 from models.mpp import perp
+from solver.core.outcome import Outcome
+from solver.core.tolerances import SolverTolerances
 from solver.motion.statistics import sticking_line_histogram, tripod_sample, uniform_pressure_cor
 from tests.scenes import SEED, scene_for_mu
 
@@ -70,3 +72,18 @@ def test_uniform_square_cor_matches_a_finer_discretisation_and_symmetry():
     mirror = ms.PushScene.create(math.sqrt(2), (-1.0, -0.4), math.pi / 2, 0.0)
     cm = uniform_pressure_cor(mirror, sq, resolution=16).cor
     assert np.allclose(cm, [cors[2][0], -cors[2][1]], atol=4.0 * np.linalg.norm(cors[2] - cors[1]))
+
+
+def test_sample_and_histogram_are_outcomes():
+    """3.3.3 / 7.7: a sample and a histogram are complete when every tripod converged."""
+    sc = scene_for_mu(0.3)
+    s = tripod_sample(sc, 200, seed=SEED, mu_c=0.5)
+    assert isinstance(s, Outcome) and s.status == "optimal" and s.complete
+    assert s.solve_time_s >= s.batch.solve_time_s > 0.0
+    assert s.message == f"200 random tripods (seed {SEED}): 200 of 200 supports converged"
+    h = sticking_line_histogram(sc, 200, seed=SEED, mu_c=1e6, bins=10)
+    assert isinstance(h, Outcome) and h.complete and h.n_converged == 200
+    never = SolverTolerances(kkt_accept=-1.0)  # no residual is accepted
+    assert not tripod_sample(sc, 50, seed=SEED, tol=never).complete
+    bad = sticking_line_histogram(sc, 50, seed=SEED, mu_c=1e6, bins=10, tol=never)
+    assert bad.status == "not_converged" and not bad.complete and bad.n_converged == 0

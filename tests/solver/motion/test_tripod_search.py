@@ -12,10 +12,11 @@ import pytest
 from models.locus import cor_disk as cd
 from models.errors import InvalidInput
 from models.footprint import Footprint
-from solver.core.budget import Budget
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.motion import tripod_search as ts
-from solver.core.errors import SolverError
+from solver.core.errors import NotConverged, SolverError
+from solver.core.outcome import Outcome
+from tests.budgets import checks_budget
 from models.support import Support
 from solver.motion.forward import solve_forward
 from tests.scenes import SEED, distance_to_polyline, point_in_polygon, scene_for_mu
@@ -167,12 +168,14 @@ def test_seeded_and_reproducible():
 
 
 def test_time_limit_stops_launching_starts():
+    """A budget of 4 clock readings: one at the build, one before each start; the fourth
+    start finds it expired, and so does every later one."""
     sc = scene_for_mu(0.5)
-    res = ts.extreme_cor_search(sc, [1.0, 0.0], n_starts=1000, seed=1, budget=Budget.of(0.3))
-    assert res.time_limit_reached
-    assert any(s.status == "skipped_time_limit" for s in res.starts)
-    assert res.solve_time_s < 1.0
-    assert len(res.starts) == 1000
+    res = ts.extreme_cor_search(sc, [1.0, 0.0], n_starts=1000, seed=1, budget=checks_budget(4))
+    assert res.time_limit_reached and not res.complete
+    assert [s.status == "skipped_time_limit" for s in res.starts] == [False] * 3 + [True] * 997
+    assert [s.complete for s in res.starts] == [True] * 3 + [False] * 997
+    assert res.message.endswith("; 997 not run (time limit)")
 
 
 def test_every_start_is_reported():
@@ -190,10 +193,18 @@ def test_every_start_is_reported():
             assert s.power_excess <= SOLVER_DEFAULT.kkt
 
 
+def test_results_are_outcomes():
+    res = ts.extreme_cor_search(scene_for_mu(0.3), [0.0, 1.0], n_starts=4, seed=2)
+    assert isinstance(res, Outcome) and res.status == "found" and res.complete
+    assert res.message.startswith(f"extreme COR verified by {res.verification} check: {res.n_verified} of 4")
+    for s in res.starts:
+        assert isinstance(s, Outcome) and s.complete and s.message.startswith(f"start {s.index}: {s.status}")
+
+
 def test_unverifiable_search_raises():
     """With checks that nothing can pass, the search refuses to answer."""
     impossible = SolverTolerances(kkt=-1.0)
-    with pytest.raises(SolverError, match="verified"):
+    with pytest.raises(NotConverged, match="verified"):
         ts.extreme_cor_search(scene_for_mu(0.5), [1.0, 0.0], n_starts=3, seed=0, verify_rel=0.0, tol=impossible)
 
 
