@@ -43,6 +43,44 @@ def area_centroid(vertices: np.ndarray) -> np.ndarray:
     return mean + span * np.array([np.sum((x + xn) * w), np.sum((y + yn) * w)]) / a6
 
 
+def triangulate(vertices: ArrayLike) -> np.ndarray:
+    """Ear-clipping triangulation of a simple counter-clockwise polygon (as
+    :class:`Footprint` stores it): array (n - 2, 3, 2) of triangles, each counter-clockwise.
+    Flat corners (collinear neighbours) are never clipped, so no triangle is degenerate.
+    O(n^3), for the small polygons of parts."""
+    v = np.asarray(vertices, dtype=float)
+
+    def cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+        return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
+
+    idx = list(range(len(v)))
+    tris = []
+    while len(idx) > 3:
+        n = len(idx)
+        for k in range(n):
+            i0, i1, i2 = idx[k - 1], idx[k], idx[(k + 1) % n]
+            a, b, c = v[i0], v[i1], v[i2]
+            if cross(a, b, c) <= 0.0:  # reflex or flat corner: not an ear
+                continue
+            others = (v[j] for j in idx if j not in (i0, i1, i2))
+            if any(cross(a, b, q) >= 0.0 and cross(b, c, q) >= 0.0 and cross(c, a, q) >= 0.0 for q in others):
+                continue  # another vertex inside or on the candidate ear
+            tris.append([a, b, c])
+            idx.pop(k)
+            break
+        else:
+            raise InvalidInput("workpiece", "could not be triangulated: it is not a simple polygon")
+    tris.append([v[idx[0]], v[idx[1]], v[idx[2]]])
+    return np.array(tris)
+
+
+def triangle_areas(tris: np.ndarray) -> np.ndarray:
+    """Areas of triangles (k, 3, 2)."""
+    ab = tris[:, 1] - tris[:, 0]
+    ac = tris[:, 2] - tris[:, 0]
+    return np.asarray(0.5 * np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]))
+
+
 def _segments_cross(vertices: np.ndarray, rel: float) -> bool:
     """True when two non-adjacent edges of the closed polygon touch or cross (O(n^2),
     vectorised); ``rel`` is the relative slack of "touch"."""

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from models.errors import InvalidInput
-from models.footprint import Footprint
+from models.footprint import Footprint, area_centroid, triangulate
 from models.tolerances import SUPPORT_DEFAULT, CentroidTolerance
 
 
@@ -107,42 +107,6 @@ def uniform_disk_support(radius: float, center_of_mass: ArrayLike = (0.0, 0.0), 
     return Support(points=w, weights=p / p.sum(), center_of_mass=cm)
 
 
-def _ear_clip(v: np.ndarray) -> list[tuple[int, int, int]]:
-    """Triangulate a simple counter-clockwise polygon by ear clipping (O(n^3), small n)."""
-    idx = list(range(len(v)))
-    tris: list[tuple[int, int, int]] = []
-
-    def cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    guard = 0
-    while len(idx) > 3 and guard < 10 * len(v) ** 2:
-        guard += 1
-        n = len(idx)
-        for k in range(n):
-            i0, i1, i2 = idx[k - 1], idx[k], idx[(k + 1) % n]
-            a, b, c = v[i0], v[i1], v[i2]
-            if cross(a, b, c) <= 0.0:
-                continue  # reflex or flat corner
-            inside = False
-            for j in idx:
-                if j in (i0, i1, i2):
-                    continue
-                pt = v[j]
-                if cross(a, b, pt) >= 0.0 and cross(b, c, pt) >= 0.0 and cross(c, a, pt) >= 0.0:
-                    inside = True
-                    break
-            if not inside:
-                tris.append((i0, i1, i2))
-                del idx[k]
-                break
-        else:  # pragma: no cover - a simple polygon always has an ear
-            raise InvalidInput("vertices", "could not be triangulated (is the polygon simple?)")
-    i0, i1, i2 = idx
-    tris.append((i0, i1, i2))
-    return tris
-
-
 def uniform_polygon_support(footprint: Footprint, subdivisions: int = 16) -> Support:
     """Uniform pressure on a polygon footprint, as sub-triangles of an ear-clipping
     triangulation: each triangle is cut into subdivisions^2 congruent triangles whose
@@ -153,8 +117,6 @@ def uniform_polygon_support(footprint: Footprint, subdivisions: int = 16) -> Sup
         raise InvalidInput("subdivisions", "must be at least 1")
     v = footprint.vertices
     cm = footprint.center_of_mass
-    from models.footprint import area_centroid
-
     ac = area_centroid(v)
     if np.linalg.norm(ac - cm) > 1e-9 * footprint.circumradius:
         raise InvalidInput(
@@ -164,8 +126,7 @@ def uniform_polygon_support(footprint: Footprint, subdivisions: int = 16) -> Sup
     n = subdivisions
     pts, wts = [], []
     # Barycentric grid of the n^2 sub-triangles (upright and inverted).
-    for i0, i1, i2 in _ear_clip(v):
-        a, b, c = v[i0], v[i1], v[i2]
+    for a, b, c in triangulate(v):
         e1, e2 = (b - a) / n, (c - a) / n
         area = 0.5 * abs(e1[0] * e2[1] - e1[1] * e2[0])
         for i in range(n):

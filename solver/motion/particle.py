@@ -64,7 +64,7 @@ class ParticleSolution:
                 f"(closed form {self.mpp_v_y:.6g}, Newton {self.newton_v_y:.6g})")
 
 
-def _ipopt_options(tol: SolverTolerances) -> dict:
+def ipopt_options(tol: SolverTolerances) -> dict:
     return {
         "ipopt.tol": tol.casadi_tol,
         "ipopt.print_level": 0,
@@ -100,7 +100,7 @@ def minimise_power(scene: mp.ParticleScene, tol: SolverTolerances = SOLVER_DEFAU
     objective = (-k * t + (1.0 + t * t) ** (0.5 * (scene.n + 1.0))) / (k * scale)
     t0 = time.perf_counter()
     try:
-        nlp = ca.nlpsol("particle_mpp", "ipopt", {"x": tau, "f": objective}, _ipopt_options(tol))
+        nlp = ca.nlpsol("particle_mpp", "ipopt", {"x": tau, "f": objective}, ipopt_options(tol))
     except RuntimeError as exc:
         raise SolverError(f"CasADi could not build the particle power (2.30): {exc}") from exc
     try:

@@ -58,7 +58,7 @@ import numpy as np
 
 from models import mpp
 from models.errors import InvalidInput, ModelError
-from models.footprint import Footprint
+from models.footprint import Footprint, triangle_areas, triangulate
 from models.scene import PushScene
 from models.support import Support
 from solver.core.budget import Budget
@@ -200,42 +200,6 @@ def _to_world(scene: PushScene, local) -> np.ndarray:
     return scene.to_world(np.asarray(local, dtype=float) * scene.disk_radius)
 
 
-def _cross(o, a, b) -> float:
-    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-
-def triangulate(vertices) -> np.ndarray:
-    """Ear-clipping triangulation of a simple counter-clockwise polygon (as
-    models.footprint.Footprint stores it): array (n - 2, 3, 2), each triangle CCW.
-    Flat corners (collinear neighbours) are never clipped, so no triangle is degenerate."""
-    v = np.asarray(vertices, dtype=float)
-    idx = list(range(len(v)))
-    tris = []
-    while len(idx) > 3:
-        n = len(idx)
-        for k in range(n):
-            i0, i1, i2 = idx[k - 1], idx[k], idx[(k + 1) % n]
-            a, b, c = v[i0], v[i1], v[i2]
-            if _cross(a, b, c) <= 0.0:  # reflex or flat corner: not an ear
-                continue
-            others = (v[j] for j in idx if j not in (i0, i1, i2))
-            if any(_cross(a, b, p) >= 0.0 and _cross(b, c, p) >= 0.0 and _cross(c, a, p) >= 0.0 for p in others):
-                continue  # another vertex inside or on the candidate ear
-            tris.append([a, b, c])
-            idx.pop(k)
-            break
-        else:
-            raise InvalidInput("workpiece", "could not be triangulated: it is not a simple polygon")
-    tris.append([v[idx[0]], v[idx[1]], v[idx[2]]])
-    return np.array(tris)
-
-
-def _triangle_areas(tris: np.ndarray) -> np.ndarray:
-    ab = tris[:, 1] - tris[:, 0]
-    ac = tris[:, 2] - tris[:, 0]
-    return 0.5 * np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
-
-
 def _centring_weights(w: np.ndarray) -> np.ndarray | None:
     """The weights of three feet with sum 1 and centroid at the origin (3.1.5)."""
     m = np.vstack([np.ones(3), w.T])
@@ -245,7 +209,7 @@ def _centring_weights(w: np.ndarray) -> np.ndarray | None:
         return None
 
 
-def _draw_start(rng: np.random.Generator, tris: np.ndarray | None, areas: np.ndarray | None):
+def draw_start(rng: np.random.Generator, tris: np.ndarray | None, areas: np.ndarray | None):
     """A random tripod, uniform on the footprint, centred on the CM with weights >=
     MIN_START_WEIGHT: (feet (3, 2), NLP foot variables (6,), triangle indices, weights)."""
     for _ in range(100_000):
@@ -426,7 +390,7 @@ def extreme_cor_search(
         if np.linalg.norm(footprint.center_of_mass - scene.center_of_mass) > tol.centroid_rel * a:
             raise InvalidInput("center_of_mass", "the footprint's centre of mass is not the scene's")
         tris = triangulate(_to_local(scene, footprint.vertices))
-        areas = _triangle_areas(tris)
+        areas = triangle_areas(tris)
     try:
         wall = budget.remaining()
         nlp, lbx, ubx, lbg, ubg = _build_nlp(kind, tol, max_iter, wall if math.isfinite(wall) else IPOPT_NO_WALL_TIME)
@@ -442,7 +406,7 @@ def extreme_cor_search(
             starts.append(_skipped(index, "skipped_time_limit", 0.0))
             continue
         t0 = time.perf_counter()
-        feet0, q0, tri_idx, p0 = _draw_start(rng, tris, areas)
+        feet0, q0, tri_idx, p0 = draw_start(rng, tris, areas)
         try:
             start_cor = solve_forward(scene, _support(scene, _to_world(scene, feet0), p0), tol=tol).cor
         except ModelError as exc:

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from models.errors import InvalidInput
-from models.footprint import Footprint
+from models.footprint import Footprint, triangle_areas, triangulate
+from tests.scenes import SEED, point_in_polygon
 
 SQUARE = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
 L_SHAPE = [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]
@@ -83,3 +84,21 @@ def test_area_and_centroid_at_extreme_scales(scale):
     f = Footprint.create(v)
     assert np.allclose(f.center_of_mass / scale, [0.75, 1.25], rtol=1e-12)
     assert math.isclose(f.area / scale / scale, 4.0, rel_tol=1e-12)
+
+
+def test_triangulation_covers_the_polygon_exactly():
+    rng = np.random.default_rng(SEED)
+    polygons = [L_SHAPE, SQUARE, [[0, 0], [1, 0], [2, 0], [2, 1], [0, 1]]]  # one flat corner
+    for _ in range(20):
+        n = int(rng.integers(3, 14))
+        th = 2 * math.pi * (np.arange(n) + rng.uniform(0, 0.4, n)) / n
+        r = rng.uniform(0.2, 1.0, n)
+        polygons.append(np.column_stack([r * np.cos(th), r * np.sin(th)]))
+    for v in polygons:
+        fp = Footprint.create(v)
+        tris = triangulate(fp.vertices)
+        assert len(tris) == len(fp.vertices) - 2
+        areas = triangle_areas(tris)
+        assert np.all(areas > 0.0)
+        assert areas.sum() == pytest.approx(fp.area, rel=1e-12)
+        assert np.all(point_in_polygon(tris.mean(axis=1), fp.vertices))

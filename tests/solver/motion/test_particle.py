@@ -76,8 +76,8 @@ def test_invalid_inputs_raise_before_casadi(args, field):
 
 def test_ipopt_failure_becomes_solver_error(monkeypatch):
     """An IPOPT run that stops early (iteration cap 0) is reported, not returned."""
-    real = sp._ipopt_options
-    monkeypatch.setattr(sp, "_ipopt_options", lambda tol: {**real(tol), "ipopt.max_iter": 0})
+    real = sp.ipopt_options
+    monkeypatch.setattr(sp, "ipopt_options", lambda tol: {**real(tol), "ipopt.max_iter": 0})
     with pytest.raises(NotConverged, match="Maximum_Iterations_Exceeded") as err:
         sp.solve_particle(1.0, 1.0, 2.0, 2.0)
     assert isinstance(err.value, SolverError)
@@ -85,8 +85,8 @@ def test_ipopt_failure_becomes_solver_error(monkeypatch):
 
 def test_casadi_exception_becomes_solver_error(monkeypatch):
     """A CasADi construction error (here an unknown IPOPT option) becomes SolverError."""
-    real = sp._ipopt_options
-    monkeypatch.setattr(sp, "_ipopt_options", lambda tol: {**real(tol), "ipopt.no_such_option": 1})
+    real = sp.ipopt_options
+    monkeypatch.setattr(sp, "ipopt_options", lambda tol: {**real(tol), "ipopt.no_such_option": 1})
     with pytest.raises(SolverError):
         sp.solve_particle(1.0, 1.0, 2.0, 2.0)
 

@@ -20,6 +20,7 @@ from tests.budgets import checks_budget
 from models.support import Support
 from solver.motion.forward import solve_forward
 from tests.scenes import SEED, distance_to_polyline, point_in_polygon, scene_for_mu
+from models.footprint import triangle_areas, triangulate
 
 SQUARE = [[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]]
 L_SHAPE = [[0, 0], [3, 0], [3, 1], [1, 1], [1, 2.5], [0, 2.5]]
@@ -248,35 +249,19 @@ def test_translation_and_foreign_footprint_are_refused():
 # --- triangulation -----------------------------------------------------------------------------
 
 
-def test_triangulation_covers_the_polygon_exactly():
-    rng = np.random.default_rng(SEED)
-    polygons = [L_SHAPE, SQUARE, [[0, 0], [1, 0], [2, 0], [2, 1], [0, 1]]]  # one flat corner
-    for _ in range(20):
-        n = int(rng.integers(3, 14))
-        th = 2 * math.pi * (np.arange(n) + rng.uniform(0, 0.4, n)) / n
-        r = rng.uniform(0.2, 1.0, n)
-        polygons.append(np.column_stack([r * np.cos(th), r * np.sin(th)]))
-    for v in polygons:
-        fp = Footprint.create(v)
-        tris = ts.triangulate(fp.vertices)
-        assert len(tris) == len(fp.vertices) - 2
-        areas = ts._triangle_areas(tris)
-        assert np.all(areas > 0.0)
-        assert areas.sum() == pytest.approx(fp.area, rel=1e-12)
-        assert np.all(point_in_polygon(tris.mean(axis=1), fp.vertices))
 
 
 def test_random_start_tripods_are_centred_on_the_cm():
     """3.3.3: start tripods have weights >= MIN_START_WEIGHT putting the centroid on the CM."""
     rng = np.random.default_rng(SEED)
     fp = Footprint.create(L_SHAPE)
-    tris = ts.triangulate(fp.vertices - fp.center_of_mass)
+    tris = triangulate(fp.vertices - fp.center_of_mass)
     for _ in range(20):
-        feet, q0, _, p0 = ts._draw_start(rng, None, None)
+        feet, q0, _, p0 = ts.draw_start(rng, None, None)
         assert np.all(np.linalg.norm(feet, axis=1) <= 1.0)
         assert np.allclose(p0 @ feet, 0.0, atol=1e-12) and np.all(p0 >= ts.MIN_START_WEIGHT)
         assert np.array_equal(q0, feet.reshape(-1))
-        feet, q0, idx, p0 = ts._draw_start(rng, tris, ts._triangle_areas(tris))
+        feet, q0, idx, p0 = ts.draw_start(rng, tris, triangle_areas(tris))
         assert np.all(point_in_polygon(feet + fp.center_of_mass, fp.vertices))
         assert np.allclose(p0 @ feet, 0.0, atol=1e-12) and np.all(p0 >= ts.MIN_START_WEIGHT)
         assert np.all(q0 >= 0.0) and np.all(q0.reshape(3, 2).sum(axis=1) <= 1.0)
