@@ -25,6 +25,9 @@ class SolverTolerances:
             (COR at infinity).
         centroid_rel: largest |weighted centroid - CM| / L accepted for a given support.
         conic_gap: absolute and relative gap / feasibility tolerance handed to Clarabel.
+        conic_ktratio: Clarabel's tolerance on the ratio kappa/tau of its homogeneous
+            embedding for the forward cone programme (its default 1e-6 stops early on
+            badly scaled supports).
         casadi_tol: IPOPT's tol for the CasADi paths.
         nlp_feasibility: largest constraint violation of an IPOPT tripod-search optimum
             that counts as feasible; weights below it are dropped.
@@ -47,6 +50,7 @@ class SolverTolerances:
     translation_omega: float = 1e-12
     centroid_rel: float = 1e-9
     conic_gap: float = 1e-11
+    conic_ktratio: float = 1e-12
     casadi_tol: float = 1e-12
     nlp_feasibility: float = 1e-8
     membership_residual: float = 1e-12

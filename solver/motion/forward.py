@@ -256,7 +256,7 @@ class _CvxpyBackend(_Backend):
                     tol_gap_abs=tol.conic_gap,
                     tol_gap_rel=tol.conic_gap,
                     tol_feas=tol.conic_gap,
-                    tol_ktratio=1e-12,
+                    tol_ktratio=tol.conic_ktratio,
                 )
             except cp.error.SolverError as exc:
                 raise NotConverged(f"Clarabel failed on the minimum-power problem: {exc}") from exc
