@@ -331,3 +331,19 @@ def membership(
         solve_time_s=time.perf_counter() - t_start,
         rows="far" if isinstance(rows, ConditionedRows) else "near",
     )
+
+
+@dataclass(frozen=True)
+class MembershipProblem:
+    """"Can ``cor`` (world) be the COR of the push ``scene``, for some pressure distribution
+    on ``footprint`` (None: the scene's disk)?" Frictionless pusher (book 3.3.2-3.3.13)."""
+
+    scene: PushScene
+    cor: np.ndarray
+    footprint: Footprint | None = None
+    tol: SolverTolerances = SOLVER_DEFAULT
+
+
+def decide_membership(problem: MembershipProblem, budget: Budget = UNLIMITED) -> MembershipResult:
+    """:func:`membership` of ``problem`` within ``budget`` (undecided when it runs out)."""
+    return membership(problem.scene, problem.cor, problem.footprint, tol=problem.tol, budget=budget)

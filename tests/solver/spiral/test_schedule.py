@@ -1,6 +1,6 @@
 """The fastest guaranteed spiral of spiral localization (solver/spiral/schedule.py; book
 4.5.5): the OR-Tools optimum against the recursion (4.26), robot limits, the CP-SAT back
-end, the exponent of figure 4-21 and the one-call plan. Tables: tests/solver/spiral/conftest.py."""
+end, the exponent of figure 4-21 and the one-call plan (solver/spiral/plan.py). Tables: tests/solver/spiral/conftest.py."""
 
 from __future__ import annotations
 
@@ -16,7 +16,8 @@ from models.spiral import fastest_spiral, power_law_fit
 from solver.spiral.critical_radius import (
     critical_radius,
 )
-from solver.spiral.schedule import plan_spiral, spiral_schedule
+from solver.spiral.plan import SpiralProblem, plan_spiral
+from solver.spiral.schedule import spiral_schedule
 from solver.core.budget import Budget
 
 HALF_PI = 0.5 * math.pi
@@ -95,7 +96,7 @@ def test_exponent_of_figure_4_21(dense_sweep_025):
 
 
 def test_plan_and_inputs():
-    plan = plan_spiral(1.0, 0.5, 12.0, target=2.1, method="tip_line")
+    plan = plan_spiral(SpiralProblem(1.0, 0.5, 12.0, 2.1, method="tip_line", cached=False))
     assert plan.schedule.solver_status == "OPTIMAL" and plan.b_inf_closed_form == 1.5
     assert plan.b_floor == pytest.approx(2.0, abs=1e-6)  # the tip line cannot go below 2a
     with pytest.raises(InvalidInput):
