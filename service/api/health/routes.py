@@ -1,11 +1,11 @@
-"""Liveness probe."""
+"""``GET /healthz``: the liveness probe."""
 
 from __future__ import annotations
 
 from fastapi import APIRouter
 
 from service import __version__
-from service.schemas import HealthResponse
+from service.api.health.schemas import HealthResponse
 
 router = APIRouter(tags=["health"])
 

@@ -1,115 +1,48 @@
-"""Schema <-> domain conversions for the COR-locus endpoint (no mechanics here).
+"""Schema <-> problem <-> schema for ``POST /v1/cor/locus`` and ``POST /v1/cor/membership``
+(no mechanics here).
 
-:func:`prepare` turns a validated request into the domain objects of :mod:`models`
-(``Footprint``, ``PushScene``); :func:`locus_response` turns a ``DiskCorLocus`` back into
-the response schema, with plain lists of floats and no NaN/inf.
+:func:`locus_problem` turns a validated request into a :class:`solver.locus.locus.LocusProblem`
+(the scene by :func:`service.common.scene.prepare_push`); :func:`locus_response` turns the
+:class:`solver.locus.locus.LocusResult` back into the response schema, with plain lists
+of floats and no NaN/inf. The same for membership with
+:class:`solver.locus.membership.MembershipProblem`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
-import numpy as np
-
-from models.locus.cor_disk import DiskCorLocus
-from models.errors import InvalidInput
-from models.footprint import Footprint
-from models.scene import PushScene
-from service.errors import NonFiniteResult
-from service.limits import CONTACT_IN_DISK_REL, CONTACT_ON_OUTLINE_REL
-from service.schemas import (
+from models.locus.cor_disk import OUTPUTS, DiskCorLocus
+from service.api.locus.schemas import (
+    BracketOut,
     CertifiedLocusOut,
     CorLocusRequest,
     CorLocusResponse,
     CurvaturesOut,
     DiskCrossingsOut,
+    DualOut,
+    MembershipRequest,
+    MembershipResponse,
     PerimeterArcOut,
     RMinOut,
     TipLineOut,
     TipOut,
+    WitnessOut,
 )
+from service.common.numbers import finite, finite_list, point_or_none
+from service.common.scene import PreparedPush, disk_or_footprint, prepare_push
+from solver.locus.certified_locus import CertifiedDiskBoundary
+from solver.locus.locus import LocusProblem, LocusResult
+from solver.locus.membership import MembershipProblem, MembershipResult
 
 
-SHAPE_FIELDS = ("disk_radius", "workpiece", "footprint")
-"""The ways of giving the workpiece's shape, exactly one per request."""
-
-
-@dataclass(frozen=True)
-class PreparedPush:
-    """A request as domain objects, plus what the service remarks about it."""
-
-    scene: PushScene
-    footprint: Footprint | None
-    outputs: tuple[str, ...]
-    n_points: int
-    contact_distance_to_outline: float | None
-    warnings: tuple[str, ...]
-
-
-def prepare(req: CorLocusRequest, extra_outputs: tuple[str, ...] = ()) -> PreparedPush:
-    """Build the scene. Raises ``InvalidInput`` (-> 422) for inconsistent input."""
-    given = [name for name in SHAPE_FIELDS if getattr(req, name) is not None]
-    if not given:
-        raise InvalidInput("disk_radius", "give either disk_radius or footprint (or workpiece): exactly one of them")
-    if len(given) > 1:
-        raise InvalidInput(given[1], f"give exactly one of disk_radius, workpiece and footprint, not both {given[0]} and {given[1]}")
-    footprint = None
-    polygon_field = given[0] if given[0] != "disk_radius" else None
-    if polygon_field is not None:
-        try:
-            footprint = Footprint.create(getattr(req, polygon_field), req.center_of_mass)
-        except InvalidInput as exc:
-            if exc.field == "workpiece":  # Footprint.create's name for the polygon
-                raise InvalidInput(polygon_field, exc.reason) from exc
-            raise
-        radius = footprint.circumradius
-        cm = footprint.center_of_mass
-    else:
-        radius = req.disk_radius
-        cm = req.center_of_mass if req.center_of_mass is not None else (0.0, 0.0)
-    scene = PushScene.create(radius, req.contact_point, req.edge_angle, req.push_direction, cm)
-
-    warnings: list[str] = []
-    outline_distance = None
-    a = scene.disk_radius
-    if footprint is not None:
-        outline_distance = footprint.distance_to_outline(scene.contact_point)
-        if outline_distance > CONTACT_ON_OUTLINE_REL * a:
-            warnings.append(
-                f"contact_point is {outline_distance:.6g} away from the workpiece outline "
-                f"(tolerance {CONTACT_ON_OUTLINE_REL:g} * a): the pusher is not touching the "
-                "workpiece there"
-            )
-    c_norm = float(np.linalg.norm(scene.contact_rel))
-    if c_norm > (1.0 + CONTACT_IN_DISK_REL) * a:
-        warnings.append(
-            f"contact_point is {c_norm:.6g} from the centre of mass, outside the disk of radius "
-            f"a = {a:.6g} that should bound the workpiece"
-        )
-    outputs = tuple(dict.fromkeys([*req.outputs, *extra_outputs]))
-    return PreparedPush(
-        scene=scene,
-        footprint=footprint,
-        outputs=outputs,
-        n_points=req.n_points,
-        contact_distance_to_outline=outline_distance,
-        warnings=tuple(warnings),
-    )
-
-
-def _f(value, what: str) -> float:
-    x = float(value)
-    if not math.isfinite(x):
-        raise NonFiniteResult(what)
-    return x
-
-
-def _v(value, what: str) -> list[float]:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise NonFiniteResult(what)
-    return arr.tolist()
+def locus_problem(req: CorLocusRequest, all_outputs: bool = False) -> tuple[PreparedPush, LocusProblem]:
+    """The scene of the request and its locus problem (``all_outputs``: every part of the
+    analytic locus, for the picture)."""
+    prep = prepare_push(req)
+    outputs = tuple(dict.fromkeys([*req.outputs, *(OUTPUTS if all_outputs else ())]))
+    problem = LocusProblem(prep.scene, prep.footprint, outputs, req.n_points, req.method, req.n_certified)
+    return prep, problem
 
 
 def translation_message(locus: DiskCorLocus) -> str:
@@ -122,71 +55,66 @@ def translation_message(locus: DiskCorLocus) -> str:
     )
 
 
-def locus_response(
-    prep: PreparedPush,
-    locus: DiskCorLocus,
-    elapsed_ms: float,
-    method: str = "analytic",
-    certified: CertifiedLocusOut | None = None,
-) -> CorLocusResponse:
-    """The response schema for ``locus``; raises :class:`NonFiniteResult` rather than
-    letting a NaN or infinity through."""
+def locus_response(prep: PreparedPush, result: LocusResult, time_limit_s: float, elapsed_ms: float) -> CorLocusResponse:
+    """The response schema for ``result``; raises ``NonFiniteResult`` rather than letting a
+    NaN or infinity through."""
     scene = prep.scene
+    locus = result.analytic
     tip = None
     if locus.tip is not None:
         tip = TipOut(
-            point=_v(locus.tip.point, "tip.point"),
-            distance=_f(locus.tip.distance, "tip.distance"),
-            distance_book=_f(locus.tip.distance_book, "tip.distance_book"),
+            point=finite_list(locus.tip.point, "tip.point"),
+            distance=finite(locus.tip.distance, "tip.distance"),
+            distance_book=finite(locus.tip.distance_book, "tip.distance_book"),
             on_disk=bool(locus.tip.on_disk),
         )
     tip_line = None
     if locus.tip_line is not None:
         tip_line = TipLineOut(
-            point=_v(locus.tip_line.point, "tip_line.point"),
-            direction=_v(locus.tip_line.direction, "tip_line.direction"),
-            distance=_f(locus.tip_line.distance, "tip_line.distance"),
+            point=finite_list(locus.tip_line.point, "tip_line.point"),
+            direction=finite_list(locus.tip_line.direction, "tip_line.direction"),
+            distance=finite(locus.tip_line.distance, "tip_line.distance"),
         )
     r_min = None
     if locus.r_min is not None:
-        r_min = RMinOut(point=_v(locus.r_min.point, "r_min.point"), distance=_f(locus.r_min.distance, "r_min.distance"))
+        r_min = RMinOut(point=finite_list(locus.r_min.point, "r_min.point"), distance=finite(locus.r_min.distance, "r_min.distance"))
     curvatures = None
     if locus.curvatures is not None:
         c = locus.curvatures
         curvatures = CurvaturesOut(
-            tip_radius=_f(c.tip_radius, "curvatures.tip_radius"),
-            tip_radius_book_printed=_f(c.tip_radius_book_printed, "curvatures.tip_radius_book_printed"),
-            r_min_radius=_f(c.r_min_radius, "curvatures.r_min_radius"),
+            tip_radius=finite(c.tip_radius, "curvatures.tip_radius"),
+            tip_radius_book_printed=finite(c.tip_radius_book_printed, "curvatures.tip_radius_book_printed"),
+            r_min_radius=finite(c.r_min_radius, "curvatures.r_min_radius"),
         )
     crossings = None
     if locus.disk_crossings is not None:
         dc = locus.disk_crossings
         crossings = DiskCrossingsOut(
-            cos_eta=_f(dc.cos_eta, "disk_crossings.cos_eta"),
-            points=_v(dc.points, "disk_crossings.points"),
+            cos_eta=finite(dc.cos_eta, "disk_crossings.cos_eta"),
+            points=finite_list(dc.points, "disk_crossings.points"),
             arcs=[
                 PerimeterArcOut(
-                    start_angle=_f(arc.start_angle, "disk_crossings.arcs.start_angle"),
-                    end_angle=_f(arc.end_angle, "disk_crossings.arcs.end_angle"),
-                    start=_v(arc.start, "disk_crossings.arcs.start"),
-                    end=_v(arc.end, "disk_crossings.arcs.end"),
+                    start_angle=finite(arc.start_angle, "disk_crossings.arcs.start_angle"),
+                    end_angle=finite(arc.end_angle, "disk_crossings.arcs.end_angle"),
+                    start=finite_list(arc.start, "disk_crossings.arcs.start"),
+                    end=finite_list(arc.end, "disk_crossings.arcs.end"),
                 )
                 for arc in dc.arcs
             ],
         )
-    boundary = None if locus.boundary is None else _v(locus.boundary, "boundary")
-    residual = None if locus.boundary_residual is None else _f(locus.boundary_residual, "boundary_residual")
+    boundary = None if locus.boundary is None else finite_list(locus.boundary, "boundary")
+    residual = None if locus.boundary_residual is None else finite(locus.boundary_residual, "boundary_residual")
     return CorLocusResponse(
         kind=locus.kind,
         sense=locus.sense,
         message=translation_message(locus) if locus.kind == "translation" else None,
-        disk_radius=_f(scene.disk_radius, "disk_radius"),
-        center_of_mass=_v(scene.center_of_mass, "center_of_mass"),
-        moment_arm=_f(locus.moment_arm, "moment_arm"),
-        relative_moment_arm=_f(locus.relative_moment_arm, "relative_moment_arm"),
-        book_alpha=_f(locus.book_alpha, "book_alpha"),
-        axis=_v(locus.axis, "axis"),
-        translation_direction=_v(locus.translation_direction, "translation_direction"),
+        disk_radius=finite(scene.disk_radius, "disk_radius"),
+        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
+        moment_arm=finite(locus.moment_arm, "moment_arm"),
+        relative_moment_arm=finite(locus.relative_moment_arm, "relative_moment_arm"),
+        book_alpha=finite(locus.book_alpha, "book_alpha"),
+        axis=finite_list(locus.axis, "axis"),
+        translation_direction=finite_list(locus.translation_direction, "translation_direction"),
         r_tip=None if tip is None else tip.distance,
         tip=tip,
         tip_line=tip_line,
@@ -198,11 +126,129 @@ def locus_response(
         boundary_iterations=locus.boundary_iterations,
         contact_distance_to_outline=(
             None if prep.contact_distance_to_outline is None
-            else _f(prep.contact_distance_to_outline, "contact_distance_to_outline")
+            else finite(prep.contact_distance_to_outline, "contact_distance_to_outline")
         ),
-        warnings=list(prep.warnings),
-        method=method,
+        warnings=[*prep.warnings, *result.notes],
+        method=result.problem.method,
         locus_of="disk" if prep.footprint is None else "circumscribing_disk",
-        certified=certified,
+        certified=None if result.certified is None else certified_out(result, time_limit_s),
         elapsed_ms=elapsed_ms,
     )
+
+
+def certified_out(result: LocusResult, time_limit_s: float) -> CertifiedLocusOut:
+    """The certified brackets of ``result`` (method certified, not a translation)."""
+    res = result.certified
+    if isinstance(res, CertifiedDiskBoundary):
+        pairs = res.pairs
+        return CertifiedLocusOut(
+            region="disk",
+            n_requested=result.n_requested,
+            n_done=result.n_done,
+            n_certified=res.n_certified,
+            complete=res.complete,
+            boundary=[finite_list(p.point, "certified.boundary") for p in pairs],
+            brackets=[
+                BracketOut(
+                    point=finite_list(p.point, "certified.point"),
+                    inner=finite_list(p.inner.cor, "certified.inner"),
+                    outer=finite_list(p.outer.cor, "certified.outer"),
+                    inner_status=p.inner.status,
+                    outer_status=p.outer.status,
+                    verdict=p.verdict,
+                )
+                for p in pairs
+            ],
+            bracket_width=finite(2.0 * res.delta, "certified.bracket_width"),
+            wrong=list(res.wrong),
+            undecided=list(res.undecided),
+            multi_crossing=[],
+            centre=None,
+            time_limit_s=time_limit_s,
+            solve_time_ms=res.solve_time_s * 1e3,
+        )
+    rays = list(res.rays)
+    brackets = []
+    for ray in rays:
+        ok = math.isfinite(ray.t_in) and math.isfinite(ray.t_out) and ray.inner is not None
+        brackets.append(BracketOut(
+            point=point_or_none(ray.point),
+            inner=point_or_none(ray.inner.cor) if ok else None,
+            outer=point_or_none(ray.outer.cor) if ok else None,
+            inner_status=ray.inner.status if ray.inner is not None else None,
+            outer_status=ray.outer.status if ray.outer is not None else None,
+            verdict=ray.verdict,
+            crossings=int(ray.crossings),
+        ))
+    return CertifiedLocusOut(
+        region="polygon",
+        n_requested=result.n_requested,
+        n_done=result.n_done,
+        n_certified=sum(r.verdict == "bracketed" for r in rays),
+        complete=result.complete,
+        boundary=[point_or_none(r.point) for r in rays],
+        brackets=brackets,
+        bracket_width=finite(res.width, "certified.bracket_width"),
+        wrong=[],
+        undecided=[i for i, r in enumerate(rays) if r.verdict != "bracketed"],
+        multi_crossing=[i for i, r in enumerate(rays) if r.crossings > 1],
+        centre=finite_list(res.centre, "certified.centre"),
+        time_limit_s=time_limit_s,
+        solve_time_ms=res.solve_time_s * 1e3,
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# POST /v1/cor/membership
+# ---------------------------------------------------------------------------------------
+
+
+def membership_problem(req: MembershipRequest) -> MembershipProblem:
+    scene, footprint = disk_or_footprint(req)
+    return MembershipProblem(scene, req.cor, footprint)
+
+
+def membership_response(req: MembershipRequest, problem: MembershipProblem, res: MembershipResult,
+                        elapsed_ms: float) -> MembershipResponse:
+    scene = problem.scene
+    witness = dual = None
+    if res.status == "inside":
+        witness = WitnessOut(
+            points=finite_list(res.witness_points, "witness.points"),
+            weights=finite_list(res.witness_weights, "witness.weights"),
+            point_mass_at_cor=finite(res.point_mass_at_cor, "witness.point_mass_at_cor"),
+            point_mass_subgradient=finite_list(res.point_mass_subgradient, "witness.point_mass_subgradient"),
+            residual=finite(res.witness_residual, "witness.residual"),
+            forward_cor_error=(
+                None if res.witness_forward_cor_error is None
+                else finite(res.witness_forward_cor_error, "witness.forward_cor_error")
+            ),
+        )
+    if res.dual is not None and res.status != "inside":
+        dual = DualOut(
+            vector=finite_list(res.dual, "dual.vector"),
+            lower_bound=None if res.dual_lower_bound is None else finite(res.dual_lower_bound, "dual.lower_bound"),
+            margin=None if res.dual_margin is None else finite(res.dual_margin, "dual.margin"),
+            lower_bound_method=res.lower_bound_method,
+        )
+    return MembershipResponse(
+        status=res.status,
+        certificate_kind=res.certificate_kind,
+        cor=finite_list(res.cor, "cor"),
+        cor_query=[float(x) for x in req.cor],
+        in_footprint=bool(res.in_footprint),
+        witness=witness,
+        dual=dual,
+        residual=finite(res.witness_residual, "residual") if math.isfinite(res.witness_residual) else None,
+        length_scale=finite(res.length_scale, "length_scale"),
+        disk_radius=finite(scene.disk_radius, "disk_radius"),
+        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
+        iterations=int(res.iterations),
+        n_columns=int(res.n_columns),
+        bnb_intervals=int(res.bnb_intervals),
+        message=res.message,
+        time_limit_s=float(req.time_limit_s),
+        solve_time_ms=res.solve_time_s * 1e3,
+        elapsed_ms=elapsed_ms,
+    )
+

@@ -1,32 +1,29 @@
-"""``POST /v1/cor/locus``: the COR locus of a pushed workpiece (book chapter 3)."""
+"""``POST /v1/cor/locus`` (the COR locus of a pushed workpiece, book chapter 3) and
+``POST /v1/cor/membership`` (can r be its COR? with a certificate).
+
+Each route: request -> problem (:mod:`service.api.locus.convert`) -> one solver call
+(:func:`solver.locus.locus.locus`, :func:`solver.locus.membership.decide_membership`)
+-> response or picture. Plain ``def``: FastAPI runs them in its thread pool, so a long
+certificate does not block the event loop.
+"""
 
 from __future__ import annotations
-
-import dataclasses
-import time
 
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
-from models.locus.cor_disk import OUTPUTS, DiskCorLocus, disk_cor_locus
-from service.certified import certified_disk, certified_polygon
-from service.convert import PreparedPush, locus_response, prepare
+from service.api.locus.convert import locus_problem, locus_response, membership_problem, membership_response
+from service.api.locus.render import render_locus_svg
+from service.api.locus.schemas import CorLocusRequest, CorLocusResponse, MembershipRequest, MembershipResponse
+from service.common.fields import ResponseFormat
+from service.common.inputs import located
+from service.common.responses import INVALID_INPUT, SVG_MEDIA_TYPE, json_or_svg
 from service.errors import FieldError
-from service.render import render_locus_svg
-from service.schemas import CorLocusRequest, CorLocusResponse, ErrorResponse, ResponseFormat
+from solver.core.budget import Budget
+from solver.locus.locus import locus
+from solver.locus.membership import decide_membership
 
 router = APIRouter(tags=["cor"])
-
-SVG_MEDIA_TYPE = "image/svg+xml"
-
-
-def compute_locus(req: CorLocusRequest, all_outputs: bool = False) -> tuple[PreparedPush, DiskCorLocus, float]:
-    """Scene from the request, then the model; returns the time spent in milliseconds."""
-    start = time.perf_counter()
-    prep = prepare(req, extra_outputs=OUTPUTS if all_outputs else ())
-    locus = disk_cor_locus(prep.scene, outputs=prep.outputs, n_points=prep.n_points)
-    elapsed_ms = (time.perf_counter() - start) * 1e3
-    return prep, locus, elapsed_ms
 
 
 @router.post(
@@ -35,11 +32,8 @@ def compute_locus(req: CorLocusRequest, all_outputs: bool = False) -> tuple[Prep
     summary="COR locus of a pushed sliding workpiece",
     response_model=CorLocusResponse,
     responses={
-        200: {
-            "description": "The COR locus: JSON (default) or, with `format=svg`, an SVG picture.",
-            "content": {SVG_MEDIA_TYPE: {"schema": {"type": "string"}}},
-        },
-        422: {"model": ErrorResponse, "description": "Invalid input: the body names the field and the reason."},
+        **json_or_svg("The COR locus: JSON (default) or, with `format=svg`, an SVG picture."),
+        **INVALID_INPUT,
     },
 )
 def cor_locus(
@@ -58,30 +52,35 @@ def cor_locus(
     With `method` 'certified' the answer also holds certified brackets of the boundary
     (minimum-power membership queries, book 3.3.13 and 7.5): of the analytic disk boundary,
     or of the exact locus of the polygon `footprint`."""
-    if req.method == "certified":
-        if response_format == "svg":
-            raise FieldError(("format",), "the SVG picture shows the analytic locus only; use format json "
-                             "with method certified", where="query")
-        start = time.perf_counter()
-        prep, locus, _ = compute_locus(req)
-        warnings = list(prep.warnings)
-        certified = None
-        if prep.scene.is_translation:
-            warnings.append("method certified: nothing to certify, the push translates the part (COR at infinity)")
-        elif prep.footprint is None:
-            certified = certified_disk(prep.scene, req.n_certified, req.time_limit_s)
-        else:
-            certified = certified_polygon(prep.scene, prep.footprint, req.n_certified, req.time_limit_s)
-        if certified is not None and not certified.complete:
-            warnings.append(
-                f"method certified: time limit {req.time_limit_s:g} s reached after {certified.n_done} of "
-                f"{certified.n_requested} {'points' if certified.region == 'disk' else 'rays'}"
-            )
-        prep = dataclasses.replace(prep, warnings=tuple(warnings))
-        return locus_response(prep, locus, (time.perf_counter() - start) * 1e3, "certified", certified)
-    if response_format == "svg":
-        prep, locus, elapsed_ms = compute_locus(req, all_outputs=True)
-        locus_response(prep, locus, elapsed_ms)  # same NaN/inf guard as the JSON answer
-        return Response(content=render_locus_svg(prep, locus), media_type=SVG_MEDIA_TYPE)
-    prep, locus, elapsed_ms = compute_locus(req)
-    return locus_response(prep, locus, elapsed_ms)
+    budget = Budget.of(req.time_limit_s)
+    svg = response_format == "svg"
+    if svg and req.method == "certified":
+        raise FieldError(("format",), "the SVG picture shows the analytic locus only; use format json "
+                         "with method certified", where="query")
+    prep, problem = locus_problem(req, all_outputs=svg)
+    result = locus(problem, budget)
+    body = locus_response(prep, result, req.time_limit_s, budget.elapsed() * 1e3)  # also the NaN/inf guard
+    if svg:
+        return Response(content=render_locus_svg(prep, result.analytic), media_type=SVG_MEDIA_TYPE)
+    return body
+
+
+@router.post(
+    "/v1/cor/membership",
+    operation_id="cor_membership",
+    summary="Can r be the COR of this push? With a certificate",
+    response_model=MembershipResponse,
+    responses=INVALID_INPUT,
+)
+def cor_membership(req: MembershipRequest) -> MembershipResponse:
+    """Decides whether the point `cor` is the centre of rotation of the push for some
+    pressure distribution on the disk (or the polygon `footprint`), frictionless pusher
+    (book 3.3.2-3.3.13). 'inside' comes with a witness support (re-verified by the forward
+    solver), 'outside' with a dual functional and a branch-and-bound lower bound over the
+    whole outline; 'undecided' when the time limit or the iteration caps are reached, or
+    the point is within the tolerances of the locus boundary."""
+    budget = Budget.of(req.time_limit_s)
+    problem = membership_problem(req)
+    with located():
+        res = decide_membership(problem, budget)
+    return membership_response(req, problem, res, budget.elapsed() * 1e3)

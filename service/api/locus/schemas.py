@@ -1,80 +1,55 @@
-"""Request and response schemas of the HTTP API (pydantic v2).
+"""Request and response schemas of ``POST /v1/cor/locus`` (the COR locus, book 3.3) and
+``POST /v1/cor/membership`` ("can r be a COR?", with a certificate, 3.3.2-3.3.13).
 
-All geometry is in the world frame: right-handed, x right, y up; angles in radians,
-counter-clockwise positive; lengths in any unit the client uses consistently (the answer
-comes back in the same unit). Limits are the constants of :mod:`service.limits`.
-
-Numbers are validated strictly: JSON ``true``/``false`` and strings are not numbers,
-NaN/Infinity (which Python's JSON parser accepts) are rejected, integers are accepted
-where a float is expected, and unknown fields are rejected.
+Conventions are those of :mod:`service.common.fields`: world frame, radians, lengths in
+any consistent unit, strict finite numbers, unknown fields rejected.
 """
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import ConfigDict, Field, create_model, field_validator
 
 from models.locus.cor_disk import OUTPUTS
+from service.common.fields import (
+    CONTACT_POINT_DESCRIPTION,
+    DISK_OR_FOOTPRINT,
+    EDGE_ANGLE_DESCRIPTION,
+    ONE_SHAPE_OF,
+    PUSH_DIRECTION_DESCRIPTION,
+    Angle,
+    DiskRadius,
+    LocusMethod,
+    NPoints,
+    Point,
+    Polygon,
+    PushIn,
+    Strict,
+    TimeLimit,
+    Vec2,
+)
 from service.limits import (
     DEFAULT_CERTIFIED_POINTS,
     DEFAULT_N_POINTS,
     DEFAULT_TIME_LIMIT_S,
     MAX_CERTIFIED_POINTS,
-    MAX_TIME_LIMIT_S,
-    MIN_CERTIFIED_POINTS,
-    MAX_ABS_ANGLE,
-    MAX_ABS_COORDINATE,
     MAX_DISK_RADIUS,
     MAX_N_POINTS,
     MAX_POLYGON_VERTICES,
+    MAX_TIME_LIMIT_S,
+    MIN_CERTIFIED_POINTS,
     MIN_N_POINTS,
     MIN_POLYGON_VERTICES,
 )
-
-# ---------------------------------------------------------------------------------------
-# Scalar and point types of requests
-# ---------------------------------------------------------------------------------------
-
-Coordinate = Annotated[
-    float,
-    Field(strict=True, allow_inf_nan=False, ge=-MAX_ABS_COORDINATE, le=MAX_ABS_COORDINATE),
-]
-Point = Annotated[
-    list[Coordinate],
-    Field(min_length=2, max_length=2, description="A point [x, y] in the world frame."),
-]
-Angle = Annotated[
-    float,
-    Field(strict=True, allow_inf_nan=False, ge=-MAX_ABS_ANGLE, le=MAX_ABS_ANGLE),
-]
-DiskRadius = Annotated[
-    float,
-    Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_DISK_RADIUS),
-]
-NPoints = Annotated[int, Field(strict=True, ge=MIN_N_POINTS, le=MAX_N_POINTS)]
-Polygon = Annotated[
-    list[Point],
-    Field(min_length=MIN_POLYGON_VERTICES, max_length=MAX_POLYGON_VERTICES),
-]
 
 OutputName = Literal["tip", "tip_line", "r_min", "curvatures", "disk_crossings", "boundary"]
 OUTPUT_NAMES: tuple[str, ...] = OutputName.__args__  # type: ignore[attr-defined]
 assert set(OUTPUT_NAMES) == set(OUTPUTS), "OutputName must list models.locus.cor_disk.OUTPUTS"
 
-ResponseFormat = Literal["json", "svg"]
-LocusMethod = Literal["analytic", "certified"]
 
 
-ONE_SHAPE_OF = [
-    {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
-    {"required": ["workpiece"], "properties": {"workpiece": {"type": "array"}}},
-    {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
-]
-"""JSON-schema: exactly one of disk_radius / workpiece / footprint (null counts as absent)."""
-
-
-class CorLocusRequest(BaseModel):
+class CorLocusRequest(Strict):
     """One push of a sliding workpiece by a frictionless pusher (book 3.1.9).
 
     Give the workpiece as its bounding disk (``disk_radius``) or as a polygon
@@ -127,15 +102,9 @@ class CorLocusRequest(BaseModel):
             "area centroid with `workpiece` (an explicit one must lie in its convex hull)."
         ),
     )
-    contact_point: Point = Field(description="Where the pusher touches the workpiece, [x, y].")
-    edge_angle: Angle = Field(
-        description="Direction of the pushed edge (the fence face) through the contact, radians."
-    )
-    push_direction: Angle = Field(
-        default=0.0,
-        description="Direction in which the pusher advances, radians (0 = +x). Must not be "
-        "parallel to the edge.",
-    )
+    contact_point: Point = Field(description=CONTACT_POINT_DESCRIPTION)
+    edge_angle: Angle = Field(description=EDGE_ANGLE_DESCRIPTION)
+    push_direction: Angle = Field(default=0.0, description=PUSH_DIRECTION_DESCRIPTION)
     n_points: NPoints = Field(
         default=DEFAULT_N_POINTS,
         description=f"Number of boundary points ({MIN_N_POINTS}..{MAX_N_POINTS}; odd counts "
@@ -160,7 +129,7 @@ class CorLocusRequest(BaseModel):
         description=f"Method 'certified': boundary points (disk) or rays (polygon), "
         f"{MIN_CERTIFIED_POINTS}..{MAX_CERTIFIED_POINTS}.",
     )
-    time_limit_s: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_TIME_LIMIT_S)] = Field(
+    time_limit_s: TimeLimit = Field(
         default=DEFAULT_TIME_LIMIT_S,
         description=f"Method 'certified': time budget in seconds, (0, {MAX_TIME_LIMIT_S:g}]. Points "
         "or rays not reached in time are reported as not done.",
@@ -178,45 +147,47 @@ class CorLocusRequest(BaseModel):
 # Responses
 # ---------------------------------------------------------------------------------------
 
-Vec2 = Annotated[list[float], Field(min_length=2, max_length=2)]
 
-
-class _Out(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class TipOut(_Out):
+class TipOut(Strict):
     point: Vec2 = Field(description="The tip of the locus: its farthest point from the CM, on the axis.")
     distance: float = Field(description="r_tip: distance of the tip from the CM (3.37; a when the tip is on the disk).")
     distance_book: float = Field(description="a^2 / |alpha . c|, equation (3.37) as printed.")
     on_disk: bool = Field(description="True when |alpha . c| >= a: the tip lies on the disk perimeter.")
 
 
-class TipLineOut(_Out):
-    point: Vec2 = Field(description="Foot of the tip line: the point at distance a^2/|c| from the CM, opposite the contact.")
-    direction: Vec2 = Field(description="Unit direction of the tip line (perpendicular to c).")
-    distance: float = Field(description="a^2 / |c|: distance of the tip line from the CM.")
+# Two published response schemas are called TipLineOut (this one and the spiral's); the
+# OpenAPI document tells them apart by the module they were first defined in, here
+# "service__schemas__TipLineOut". create_model gives the class that module, so the
+# component's name stays what clients know.
+TipLineOut = create_model(
+    "TipLineOut",
+    __base__=Strict,
+    __module__="service.schemas",
+    point=(Vec2, Field(description="Foot of the tip line: the point at distance a^2/|c| from the CM, opposite the contact.")),
+    direction=(Vec2, Field(description="Unit direction of the tip line (perpendicular to c).")),
+    distance=(float, Field(description="a^2 / |c|: distance of the tip line from the CM.")),
+)
 
 
-class RMinOut(_Out):
+class RMinOut(Strict):
     point: Vec2 = Field(description="Nearest point of the locus boundary to the CM.")
     distance: float = Field(description="r_min = a |alpha . c| / (2a + |alpha . c|), equation (3.31).")
 
 
-class CurvaturesOut(_Out):
+class CurvaturesOut(Strict):
     tip_radius: float = Field(description="Radius of curvature of the boundary at the tip (corrected 3.38).")
     tip_radius_book_printed: float = Field(description="(3.38) exactly as printed in the book.")
     r_min_radius: float = Field(description="Radius of curvature at r_min, equation (3.33).")
 
 
-class PerimeterArcOut(_Out):
+class PerimeterArcOut(Strict):
     start_angle: float = Field(description="Polar angle about the CM where the arc starts (rad); runs CCW.")
     end_angle: float = Field(description="Polar angle about the CM where the arc ends (rad).")
     start: Vec2
     end: Vec2
 
 
-class DiskCrossingsOut(_Out):
+class DiskCrossingsOut(Strict):
     cos_eta: float = Field(description="cos(eta) where the inner boundary meets the disk, equation (3.32).")
     points: Annotated[list[Vec2], Field(min_length=2, max_length=2)] = Field(
         description="The two points where the inner boundary (3.30) meets the disk."
@@ -226,7 +197,7 @@ class DiskCrossingsOut(_Out):
     )
 
 
-class BracketOut(_Out):
+class BracketOut(Strict):
     """One certified bracket: `inner` proven inside the locus (a witness support), `outer`
     proven outside (a dual with a positive branch-and-bound margin)."""
 
@@ -249,7 +220,7 @@ class BracketOut(_Out):
     )
 
 
-class CertifiedLocusOut(_Out):
+class CertifiedLocusOut(Strict):
     """Certified brackets of the COR locus boundary (method 'certified')."""
 
     region: Literal["disk", "polygon"]
@@ -271,7 +242,7 @@ class CertifiedLocusOut(_Out):
     solve_time_ms: float
 
 
-class CorLocusResponse(_Out):
+class CorLocusResponse(Strict):
     """The locus of centres of rotation (COR) of the pushed workpiece, world frame."""
 
     kind: Literal["bounded", "translation"] = Field(
@@ -315,25 +286,96 @@ class CorLocusResponse(_Out):
     elapsed_ms: float = Field(description="Time spent computing, milliseconds.")
 
 
-class HealthResponse(_Out):
-    status: Literal["ok"]
-    version: str
+
+# ---------------------------------------------------------------------------------------
+# POST /v1/cor/membership
+# ---------------------------------------------------------------------------------------
 
 
-class ErrorItem(BaseModel):
-    """One problem with the request, in FastAPI's validation-error shape."""
+class MembershipRequest(PushIn):
+    """Can `cor` be the centre of rotation of this push, for some pressure distribution
+    on the disk (or `footprint`)? Frictionless pusher (book 3.3.2-3.3.13)."""
 
-    loc: list[str | int] = Field(
-        description='Where the problem is, e.g. ["body", "disk_radius"] or ["query", "format"].'
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={
+            "oneOf": DISK_OR_FOOTPRINT,
+            "examples": [
+                {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966,
+                 "cor": [0.0, 3.0]},
+            ],
+        },
     )
-    msg: str = Field(description="What is wrong and, where possible, how to fix it.")
-    type: str = Field(
-        description="Kind of error: pydantic's error types for schema violations, 'value_error' for "
-        "inputs the mechanics reject, 'model_error' / 'numeric_range' for computations that fail."
+
+    disk_radius: DiskRadius | None = Field(
+        default=None,
+        description="Radius a of the disk about the CM on which the pressure may lie. Give this "
+        "or `footprint`.",
     )
-    input: Any = Field(default=None, description="The offending input, when known (schema violations).")
-    ctx: dict[str, Any] | None = Field(default=None, description="Extra context of a schema violation.")
+    footprint: Polygon | None = Field(
+        default=None,
+        description="The workpiece's outline (simple polygon, either orientation): the pressure "
+        "may lie anywhere on it. Give this or `disk_radius`.",
+    )
+    center_of_mass: Point | None = Field(
+        default=None,
+        description="Centre of mass. Default: [0, 0] with `disk_radius`, the area centroid with "
+        "`footprint` (an explicit one must lie in its convex hull).",
+    )
+    cor: Point = Field(description="The candidate centre of rotation r, [x, y].")
+    time_limit_s: TimeLimit = Field(
+        default=DEFAULT_TIME_LIMIT_S,
+        description=f"Time budget of the search, seconds, in (0, {MAX_TIME_LIMIT_S:g}]. When it "
+        "runs out the answer is 'undecided'.",
+    )
 
 
-class ErrorResponse(BaseModel):
-    detail: list[ErrorItem]
+class WitnessOut(Strict):
+    points: list[Vec2] = Field(description="Support points (world frame) on the outline of the footprint.")
+    weights: list[float] = Field(description="Their weights; with `point_mass_at_cor` they sum to 1.")
+    point_mass_at_cor: float = Field(description="Weight of a point mass at the COR itself.")
+    point_mass_subgradient: Vec2 = Field(
+        description="z with |z| <= point_mass_at_cor: the point mass contributes -s z / L to (3.8) "
+        "(the subgradient of |w - r| at w = r, times the mass)."
+    )
+    residual: float = Field(description="L1 residual of the membership equations (3.8) (dimensionless).")
+    forward_cor_error: float | None = Field(
+        description="|COR of this support by the forward solver - cor| / L: the re-verification."
+    )
+
+
+class DualOut(Strict):
+    vector: Annotated[list[float], Field(min_length=5, max_length=5)] = Field(
+        description="Separating functional y on the columns G(w) = (1, w/L, g_r(w)/L) of (3.8) "
+        "(world-aligned CM frame, lengths / L; |y_0| <= 1, |y_w|, |y_g| <= sqrt 2)."
+    )
+    lower_bound: float | None = Field(description="Lower bound m_F of y . G over the footprint.")
+    margin: float | None = Field(description="m_F - y . b: > 0 proves the candidate outside.")
+    lower_bound_method: str | None = Field(
+        description="'branch_and_bound' (sound over the continuous outline) or 'grid' (not a certificate)."
+    )
+
+
+class MembershipResponse(Strict):
+    status: Literal["inside", "outside", "undecided"]
+    certificate_kind: Literal["witness", "dual", "none"]
+    cor: Vec2 = Field(description="The point decided: the query, or moved onto the outline when within 1e-9 L of it.")
+    cor_query: Vec2 = Field(description="The query as given.")
+    in_footprint: bool = Field(description="Whether the COR lies in the closed footprint (a point mass there is allowed).")
+    witness: WitnessOut | None = Field(description="For 'inside': a support whose COR is `cor`.")
+    dual: DualOut | None = Field(description="For 'outside' (and 'undecided'): the separating functional.")
+    residual: float | None = Field(
+        description="L1 residual of the membership equations for the best support found (0 up to "
+        "rounding for 'inside'; for 'outside' an upper bound of the distance to feasibility); null "
+        "when no round ran (time limit)."
+    )
+    length_scale: float = Field(description="L: the disk radius or the polygon's circumradius.")
+    disk_radius: float
+    center_of_mass: Vec2
+    iterations: int = Field(description="Column-generation rounds.")
+    n_columns: int
+    bnb_intervals: int = Field(description="Branch-and-bound intervals examined.")
+    message: str
+    time_limit_s: float
+    solve_time_ms: float
+    elapsed_ms: float

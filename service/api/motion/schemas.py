@@ -1,13 +1,9 @@
-"""Request and response schemas of the minimum-power endpoints (issue 3).
+"""Request and response schemas of ``POST /v1/cor/solve`` (the motion for a known
+pressure distribution) and ``POST /v1/cor/tripod-statistics`` (figures 3-5 and 7-2).
 
-``POST /v1/cor/solve`` (the motion for a known pressure distribution), ``POST
-/v1/cor/membership`` ("can r be a COR?", with a certificate), ``POST
-/v1/cor/tripod-statistics`` (figures 3-5 and 7-2) and ``POST /v1/mpp/particle`` (the
-particle example of book 2.5).
-
-Conventions are those of :mod:`service.schemas`: world frame, radians, lengths in any
-consistent unit, strict finite numbers, unknown fields rejected. Forces and powers of the
-pushed workpiece are divided by mu_s times its weight (dimensionless); motions are per
+Conventions are those of :mod:`service.common.fields`: world frame, radians, lengths in
+any consistent unit, strict finite numbers, unknown fields rejected. Forces and powers of
+the pushed workpiece are divided by mu_s times its weight (dimensionless); motions are per
 unit advance of the pusher.
 """
 
@@ -15,11 +11,11 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import ConfigDict, Field
 
+from service.common.fields import DISK_OR_FOOTPRINT, DiskRadius, MuC, Point, PushIn, Strict, Vec2
 from service.limits import (
     DEFAULT_PRESSURE_RESOLUTION,
-    DEFAULT_TIME_LIMIT_S,
     MAX_BATCH,
     MAX_BATCH_POINTS,
     MAX_BATCH_SLOW,
@@ -29,44 +25,19 @@ from service.limits import (
     MAX_PRESSURE_RESOLUTION,
     MAX_SUPPORT_POINTS,
     MAX_SUPPORT_POINTS_SLOW,
-    MAX_TIME_LIMIT_S,
     MAX_TRIPODS,
     MAX_WEIGHT,
-    PARTICLE_MAX_EXPONENT,
-    PARTICLE_MAX_MAGNITUDE,
-    PARTICLE_MIN_MAGNITUDE,
 )
-from service.schemas import Angle, DiskRadius, Point, Polygon, Vec2
 
 # ---------------------------------------------------------------------------------------
 # Request building blocks
 # ---------------------------------------------------------------------------------------
 
-MuC = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=MAX_MU_C)]
 Weight = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=MAX_WEIGHT)]
 ForwardMethod = Literal["newton", "cvxpy", "casadi"]
-TimeLimit = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_TIME_LIMIT_S)]
 
 
-class _In(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class PushIn(_In):
-    """The push (book 3.1.9), as in ``/v1/cor/locus``."""
-
-    contact_point: Point = Field(description="Where the pusher touches the workpiece, [x, y].")
-    edge_angle: Angle = Field(
-        description="Direction of the pushed edge (the fence face) through the contact, radians."
-    )
-    push_direction: Angle = Field(
-        default=0.0,
-        description="Direction in which the pusher advances, radians (0 = +x). Must not be "
-        "parallel to the edge.",
-    )
-
-
-class SupportIn(_In):
+class SupportIn(Strict):
     """A discrete pressure distribution: point masses on which the workpiece rests (3.1.5)."""
 
     points: Annotated[list[Point], Field(min_length=1, max_length=MAX_SUPPORT_POINTS)] = Field(
@@ -79,7 +50,7 @@ class SupportIn(_In):
     )
 
 
-class PressureIn(_In):
+class PressureIn(Strict):
     """A modelled pressure distribution (figure 7-1)."""
 
     kind: Literal["uniform"] = Field(description="Only 'uniform' pressure for now.")
@@ -153,47 +124,6 @@ class CorSolveRequest(PushIn):
     pressure: PressureIn | None = Field(default=None, description="A modelled pressure distribution.")
 
 
-class MembershipRequest(PushIn):
-    """Can `cor` be the centre of rotation of this push, for some pressure distribution
-    on the disk (or `footprint`)? Frictionless pusher (book 3.3.2-3.3.13)."""
-
-    model_config = ConfigDict(
-        extra="forbid",
-        json_schema_extra={
-            "oneOf": [
-                {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
-                {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
-            ],
-            "examples": [
-                {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966,
-                 "cor": [0.0, 3.0]},
-            ],
-        },
-    )
-
-    disk_radius: DiskRadius | None = Field(
-        default=None,
-        description="Radius a of the disk about the CM on which the pressure may lie. Give this "
-        "or `footprint`.",
-    )
-    footprint: Polygon | None = Field(
-        default=None,
-        description="The workpiece's outline (simple polygon, either orientation): the pressure "
-        "may lie anywhere on it. Give this or `disk_radius`.",
-    )
-    center_of_mass: Point | None = Field(
-        default=None,
-        description="Centre of mass. Default: [0, 0] with `disk_radius`, the area centroid with "
-        "`footprint` (an explicit one must lie in its convex hull).",
-    )
-    cor: Point = Field(description="The candidate centre of rotation r, [x, y].")
-    time_limit_s: TimeLimit = Field(
-        default=DEFAULT_TIME_LIMIT_S,
-        description=f"Time budget of the search, seconds, in (0, {MAX_TIME_LIMIT_S:g}]. When it "
-        "runs out the answer is 'undecided'.",
-    )
-
-
 class TripodStatisticsRequest(PushIn):
     """Random balanced tripods (3.3.3) on the disk or a footprint, their CORs (figure 3-5) and,
     with `histogram`, where the sticking CORs fall on the sticking line (figure 7-2)."""
@@ -201,10 +131,7 @@ class TripodStatisticsRequest(PushIn):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "oneOf": [
-                {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
-                {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
-            ],
+            "oneOf": DISK_OR_FOOTPRINT,
             "examples": [
                 {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966,
                  "n_tripods": 1000, "seed": 7},
@@ -243,42 +170,15 @@ class TripodStatisticsRequest(PushIn):
     include_cors: bool = Field(default=True, description="Return the CORs themselves (n_tripods points).")
 
 
-ParticleMagnitude = Annotated[
-    float,
-    Field(strict=True, allow_inf_nan=False, ge=PARTICLE_MIN_MAGNITUDE, le=PARTICLE_MAX_MAGNITUDE),
-]
-
-
-class ParticleRequest(_In):
-    """The particle of book 2.5 (figure 2-2): driven along +x at `v_x` by a frictionless
-    fence, pulled by a constant force `mg`, braked by a force eta |v|^n against its velocity."""
-
-    model_config = ConfigDict(
-        extra="forbid",
-        json_schema_extra={"examples": [{"v_x": 1.0, "mg": 1.0, "eta": 2.0, "n": 1.0}]},
-    )
-
-    v_x: ParticleMagnitude = Field(description="Fence speed along +x (length / time).")
-    mg: ParticleMagnitude = Field(description="Magnitude of the constant external force (weight).")
-    eta: ParticleMagnitude = Field(description="Coefficient of the dissipative force eta |v|^n; for n = 0 it must exceed mg.")
-    n: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=PARTICLE_MAX_EXPONENT)] = Field(
-        description=f"Exponent of the dissipative force, 0..{PARTICLE_MAX_EXPONENT:g}: 0 Coulomb, 1 viscous."
-    )
-
-
 # ---------------------------------------------------------------------------------------
 # Responses
 # ---------------------------------------------------------------------------------------
 
 
-class _Out(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
 Sense = Literal["cw", "ccw", "none"]
 
 
-class MotionOut(_Out):
+class MotionOut(Strict):
     """The motion of the workpiece per unit advance of the pusher, world frame."""
 
     status: Literal["optimal", "not_converged", "inconsistent"] = Field(
@@ -318,7 +218,7 @@ class MotionOut(_Out):
     )
 
 
-class ImpactOut(_Out):
+class ImpactOut(Strict):
     """The impact-limit COR (7.1) of a body with the support's mass distribution."""
 
     cor: Vec2 | None = Field(description="COR of the impulsive motion; null for a pure translation.")
@@ -329,7 +229,7 @@ class ImpactOut(_Out):
     )
 
 
-class BatchSummaryOut(_Out):
+class BatchSummaryOut(Strict):
     n: int = Field(description="Supports solved.")
     converged: int = Field(description="Of them with status 'optimal'.")
     translations: int = Field(description="Of them translating (cor null).")
@@ -337,14 +237,14 @@ class BatchSummaryOut(_Out):
     support_sizes: list[int] = Field(description="Distinct support sizes (after merging coincident points).")
 
 
-class PressureSummaryOut(_Out):
+class PressureSummaryOut(Strict):
     kind: Literal["uniform"]
     region: Literal["disk", "polygon"]
     resolution: int
     n_cells: int = Field(description="Cells of the discretisation (point masses solved).")
 
 
-class CorSolveResponse(_Out):
+class CorSolveResponse(Strict):
     """Motions for known pressure distributions."""
 
     input: Literal["support", "supports", "pressure"] = Field(description="Which of the three inputs was given.")
@@ -362,58 +262,7 @@ class CorSolveResponse(_Out):
     elapsed_ms: float = Field(description="Time spent computing in all, ms.")
 
 
-class WitnessOut(_Out):
-    points: list[Vec2] = Field(description="Support points (world frame) on the outline of the footprint.")
-    weights: list[float] = Field(description="Their weights; with `point_mass_at_cor` they sum to 1.")
-    point_mass_at_cor: float = Field(description="Weight of a point mass at the COR itself.")
-    point_mass_subgradient: Vec2 = Field(
-        description="z with |z| <= point_mass_at_cor: the point mass contributes -s z / L to (3.8) "
-        "(the subgradient of |w - r| at w = r, times the mass)."
-    )
-    residual: float = Field(description="L1 residual of the membership equations (3.8) (dimensionless).")
-    forward_cor_error: float | None = Field(
-        description="|COR of this support by the forward solver - cor| / L: the re-verification."
-    )
-
-
-class DualOut(_Out):
-    vector: Annotated[list[float], Field(min_length=5, max_length=5)] = Field(
-        description="Separating functional y on the columns G(w) = (1, w/L, g_r(w)/L) of (3.8) "
-        "(world-aligned CM frame, lengths / L; |y_0| <= 1, |y_w|, |y_g| <= sqrt 2)."
-    )
-    lower_bound: float | None = Field(description="Lower bound m_F of y . G over the footprint.")
-    margin: float | None = Field(description="m_F - y . b: > 0 proves the candidate outside.")
-    lower_bound_method: str | None = Field(
-        description="'branch_and_bound' (sound over the continuous outline) or 'grid' (not a certificate)."
-    )
-
-
-class MembershipResponse(_Out):
-    status: Literal["inside", "outside", "undecided"]
-    certificate_kind: Literal["witness", "dual", "none"]
-    cor: Vec2 = Field(description="The point decided: the query, or moved onto the outline when within 1e-9 L of it.")
-    cor_query: Vec2 = Field(description="The query as given.")
-    in_footprint: bool = Field(description="Whether the COR lies in the closed footprint (a point mass there is allowed).")
-    witness: WitnessOut | None = Field(description="For 'inside': a support whose COR is `cor`.")
-    dual: DualOut | None = Field(description="For 'outside' (and 'undecided'): the separating functional.")
-    residual: float | None = Field(
-        description="L1 residual of the membership equations for the best support found (0 up to "
-        "rounding for 'inside'; for 'outside' an upper bound of the distance to feasibility); null "
-        "when no round ran (time limit)."
-    )
-    length_scale: float = Field(description="L: the disk radius or the polygon's circumradius.")
-    disk_radius: float
-    center_of_mass: Vec2
-    iterations: int = Field(description="Column-generation rounds.")
-    n_columns: int
-    bnb_intervals: int = Field(description="Branch-and-bound intervals examined.")
-    message: str
-    time_limit_s: float
-    solve_time_ms: float
-    elapsed_ms: float
-
-
-class HistogramOut(_Out):
+class HistogramOut(Strict):
     edges: list[float] = Field(description="Bin edges: signed distance from the contact along J p (length).")
     counts: list[int]
     sticking_fraction: float = Field(description="Fraction of tripods that stick.")
@@ -422,7 +271,7 @@ class HistogramOut(_Out):
     solve_time_ms: float
 
 
-class TripodStatisticsResponse(_Out):
+class TripodStatisticsResponse(Strict):
     status: Literal["optimal", "not_converged"] = Field(
         description="'optimal' when every tripod's solve converged (KKT residual within tolerance)."
     )
@@ -438,28 +287,5 @@ class TripodStatisticsResponse(_Out):
     fallbacks: int
     mode_counts: dict[str, int] = Field(description="Tripods per contact mode.")
     histogram: HistogramOut | None
-    solve_time_ms: float
-    elapsed_ms: float
-
-
-class ParticleResponse(_Out):
-    """Newton's law vs the minimum power principle for the particle of book 2.5.
-
-    v_y is the steady speed along the external force (the world velocity is (v_x, -v_y)
-    with the force along -y)."""
-
-    newton_v_y: float = Field(description="v_y by Newton's law (2.27)-(2.29).")
-    mpp_v_y: float = Field(description="Minimiser of the power (2.30) from its stationarity (2.31)-(2.32), closed form / bracketed root.")
-    mpp_v_y_numeric: float = Field(description="The same minimiser found by CasADi/IPOPT.")
-    relative_disagreement: float = Field(description="(newton - mpp) / newton: 0 for n = 0, 1/2 for n = 1.")
-    agree: bool = Field(description="Whether |relative_disagreement| <= 1e-9 (only n = 0).")
-    numeric_error: float = Field(description="|numeric - closed form| / closed form.")
-    kkt_residual: float = Field(description="|dP/dv_y| / mg at the numeric minimiser (2.31).")
-    newton_residual: float = Field(description="Newton's force balance (2.27) at newton_v_y, relative to mg.")
-    power_newton: float = Field(description="Power (2.30) at Newton's answer.")
-    power_mpp: float = Field(description="Power (2.30) at the minimum-power answer (never larger).")
-    status: str = Field(description="IPOPT's return status.")
-    iterations: int
-    message: str
     solve_time_ms: float
     elapsed_ms: float

@@ -2,18 +2,31 @@
 fence push to align a part (3.4, 4.3)? How long does a moving point push a disk aside
 (4.4)?
 
-Thin: schema -> :mod:`service.convert_push` -> :mod:`models.gross.quasistatic`,
-:mod:`models.gross.fence_geometry`, :mod:`models.gross.gross_motion`, :mod:`models.gross.gross_bounds` ->
-schema. Plain ``def``: FastAPI runs them in its thread pool (an exact bound takes seconds).
+Each route: request -> problem (:mod:`service.api.push.convert`) -> one call
+(:func:`models.gross.quasistatic.assess`, a closed form; :func:`solver.gross.align.align`,
+:func:`solver.gross.disk_encounter.disk_encounter`, which take the request's budget) ->
+response. Plain ``def``: FastAPI runs them in its thread pool (an exact bound takes
+seconds).
 """
 
 from __future__ import annotations
 
 from fastapi import APIRouter
 
-from service.convert_push import align_response, disk_encounter_response, quasistatic_response
-from service.schemas import ErrorResponse
-from service.schemas_push import (
+from models.gross.quasistatic import assess
+from service.api.push.convert import (
+    ALIGN_FIELDS,
+    ENCOUNTER_FIELDS,
+    align_partial,
+    align_problem,
+    align_response,
+    encounter_partial,
+    encounter_problem,
+    encounter_response,
+    quasistatic_inputs,
+    quasistatic_response,
+)
+from service.api.push.schemas import (
     PushAlignRequest,
     PushAlignResponse,
     PushDiskEncounterRequest,
@@ -21,19 +34,24 @@ from service.schemas_push import (
     PushQuasistaticRequest,
     PushQuasistaticResponse,
 )
+from service.common.inputs import located
+from service.common.responses import INVALID_INPUT, TIME_LIMIT
+from service.errors import time_limited
+from solver.core.budget import Budget
+from solver.gross.align import align
+from solver.gross.disk_encounter import disk_encounter
 
-router = APIRouter()
+router = APIRouter(tags=["push"])
 
-ERRORS = {422: {"model": ErrorResponse, "description": "Invalid input: the body names the field and the reason."}}
+GROSS_TIME_LIMIT_HINT = "lower n_nodes or n_points, or raise time_limit_s"
 
 
 @router.post(
     "/v1/push/quasistatic",
     operation_id="push_quasistatic",
-    tags=["push"],
     summary="Characteristic speeds for quasi-static motion (book 6.8)",
     response_model=PushQuasistaticResponse,
-    responses=ERRORS,
+    responses=INVALID_INPUT,
 )
 def push_quasistatic(req: PushQuasistaticRequest) -> PushQuasistaticResponse:
     """The book's characteristic speeds of a push: for a permissible angular error (6.3),
@@ -41,16 +59,19 @@ def push_quasistatic(req: PushQuasistaticRequest) -> PushQuasistaticResponse:
     the ratio speed / characteristic speed and what the part coasts after release at that
     speed; the verdict is on the quasi-static parameter (quasi_static, transitional,
     inertial)."""
-    return quasistatic_response(req)
+    budget = Budget.of(None)
+    inputs = quasistatic_inputs(req)
+    res = assess(req.speed, req.mu_s, inputs.g, inputs.part, angular_error=req.angular_error,
+                 translational_error=req.translational_error)
+    return quasistatic_response(req, inputs, res, budget.elapsed() * 1e3)
 
 
 @router.post(
     "/v1/push/align",
     operation_id="push_align",
-    tags=["push"],
     summary="Fence alignment: how far a fence must push until an edge is flush (book 3.4, 4.3)",
     response_model=PushAlignResponse,
-    responses=ERRORS,
+    responses={**INVALID_INPUT, **TIME_LIMIT},
 )
 def push_align(req: PushAlignRequest) -> PushAlignResponse:
     """A fence advancing along `push_direction` meets a polygonal part and turns it until an
@@ -61,16 +82,19 @@ def push_align(req: PushAlignRequest) -> PushAlignResponse:
     longest and shortest pushes from the exact COR sketch of the circumscribing disk with
     their quadrature error estimates, their difference, and optionally whether the speed is
     quasi-static (6.8)."""
-    return align_response(req)
+    budget = Budget.of(req.time_limit_s)
+    problem = align_problem(req)
+    with time_limited(align_partial(req, problem), GROSS_TIME_LIMIT_HINT), located(rename=ALIGN_FIELDS):
+        result = align(problem, budget)
+    return align_response(req, result, budget.elapsed() * 1e3)
 
 
 @router.post(
     "/v1/push/disk-encounter",
     operation_id="push_disk_encounter",
-    tags=["push"],
     summary="A point pushing a disk aside: length and rotation of the encounter (book 4.4)",
     response_model=PushDiskEncounterResponse,
-    responses=ERRORS,
+    responses={**INVALID_INPUT, **TIME_LIMIT},
 )
 def push_disk_encounter(req: PushDiskEncounterRequest) -> PushDiskEncounterResponse:
     """A point pusher moving in a line meets a disk at collision parameter beta_initial (or
@@ -79,4 +103,8 @@ def push_disk_encounter(req: PushDiskEncounterRequest) -> PushDiskEncounterRespo
     and least rotation of the disk from the exact COR sketch, the book's (4.16) and (4.18)
     beside the greatest with the differences, where sketch i begins (4.17), and optionally
     whether the speed is quasi-static (6.8)."""
-    return disk_encounter_response(req)
+    budget = Budget.of(req.time_limit_s)
+    problem = encounter_problem(req)
+    with time_limited(encounter_partial(req), GROSS_TIME_LIMIT_HINT), located(rename=ENCOUNTER_FIELDS):
+        result = disk_encounter(problem, budget)
+    return encounter_response(req, result, budget.elapsed() * 1e3)

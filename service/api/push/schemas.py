@@ -4,8 +4,8 @@
 
 Is a push slow enough for the quasi-static results (chapters 3-4) to hold? Lengths are in
 the client's unit L, times in seconds, speeds in L/s, g in L/s^2 (or named by
-``length_unit``), angles in radians. Conventions as in :mod:`service.schemas`: strict
-finite numbers, unknown fields rejected, null counts as absent.
+``length_unit``), angles in radians. Conventions as in :mod:`service.common.fields`:
+strict finite numbers, unknown fields rejected, null counts as absent.
 """
 
 from __future__ import annotations
@@ -13,10 +13,11 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import ConfigDict, Field, field_validator
 from pydantic_core import PydanticCustomError
 
 from models.gross.quasistatic import BOOK_TRANSLATIONAL_ERROR_REL, GRAVITY_M_S2, METRES_PER_UNIT
+from service.common.fields import Angle, MuC, MuCPositive, Point, Polygon, Strict, TimeLimit
 from service.limits import (
     ALIGN_DEFAULT_N_NODES,
     DEFAULT_TIME_LIMIT_S,
@@ -25,8 +26,6 @@ from service.limits import (
     GROSS_MAX_N_NODES,
     GROSS_MIN_LENGTH,
     GROSS_MIN_N_NODES,
-    GROSS_SKETCH_COST_PER_POINT_S,
-    GROSS_SKETCH_COST_S,
     MAX_MU_C,
     MAX_TIME_LIMIT_S,
     MIN_N_POINTS,
@@ -40,7 +39,7 @@ from service.limits import (
     QS_MIN_LENGTH,
     QS_MIN_MU_S,
 )
-from service.schemas import Angle, Point, Polygon
+from solver.gross.bounds import SKETCH_COST
 
 LengthUnit = Literal["m", "cm", "mm", "um", "in", "ft"]
 assert set(LengthUnit.__args__) == set(METRES_PER_UNIT), "LengthUnit must list models.gross.quasistatic.METRES_PER_UNIT"  # type: ignore[attr-defined]
@@ -51,7 +50,7 @@ Length = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=QS_MIN_LENG
 DEFAULT_ANGULAR_ERROR = math.radians(5.0)
 
 
-class PushQuasistaticRequest(BaseModel):
+class PushQuasistaticRequest(Strict):
     """A push at `speed` of a part on a table with friction `mu_s`: its characteristic
     speeds (6.8.1-6.8.3) and whether the quasi-static assumption holds. Give the part as
     `disk_radius` or `footprint`, and gravity as `g` or `length_unit` (exactly one of each)."""
@@ -113,11 +112,7 @@ class PushQuasistaticRequest(BaseModel):
     )
 
 
-class _Out(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class PartOut(_Out):
+class PartOut(Strict):
     kind: Literal["disk", "polygon"]
     radius: float = Field(description="a: the disk's radius or the polygon's circumradius about the CM (length).")
     radius_of_gyration: float = Field(description="rho, polar, about the CM (length): a / sqrt 2 for the disk.")
@@ -131,7 +126,7 @@ class PartOut(_Out):
     center_of_mass: list[float] | None = Field(description="The polygon's CM (area centroid); null for the disk.")
 
 
-class ErrorSpeedOut(_Out):
+class ErrorSpeedOut(Strict):
     """A characteristic speed for a permissible error, and the push measured against it."""
 
     characteristic_speed: float = Field(description="The speed at which the part coasts exactly the permissible error (L/s).")
@@ -146,7 +141,7 @@ class ErrorSpeedOut(_Out):
     formula: str
 
 
-class QuasiStaticParameterOut(_Out):
+class QuasiStaticParameterOut(Strict):
     characteristic_speed: float = Field(description="v_qs = sqrt(2 mu_s a g) (6.7), L/s.")
     ratio: float = Field(
         description="speed / v_qs, the quasi-static parameter. After release the part coasts "
@@ -157,12 +152,12 @@ class QuasiStaticParameterOut(_Out):
     formula: str
 
 
-class ThresholdsOut(_Out):
+class ThresholdsOut(Strict):
     quasi_static_max_ratio: float = Field(description="ratio at or below which the verdict is quasi_static.")
     inertial_min_ratio: float = Field(description="ratio at or above which the verdict is inertial.")
 
 
-class PushQuasistaticResponse(_Out):
+class PushQuasistaticResponse(Strict):
     verdict: Literal["quasi_static", "transitional", "inertial"] = Field(
         description="On the quasi-static parameter: quasi_static (ratio <= 0.3: coasting <= 9 % of a and "
         "<= 0.09 rad), transitional, or inertial (ratio >= 1: inertia as large as friction, 6.8.3; "
@@ -190,12 +185,6 @@ class PushQuasistaticResponse(_Out):
 GrossMethod = Literal["closed_form", "exact", "both"]
 NNodes = Annotated[int, Field(strict=True, ge=GROSS_MIN_N_NODES, le=GROSS_MAX_N_NODES)]
 SketchPoints = Annotated[int, Field(strict=True, ge=MIN_N_POINTS, le=SKETCH_MAX_N_POINTS)]
-TimeLimit = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_TIME_LIMIT_S)]
-MuC = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=MAX_MU_C)]
-MuCPositive = Annotated[
-    float,
-    Field(strict=True, allow_inf_nan=False, le=MAX_MU_C, json_schema_extra={"exclusiveMinimum": 0}),
-]
 GrossLength = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=GROSS_MIN_LENGTH, le=MAX_DISK_RADIUS)]
 
 METHOD_DESCRIPTION = (
@@ -212,7 +201,7 @@ N_POINTS_DESCRIPTION = (
 )
 TIME_LIMIT_DESCRIPTION = (
     f"Time budget in seconds, (0, {MAX_TIME_LIMIT_S:g}]. A request whose exact bounds are predicted to "
-    f"take longer ({GROSS_SKETCH_COST_S:g} s + {GROSS_SKETCH_COST_PER_POINT_S:g} s x n_points per sketch) "
+    f"take longer ({SKETCH_COST.fixed_s:g} s + {SKETCH_COST.per_point_s:g} s x n_points per sketch) "
     "is refused (422 at time_limit_s) before any work; between exact bounds the time spent is checked "
     "again."
 )
@@ -230,7 +219,7 @@ def _positive_mu(value: float) -> float:
     return value
 
 
-class QuasiStaticIn(BaseModel):
+class QuasiStaticIn(Strict):
     """The push speed and the table's friction: is the gross motion slow enough for the
     quasi-static bounds to hold (book 6.8; as POST /v1/push/quasistatic)? Give gravity as
     `g` or `length_unit` (exactly one)."""
@@ -257,7 +246,7 @@ class QuasiStaticIn(BaseModel):
     )
 
 
-class PushAlignRequest(BaseModel):
+class PushAlignRequest(Strict):
     """A fence pushing a polygonal part until an edge lies flush (book 3.4, 4.3). The fence
     is the line with direction `fence_angle`; it advances along `push_direction` and meets
     the footprint (turned by `orientation` about its CM) from behind."""
@@ -307,7 +296,7 @@ class PushAlignRequest(BaseModel):
     )
 
 
-class PushDiskEncounterRequest(BaseModel):
+class PushDiskEncounterRequest(Strict):
     """A point pusher moving in a straight line pushes a disk aside (book 4.4, figure
     4-10). Give the collision parameter `beta_initial` or the `offset` of the pusher's line
     from grazing (4.24), exactly one."""
@@ -373,7 +362,7 @@ class PushDiskEncounterRequest(BaseModel):
 # --- responses ----------------------------------------------------------------------------
 
 
-class QuasiStaticCheckOut(_Out):
+class QuasiStaticCheckOut(Strict):
     """Whether the given speed is within the quasi-static limit of 6.8 for this part (the
     verdict of POST /v1/push/quasistatic)."""
 
@@ -390,7 +379,7 @@ class QuasiStaticCheckOut(_Out):
     translational: ErrorSpeedOut = Field(description="6.8.2, (6.6): for the book's X = a/7.")
 
 
-class BoundOut(_Out):
+class BoundOut(Strict):
     """One bound on a gross motion: exact (from the exact COR sketch), closed form (the
     book's), and exact - closed_form. A field is null when the method did not compute it or
     the book has no closed form for it."""
@@ -404,7 +393,7 @@ class BoundOut(_Out):
     difference: float | None = Field(description="exact - closed_form.")
 
 
-class FencePieceOut(_Out):
+class FencePieceOut(Strict):
     beta_start: float
     beta_end: float
     regime: Literal["frictionless", "sticking", "slipping_down", "slipping_up"] = Field(
@@ -429,7 +418,7 @@ class FenceBoundOut(BoundOut):
     exact_time_s: float | None = Field(default=None, description="Time of the exact bound, seconds.")
 
 
-class FenceSlipOut(_Out):
+class FenceSlipOut(Strict):
     """How far the fence face slips past the contact vertex while the part turns (4.3),
     from the exact COR sketch (the book has no closed form). Positive along `direction`."""
 
@@ -444,7 +433,7 @@ class FenceSlipOut(_Out):
     exact_time_s: float | None = Field(default=None, description="Time of the exact slip bounds, seconds.")
 
 
-class FenceStageOut(_Out):
+class FenceStageOut(Strict):
     contact_vertex_index: int = Field(description="The vertex the part turns about (index into `footprint`).")
     flush_edge_vertex_indices: list[int] = Field(description="[contact, other end] of the hull edge that comes flush.")
     flush_edge_is_polygon_edge: bool = Field(description="False: the edge bridges a concavity of the footprint.")
@@ -466,12 +455,12 @@ class FenceStageOut(_Out):
     )
 
 
-class FenceEdgeOut(_Out):
+class FenceEdgeOut(Strict):
     vertex_indices: list[int] = Field(description="Indices into `footprint` of the edge's ends.")
     points: list[list[float]] = Field(description="The ends in the world frame, in the initial orientation.")
 
 
-class FenceGeometryOut(_Out):
+class FenceGeometryOut(Strict):
     disk_radius: float = Field(description="a: the footprint's circumradius about the CM (3.1.8).")
     center_of_mass: list[float]
     alpha: float = Field(
@@ -497,7 +486,7 @@ class FenceGeometryOut(_Out):
     )
 
 
-class PushAlignResponse(_Out):
+class PushAlignResponse(Strict):
     message: str
     method: GrossMethod
     mu_c: float
@@ -523,7 +512,7 @@ class PushAlignResponse(_Out):
     elapsed_ms: float
 
 
-class SketchIOut(_Out):
+class SketchIOut(Strict):
     onset_beta: float = Field(description="atan(2 mu_c): for beta above it the COR sketch is of type i (4.17).")
     at_start: bool = Field(description="The sketch is of type i already at beta_initial.")
     occurs: bool = Field(
@@ -532,7 +521,7 @@ class SketchIOut(_Out):
     note: str
 
 
-class PushDiskEncounterResponse(_Out):
+class PushDiskEncounterResponse(Strict):
     message: str
     method: GrossMethod
     disk_radius: float

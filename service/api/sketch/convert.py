@@ -1,23 +1,17 @@
-"""Schema <-> domain conversion of ``POST /v1/cor/sketch`` (no mechanics here).
+"""Schema <-> problem <-> schema of ``POST /v1/cor/sketch`` (no mechanics here).
 
-The request becomes a ``PushScene`` exactly as for ``/v1/cor/locus`` (:func:`service.convert.prepare`:
-a disk, or a polygon bounded by its circumscribing disk, with the same warnings);
-:func:`models.locus.cor_sketch.cor_sketch` computes; :func:`sketch_response` turns the
-``CorSketch`` into the response schema with plain floats and no NaN/inf. Method
-``certified``: :func:`solver.locus.certified_sketch.certified_sketch` (the polygon's own sketch,
-or the disk's with exact sticking ends), with its certification report.
+The request becomes a ``PushScene`` exactly as for ``/v1/cor/locus``
+(:func:`service.common.scene.prepare_push`: a disk, or a polygon bounded by its
+circumscribing disk, with the same warnings) and a
+:class:`solver.locus.sketch.SketchProblem`; :func:`sketch_response` turns the
+:class:`solver.locus.sketch.SketchResult` into the response schema with plain floats and
+no NaN/inf (with the certification report of method ``certified``).
 """
 
 from __future__ import annotations
 
 from models.locus.cor_sketch import CorSketch, ElementaryLocus
-from solver.locus.certified_sketch import CertifiedSketch
-from solver.locus.sticking_locus import LocusEnd
-from service.convert import PreparedPush, _f, _v, prepare
-from service.errors import FieldError
-from service.limits import SKETCH_MIN_LENGTH
-from service.schemas import CorLocusRequest
-from service.schemas_sketch import (
+from service.api.sketch.schemas import (
     CorSketchRequest,
     CorSketchResponse,
     ElementaryLocusOut,
@@ -27,6 +21,13 @@ from service.schemas_sketch import (
     StickingLocusOut,
     TipLineEstimateOut,
 )
+from service.common.numbers import finite, finite_list
+from service.common.scene import PreparedPush, prepare_push
+from service.errors import FieldError
+from service.limits import SKETCH_MIN_LENGTH
+from solver.locus.certified_sketch import CertifiedSketch
+from solver.locus.sketch import SketchProblem, SketchResult
+from solver.locus.sticking_locus import LocusEnd
 
 IMPLICATION_TEXT = {
     "must_slip_up": "the part must slip up relative to the pusher",
@@ -39,38 +40,29 @@ IMPLICATION_TEXT = {
 """The implications of 4.1.6 in words."""
 
 
-def prepare_sketch(req: CorSketchRequest) -> PreparedPush:
-    """The scene of the request, built and checked as for ``/v1/cor/locus``."""
-    as_locus = CorLocusRequest.model_construct(
-        disk_radius=req.disk_radius,
-        workpiece=req.workpiece,
-        footprint=req.footprint,
-        center_of_mass=req.center_of_mass,
-        contact_point=req.contact_point,
-        edge_angle=req.edge_angle,
-        push_direction=req.push_direction,
-        n_points=req.n_points,
-        outputs=[],
-    )
-    prep = prepare(as_locus)
+def sketch_problem(req: CorSketchRequest, with_tip_line: bool = False) -> tuple[PreparedPush, SketchProblem]:
+    """The scene of the request, built and checked as for ``/v1/cor/locus``, and its sketch
+    problem (``with_tip_line``: also the tip line, for the picture)."""
+    prep = prepare_push(req)
     if prep.footprint is not None and not prep.scene.disk_radius >= SKETCH_MIN_LENGTH:
-        field = "footprint" if req.footprint is not None else "workpiece"
         raise FieldError(
-            (field,),
+            (prep.shape_field,),
             f"is too small: its circumradius {prep.scene.disk_radius:.6g} is below {SKETCH_MIN_LENGTH:g} "
             "(lengths squared would underflow)",
         )
-    return prep
+    problem = SketchProblem(prep.scene, req.mu_c, footprint=prep.footprint, method=req.method,
+                            n_points=req.n_points, n_rays=req.n_rays, with_tip_line=with_tip_line)
+    return prep, problem
 
 
 def _elementary(loc: ElementaryLocus, sigma: float, nu: float) -> ElementaryLocusOut:
     name = loc.label
     return ElementaryLocusOut(
         label=loc.label,
-        force_direction=_v(loc.force, f"{name}.force_direction"),
+        force_direction=finite_list(loc.force, f"{name}.force_direction"),
         force_angle=sigma * nu,
-        boundary=None if loc.boundary is None else _v(loc.boundary, f"{name}.boundary"),
-        tip=None if loc.tip is None else _v(loc.tip, f"{name}.tip"),
+        boundary=None if loc.boundary is None else finite_list(loc.boundary, f"{name}.boundary"),
+        tip=None if loc.tip is None else finite_list(loc.tip, f"{name}.tip"),
         moment_sign=int(loc.moment_sign),
         configuration=loc.configuration,
         crosses_sticking_line=bool(loc.crosses_sticking_line),
@@ -121,11 +113,11 @@ def _end(end: LocusEnd | None, name: str) -> StickingEndOut | None:
     if end is None:
         return None
     return StickingEndOut(
-        status=end.status, position=_f(end.position, f"{name}.position"),
-        feasible_position=None if end.feasible_position is None else _f(end.feasible_position, f"{name}.feasible_position"),
+        status=end.status, position=finite(end.position, f"{name}.position"),
+        feasible_position=None if end.feasible_position is None else finite(end.feasible_position, f"{name}.feasible_position"),
         infeasible_position=(None if end.infeasible_position is None
-                             else _f(end.infeasible_position, f"{name}.infeasible_position")),
-        width=_f(end.width, f"{name}.width"), certified=bool(end.certified),
+                             else finite(end.infeasible_position, f"{name}.infeasible_position")),
+        width=finite(end.width, f"{name}.width"), certified=bool(end.certified),
     )
 
 
@@ -145,60 +137,60 @@ def certification_out(cs: CertifiedSketch) -> SketchCertificationOut:
     )
 
 
-def sketch_response(
-    prep: PreparedPush, sk: CorSketch, elapsed_ms: float, certified: CertifiedSketch | None = None,
-) -> CorSketchResponse:
-    """The response schema for ``sk`` (with the certification report of a certified
+def sketch_response(prep: PreparedPush, result: SketchResult, elapsed_ms: float) -> CorSketchResponse:
+    """The response schema for ``result`` (with the certification report of a certified
     sketch); raises ``NonFiniteResult`` rather than letting a NaN or infinity through."""
     scene = prep.scene
+    sk = result.sketch
+    certified = result.certified
     sticking = None
     if sk.sticking is not None:
         s = sk.sticking
         sticking = StickingLocusOut(
-            t_low=_f(s.t_low, "sticking.t_low"),
-            t_high=_f(s.t_high, "sticking.t_high"),
-            low=_v(s.low, "sticking.low"),
-            high=_v(s.high, "sticking.high"),
-            phi_low=None if s.phi_low is None else _f(s.phi_low, "sticking.phi_low"),
-            phi_high=None if s.phi_high is None else _f(s.phi_high, "sticking.phi_high"),
+            t_low=finite(s.t_low, "sticking.t_low"),
+            t_high=finite(s.t_high, "sticking.t_high"),
+            low=finite_list(s.low, "sticking.low"),
+            high=finite_list(s.high, "sticking.high"),
+            phi_low=None if s.phi_low is None else finite(s.phi_low, "sticking.phi_low"),
+            phi_high=None if s.phi_high is None else finite(s.phi_high, "sticking.phi_high"),
         )
     tip_line = None
     if sk.tip_line_t is not None:
         tip_line = TipLineEstimateOut(
-            point=_v(sk.tip_line_low, "tip_line_estimate.point"),
-            t=_f(sk.tip_line_t, "tip_line_estimate.t"),
-            error=None if sk.tip_line_error is None else _f(sk.tip_line_error, "tip_line_estimate.error"),
+            point=finite_list(sk.tip_line_low, "tip_line_estimate.point"),
+            t=finite(sk.tip_line_t, "tip_line_estimate.t"),
+            error=None if sk.tip_line_error is None else finite(sk.tip_line_error, "tip_line_estimate.error"),
         )
     return CorSketchResponse(
         kind="translation" if is_translation(sk) else "sketch",
         message=sketch_message(prep, sk, certified is not None),
-        mu_c=_f(sk.mu_c, "mu_c"),
-        nu=_f(sk.nu, "nu"),
+        mu_c=finite(sk.mu_c, "mu_c"),
+        nu=finite(sk.nu, "nu"),
         sense=sk.sense,
-        disk_radius=_f(scene.disk_radius, "disk_radius"),
-        center_of_mass=_v(scene.center_of_mass, "center_of_mass"),
+        disk_radius=finite(scene.disk_radius, "disk_radius"),
+        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
         sketch_of=sketch_of(prep, certified is not None),
         method="analytic" if certified is None else "certified",
         certification=None if certified is None else certification_out(certified),
         sticking_line=LineOut(
-            point=_v(sk.sticking_line_point, "sticking_line.point"),
-            direction=_v(sk.sticking_line_direction, "sticking_line.direction"),
+            point=finite_list(sk.sticking_line_point, "sticking_line.point"),
+            direction=finite_list(sk.sticking_line_direction, "sticking_line.direction"),
         ),
-        edge_normal_direction=_v(sk.edge_normal_direction, "edge_normal_direction"),
+        edge_normal_direction=finite_list(sk.edge_normal_direction, "edge_normal_direction"),
         plus=_elementary(sk.plus, 1.0, sk.nu),
         minus=_elementary(sk.minus, -1.0, sk.nu),
-        down_slipping=[_v(p, "down_slipping") for p in sk.down_slipping],
-        up_slipping=[_v(p, "up_slipping") for p in sk.up_slipping],
+        down_slipping=[finite_list(p, "down_slipping") for p in sk.down_slipping],
+        up_slipping=[finite_list(p, "up_slipping") for p in sk.up_slipping],
         sticking=sticking,
         tip_line_estimate=tip_line,
         sketch=sk.sketch,
         mirrored=bool(sk.mirrored),
         implication=sk.implication,
         allowed_modes=list(sk.allowed_modes),
-        n_points=prep.n_points,
+        n_points=result.problem.n_points,
         contact_distance_to_outline=(
             None if prep.contact_distance_to_outline is None
-            else _f(prep.contact_distance_to_outline, "contact_distance_to_outline")
+            else finite(prep.contact_distance_to_outline, "contact_distance_to_outline")
         ),
         warnings=list(prep.warnings),
         elapsed_ms=elapsed_ms,

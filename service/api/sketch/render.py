@@ -1,6 +1,6 @@
 """SVG picture of a COR sketch (book 4.1, figure 4-3), matplotlib object API only.
 
-As in :mod:`service.render`: no pyplot, one throw-away ``Figure`` on an SVG canvas per
+As in :mod:`service.common.svg`: no pyplot, one throw-away ``Figure`` on an SVG canvas per
 call; a square view about the centre of mass with equal aspect; drawn relative to the CM
 and in units of 10^k when the coordinates demand it; polygons and lines clipped to the
 view here, so the SVG never holds far-away coordinates (loci reach 1e14 a when a force
@@ -17,11 +17,9 @@ their extent is given in the legend.
 
 from __future__ import annotations
 
-import io
 import math
 
 import numpy as np
-from matplotlib.backends.backend_svg import FigureCanvasSVG
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, FancyArrowPatch, Wedge
@@ -29,14 +27,16 @@ from matplotlib.patches import Polygon as PolygonPatch
 
 from models.locus.cor_disk import TipLine
 from models.locus.cor_sketch import CorSketch
-from service.convert import PreparedPush
-from service.convert_sketch import IMPLICATION_TEXT, is_translation
-from service.render import (
+from service.api.sketch.convert import IMPLICATION_TEXT, is_translation
+from service.common.scene import PreparedPush
+from service.common.svg import (
     FIGSIZE_IN,
-    _axis_label,
-    _clip_line_to_box,
-    _clip_polygon_to_box,
-    _view_frame,
+    axis_label,
+    clip_line_to_box,
+    clip_polygon_to_box,
+    new_figure,
+    svg_bytes,
+    view_frame,
 )
 
 MAX_IN_VIEW = 6.0
@@ -68,7 +68,7 @@ def _clip_segment(a: np.ndarray, b: np.ndarray, lo: np.ndarray, hi: np.ndarray):
     n = float(np.hypot(*d))
     if n == 0.0:
         return np.vstack([a, b]) if np.all(lo <= a) and np.all(a <= hi) else None
-    seg = _clip_line_to_box(a, d / n, lo, hi)
+    seg = clip_line_to_box(a, d / n, lo, hi)
     if seg is None:
         return None
     t = np.clip((seg - a) @ (d / n), 0.0, n)
@@ -80,7 +80,7 @@ def _clip_segment(a: np.ndarray, b: np.ndarray, lo: np.ndarray, hi: np.ndarray):
 def _arrow_along(ax, start: np.ndarray, direction: np.ndarray, lo: np.ndarray, hi: np.ndarray, color: str) -> None:
     """An arrow along the ray start + t direction, near where it leaves the view: points at
     something off the picture."""
-    seg = _clip_line_to_box(start, direction, lo, hi)
+    seg = clip_line_to_box(start, direction, lo, hi)
     if seg is None:
         return
     end = seg[1]
@@ -128,7 +128,7 @@ def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | N
         near = r[np.hypot(r[:, 0], r[:, 1]) <= reach]
         if len(near):
             must_see.append(near)
-    half_world, unit_exp, scale, origin = _view_frame(must_see, cm_world)
+    half_world, unit_exp, scale, origin = view_frame(must_see, cm_world)
 
     def P(points) -> np.ndarray:
         return (np.asarray(points, dtype=float) - origin) / scale
@@ -140,8 +140,7 @@ def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | N
     lo, hi = cm - half, cm + half
     line_lo, line_hi = lo - 0.05 * half, hi + 0.05 * half
 
-    fig = Figure(figsize=(FIGSIZE_IN + LEGEND_WIDTH_IN, FIGSIZE_IN))
-    FigureCanvasSVG(fig)
+    fig = new_figure(FIGSIZE_IN + LEGEND_WIDTH_IN, FIGSIZE_IN)
     ax = fig.add_subplot()
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
@@ -150,14 +149,14 @@ def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | N
     handles = []
 
     def line(point, direction, gid, **style):
-        seg = _clip_line_to_box(np.asarray(point, float), np.asarray(direction, float), line_lo, line_hi)
+        seg = clip_line_to_box(np.asarray(point, float), np.asarray(direction, float), line_lo, line_hi)
         if seg is None:
             return Line2D([], [], **style)  # legend entry only
         (h,) = ax.plot(seg[:, 0], seg[:, 1], gid=gid, **style)
         return h
 
     def polygon(points, gid, **style):
-        ring = _clip_polygon_to_box(P(points), line_lo, line_hi)
+        ring = clip_polygon_to_box(P(points), line_lo, line_hi)
         if len(ring) >= 3:
             ax.add_patch(PolygonPatch(ring, closed=True, gid=gid, **style))
 
@@ -250,8 +249,8 @@ def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | N
                               label="translation (COR at infinity)"))
 
     ax.set_title(sketch_title(prep, sk), fontsize=9)
-    ax.set_xlabel(_axis_label("x", float(origin[0]), unit_exp))
-    ax.set_ylabel(_axis_label("y", float(origin[1]), unit_exp))
+    ax.set_xlabel(axis_label("x", float(origin[0]), unit_exp))
+    ax.set_ylabel(axis_label("y", float(origin[1]), unit_exp))
     legend = ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
                        fontsize=7, framealpha=0.85)
     legend.set_gid("legend")
@@ -261,8 +260,4 @@ def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | N
 
 def render_sketch_svg(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | None) -> bytes:
     """The picture of ``sk`` as SVG bytes (text drawn as paths, no external fonts)."""
-    fig = build_sketch_figure(prep, sk, tip_line)
-    buf = io.BytesIO()
-    title = sketch_title(prep, sk).replace("\n", "; ")
-    fig.savefig(buf, format="svg", metadata={"Title": title, "Date": None})
-    return buf.getvalue()
+    return svg_bytes(build_sketch_figure(prep, sk, tip_line), sketch_title(prep, sk).replace("\n", "; "))

@@ -1,31 +1,25 @@
 """``POST /v1/cor/sketch``: the COR sketch of a push with pusher friction (book 4.1).
 
-Thin: schema -> :func:`service.convert_sketch.prepare_sketch` (the scene, as for
-``/v1/cor/locus``) -> :func:`models.locus.cor_sketch.cor_sketch` (or, method ``certified``,
-:func:`solver.locus.certified_sketch.certified_sketch`) -> schema or SVG picture. Plain ``def``:
-FastAPI runs it in its thread pool (a sketch takes a few hundred milliseconds, a certified
-one seconds).
+Request -> :func:`service.api.sketch.convert.sketch_problem` (the scene, as for
+``/v1/cor/locus``) -> :func:`solver.locus.sketch.sketch` -> response or picture. Plain
+``def``: FastAPI runs it in its thread pool (a sketch takes a few hundred milliseconds, a
+certified one seconds).
 """
 
 from __future__ import annotations
 
-import time
-
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
-from models.locus.cor_disk import disk_cor_locus
-from models.locus.cor_sketch import cor_sketch
+from service.api.sketch.convert import sketch_problem, sketch_response
+from service.api.sketch.render import render_sketch_svg
+from service.api.sketch.schemas import CorSketchRequest, CorSketchResponse
+from service.common.fields import ResponseFormat
+from service.common.responses import INVALID_INPUT, SVG_MEDIA_TYPE, json_or_svg
 from solver.core.budget import Budget
-from solver.locus.certified_sketch import certified_sketch
-from service.convert_sketch import prepare_sketch, sketch_response
-from service.render_sketch import render_sketch_svg
-from service.schemas import ErrorResponse, ResponseFormat
-from service.schemas_sketch import CorSketchRequest, CorSketchResponse
+from solver.locus.sketch import sketch
 
 router = APIRouter()
-
-SVG_MEDIA_TYPE = "image/svg+xml"
 
 
 @router.post(
@@ -35,11 +29,8 @@ SVG_MEDIA_TYPE = "image/svg+xml"
     summary="COR sketch with pusher friction: sticking and slipping loci (book 4.1)",
     response_model=CorSketchResponse,
     responses={
-        200: {
-            "description": "The COR sketch: JSON (default) or, with `format=svg`, an SVG picture.",
-            "content": {SVG_MEDIA_TYPE: {"schema": {"type": "string"}}},
-        },
-        422: {"model": ErrorResponse, "description": "Invalid input: the body names the field and the reason."},
+        **json_or_svg("The COR sketch: JSON (default) or, with `format=svg`, an SVG picture."),
+        **INVALID_INPUT,
     },
 )
 def cor_sketch_route(
@@ -58,18 +49,11 @@ def cor_sketch_route(
     of the nine sketches of figure 4-6 results and what it implies (must slip up, must
     stick, ...). A polygon is bounded by its circumscribing disk, or, with method
     'certified', sketched itself with every piece certified. World frame, radians."""
-    start = time.perf_counter()
-    prep = prepare_sketch(req)
-    certified = None
-    if req.method == "certified":
-        certified = certified_sketch(prep.scene, req.mu_c, footprint=prep.footprint, n_rays=req.n_rays,
-                                     n_points=prep.n_points, budget=Budget.of(req.time_limit_s))
-        sketch = certified.sketch
-    else:
-        sketch = cor_sketch(prep.scene, req.mu_c, n_points=req.n_points)
-    elapsed_ms = (time.perf_counter() - start) * 1e3
-    body = sketch_response(prep, sketch, elapsed_ms, certified)  # also the NaN/inf guard of the picture
-    if response_format == "svg":
-        tip_line = disk_cor_locus(prep.scene, outputs=["tip_line"]).tip_line
-        return Response(content=render_sketch_svg(prep, sketch, tip_line), media_type=SVG_MEDIA_TYPE)
+    budget = Budget.of(req.time_limit_s)
+    svg = response_format == "svg"
+    prep, problem = sketch_problem(req, with_tip_line=svg)
+    result = sketch(problem, budget)
+    body = sketch_response(prep, result, budget.elapsed() * 1e3)  # also the NaN/inf guard of the picture
+    if svg:
+        return Response(content=render_sketch_svg(prep, result.sketch, result.tip_line), media_type=SVG_MEDIA_TYPE)
     return body

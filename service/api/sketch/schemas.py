@@ -1,7 +1,7 @@
 """Request and response schemas of ``POST /v1/cor/sketch``: the COR sketch with pusher
 friction (book 4.1, :mod:`models.locus.cor_sketch`).
 
-Conventions as in :mod:`service.schemas`: world frame (x right, y up), angles in radians
+Conventions as in :mod:`service.common.fields`: world frame (x right, y up), angles in radians
 counter-clockwise, lengths in the client's unit, strict finite numbers, unknown fields
 rejected, ``null`` counts as absent. "Up" and "down" are the book's (4.1.2): the
 workpiece's contact point moving along +J p (the push direction p turned +90 degrees)
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import ConfigDict, Field, field_validator
 from pydantic_core import PydanticCustomError
 
 from models.locus.cor_sketch import CONFIG_ORDER, IMPLIED_MODES, SKETCHES
@@ -31,9 +31,20 @@ from service.limits import (
     SKETCH_MAX_N_POINTS,
     SKETCH_MIN_LENGTH,
 )
-from service.schemas import ONE_SHAPE_OF, Angle, LocusMethod, Point, Polygon, ResponseFormat, Vec2
-
-__all__ = ["CorSketchRequest", "CorSketchResponse", "ResponseFormat"]
+from service.common.fields import (
+    CONTACT_POINT_DESCRIPTION,
+    EDGE_ANGLE_DESCRIPTION,
+    ONE_SHAPE_OF,
+    PUSH_DIRECTION_DESCRIPTION,
+    Angle,
+    LocusMethod,
+    MuCPositive,
+    Point,
+    Polygon,
+    Strict,
+    TimeLimit,
+    Vec2,
+)
 
 FRICTIONLESS_HINT = (
     "Input should be greater than 0: the COR sketch needs pusher friction (a friction cone "
@@ -45,13 +56,9 @@ SketchDiskRadius = Annotated[
     float,
     Field(strict=True, allow_inf_nan=False, ge=SKETCH_MIN_LENGTH, le=MAX_DISK_RADIUS),
 ]
-MuCPositive = Annotated[
-    float,
-    Field(strict=True, allow_inf_nan=False, le=MAX_MU_C, json_schema_extra={"exclusiveMinimum": 0}),
-]
 
 
-class CorSketchRequest(BaseModel):
+class CorSketchRequest(Strict):
     """A push of a workpiece by a pusher with friction mu_c > 0 (book 4.1): the workpiece
     as its bounding disk (``disk_radius``) or as a polygon (``footprint``, or its older
     name ``workpiece``) bounded by its circumscribing disk, exactly one of them."""
@@ -90,15 +97,9 @@ class CorSketchRequest(BaseModel):
         description="Centre of mass [x, y]. Default: [0, 0] with `disk_radius`; the polygon's area "
         "centroid with `footprint` (an explicit one must lie in its convex hull).",
     )
-    contact_point: Point = Field(description="Where the pusher touches the workpiece, [x, y].")
-    edge_angle: Angle = Field(
-        description="Direction of the pushed edge (the fence face) through the contact, radians."
-    )
-    push_direction: Angle = Field(
-        default=0.0,
-        description="Direction in which the pusher advances, radians (0 = +x). Must not be parallel "
-        "to the edge.",
-    )
+    contact_point: Point = Field(description=CONTACT_POINT_DESCRIPTION)
+    edge_angle: Angle = Field(description=EDGE_ANGLE_DESCRIPTION)
+    push_direction: Angle = Field(default=0.0, description=PUSH_DIRECTION_DESCRIPTION)
     mu_c: MuCPositive = Field(
         description=f"Coefficient of friction between pusher and workpiece, in (0, {MAX_MU_C:g}]. "
         "The friction cone has half-angle nu = atan(mu_c) about the edge normal (4.1.1). 0 is "
@@ -124,7 +125,7 @@ class CorSketchRequest(BaseModel):
         description=f"Method 'certified' with a footprint: rays per traced locus, "
         f"{MIN_CERTIFIED_POINTS}..{MAX_CERTIFIED_POINTS} (~0.05-0.25 s each).",
     )
-    time_limit_s: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_TIME_LIMIT_S)] = Field(
+    time_limit_s: TimeLimit = Field(
         default=DEFAULT_TIME_LIMIT_S,
         description=f"Method 'certified': time budget in seconds, (0, {MAX_TIME_LIMIT_S:g}]. What is not "
         "reached in time is left out and `certification` says so (`complete` false).",
@@ -143,10 +144,6 @@ class CorSketchRequest(BaseModel):
 # ---------------------------------------------------------------------------------------
 
 
-class _Out(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
 Configuration = Literal["pure_slipping", "same_sided_split", "opposite_sided_split", "wrapped"]
 Mode = Literal["sticking", "slipping_up", "slipping_down"]
 Implication = Literal[
@@ -156,12 +153,12 @@ SketchLetter = Literal["a", "b", "c", "d", "e", "f", "g", "h", "i"]
 PolygonOut = list[Vec2]
 
 
-class LineOut(_Out):
+class LineOut(Strict):
     point: Vec2 = Field(description="A point of the line, world frame (the contact point).")
     direction: Vec2 = Field(description="Unit direction of the line, world frame.")
 
 
-class ElementaryLocusOut(_Out):
+class ElementaryLocusOut(Strict):
     """{COR}_(alpha +- nu): the frictionless COR locus of the disk for a force along one edge
     of the friction cone (4.1.3), drawn in outline in the book's figures."""
 
@@ -200,7 +197,7 @@ class ElementaryLocusOut(_Out):
     )
 
 
-class StickingLocusOut(_Out):
+class StickingLocusOut(Strict):
     """The sticking locus (4.1.4): the segment of the sticking line that holds every
     sticking COR, by the book's sweep of the force over the cone (refined at the ends)."""
 
@@ -218,7 +215,7 @@ class StickingLocusOut(_Out):
     phi_high: float | None = Field(description="Force angle whose locus reaches the upper end (null: certified).")
 
 
-class TipLineEstimateOut(_Out):
+class TipLineEstimateOut(Strict):
     """The book's approximation of the sticking locus's far end (4.1.4): where the tip line
     (3.3.11.1, perpendicular to c at a^2/|c| beyond the CM) meets the sticking line."""
 
@@ -230,7 +227,7 @@ class TipLineEstimateOut(_Out):
     )
 
 
-class StickingEndOut(_Out):
+class StickingEndOut(Strict):
     status: str = Field(
         description="'bracketed' (certified inside and outside points `width` apart), 'wide' (as bracketed, "
         "wider than asked), 'contact' (runs up to the contact point), 'search_limit' (still feasible at "
@@ -243,7 +240,7 @@ class StickingEndOut(_Out):
     certified: bool = Field(description="Both ends of the bracket carry their certificate.")
 
 
-class SketchCertificationOut(_Out):
+class SketchCertificationOut(Strict):
     """How the pieces of a 'certified' sketch were certified, and whether all were."""
 
     complete: bool = Field(description="Every traced ray and both sticking ends certified, nothing cut by the time limit.")
@@ -263,7 +260,7 @@ class SketchCertificationOut(_Out):
     solve_time_s: float
 
 
-class CorSketchResponse(_Out):
+class CorSketchResponse(Strict):
     """The COR sketch (book 4.1): every COR consistent with the force that produces it, for
     every pressure distribution on the disk, world frame."""
 

@@ -1,6 +1,6 @@
 """SVG pictures of the spiral localization of a disk (book 4.5), matplotlib object API only.
 
-As in :mod:`service.render`: no pyplot, one throw-away ``Figure`` on an SVG canvas per
+As in :mod:`service.common.svg`: no pyplot, one throw-away ``Figure`` on an SVG canvas per
 call, text drawn as paths (the strings survive as XML comments), ``Date`` metadata left
 out so equal inputs give equal bytes. Non-finite input raises
 :class:`service.errors.NonFiniteResult` (HTTP 422) instead of drawing garbage.
@@ -11,7 +11,7 @@ out so equal inputs give equal bytes. Non-finite input raises
   uncertified open). Only ratios are plotted, so any absolute scale draws the same.
 * :func:`render_schedule_svg` -- two panels: the pusher's path about the spiral's centre
   with the circles b_1, target and b_inf (equal aspect; drawn relative to the centre and
-  in units of 10^k exactly like :mod:`service.render`, via its ``_view_frame``; long
+  in units of 10^k exactly like the COR locus, via :func:`service.common.svg.view_frame`; long
   polylines decimated by :func:`decimate_polyline`), and figure 4-21: (b_n - b_inf) / a
   against the revolution n on log-log axes, with a power-law fit C n^-k and the tip-line
   schedule for comparison.
@@ -20,19 +20,18 @@ out so equal inputs give equal bytes. Non-finite input raises
 from __future__ import annotations
 
 import heapq
-import io
 import math
 from dataclasses import dataclass
 
 import numpy as np
-from matplotlib.backends.backend_svg import FigureCanvasSVG
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Circle
 
+from service.common.numbers import finite
+from service.common.svg import COLORS as LOCUS_COLORS
+from service.common.svg import FIGSIZE_IN, axis_label, new_figure, svg_bytes, view_frame
 from service.errors import NonFiniteResult
-from service.render import COLORS as LOCUS_COLORS
-from service.render import FIGSIZE_IN, _axis_label, _view_frame
 
 MAX_PATH_POINTS = 4000
 """Most vertices of the pusher's path that go into the SVG (:func:`decimate_polyline`)."""
@@ -101,15 +100,8 @@ def _finite_array(values, what: str, ndim: int | None = None) -> np.ndarray:
     return arr
 
 
-def _finite(value, what: str) -> float:
-    x = float(value)
-    if not math.isfinite(x):
-        raise NonFiniteResult(what)
-    return x
-
-
 def _positive_length(value, what: str) -> float:
-    x = _finite(value, what)
+    x = finite(value, what)
     if not x > 0.0:
         raise ValueError(f"{what} must be positive, got {x!r}")
     return x
@@ -208,8 +200,7 @@ def _curve_label(c: CriticalCurve) -> str:
 
 def build_critical_radius_figure(curves: list[CriticalCurve], title: str) -> Figure:
     """Figure 4-19 on a new SVG-canvas figure (see :func:`render_critical_radius_svg`)."""
-    fig = Figure(figsize=(FIGSIZE_IN + 1.2, FIGSIZE_IN * 0.8))
-    FigureCanvasSVG(fig)
+    fig = new_figure(FIGSIZE_IN + 1.2, FIGSIZE_IN * 0.8)
     ax = fig.add_subplot()
     ax.grid(True, linewidth=0.3, alpha=0.5)
     handles: list = []
@@ -220,7 +211,7 @@ def build_critical_radius_figure(curves: list[CriticalCurve], title: str) -> Fig
         color = CURVE_COLORS[idx % len(CURVE_COLORS)]
         what = f"curve {idx} ({_curve_label(c)})"
         a = _positive_length(c.a, f"{what}: the disk radius a")
-        _finite(c.mu_c, f"{what}: mu_c")
+        finite(c.mu_c, f"{what}: mu_c")
         betas = _finite_array(c.betas, f"{what}: beta", ndim=1)
         radii = _finite_array(c.radii, f"{what}: r*", ndim=1)
         if betas.shape != radii.shape:
@@ -289,9 +280,7 @@ def build_critical_radius_figure(curves: list[CriticalCurve], title: str) -> Fig
 
 
 def _svg_text(fig: Figure, title: str) -> str:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="svg", metadata={"Title": " ".join(title.split()), "Date": None})
-    return buf.getvalue().decode("utf-8")
+    return svg_bytes(fig, " ".join(title.split())).decode("utf-8")
 
 
 def render_critical_radius_svg(curves: list[CriticalCurve], title: str) -> str:
@@ -318,13 +307,13 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
     if b.size == 0:
         raise ValueError("the schedule needs at least one radius")
     a = _positive_length(a, "the disk radius a")
-    b_inf = _finite(b_inf, "b_inf")
-    b_floor = _finite(b_floor, "the table's floor b_floor")
+    b_inf = finite(b_inf, "b_inf")
+    b_floor = finite(b_floor, "the table's floor b_floor")
     c_world = _finite_array(centre, "the spiral's centre", ndim=1)
     if c_world.shape != (2,):
         raise ValueError(f"the centre is a point (2,), got shape {c_world.shape}")
     if target is not None:
-        target = _finite(target, "the target radius")
+        target = finite(target, "the target radius")
     path = None
     if path_points is not None:
         path = _finite_array(path_points, "the pusher's path", ndim=2)
@@ -335,8 +324,8 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
         tip = _finite_array(tip_line_radii, "the tip-line schedule's radii", ndim=1)
     if fit is not None:
         k_fit, c_fit, n_min, n_max = fit
-        k_fit = _finite(k_fit, "the fit's exponent k")
-        c_fit = _finite(c_fit, "the fit's coefficient C")
+        k_fit = finite(k_fit, "the fit's exponent k")
+        c_fit = finite(c_fit, "the fit's coefficient C")
         n_min, n_max = int(n_min), int(n_max)
     b_1 = float(b[0])
 
@@ -347,12 +336,12 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
     target_rel = None if target is None else float(_ratio(target - b_inf, a, "(target - b_inf) / a"))
     tip_dev = None if tip is None else _ratio(tip - b_inf, a, "(tip-line b_n - b_inf) / a")
 
-    # ---- left panel frame: a square about the centre, as service.render does -----------
+    # ---- left panel frame: a square about the centre, as the COR locus picture -----------
     reach = [abs(b_1), abs(b_inf)] + ([abs(target)] if target is not None else [])
     must_see = [np.array([max(reach), max(reach)])]
     if path is not None and len(path):
         must_see.append(path - c_world)
-    half_world, unit_exp, scale, origin = _view_frame(must_see, c_world)
+    half_world, unit_exp, scale, origin = view_frame(must_see, c_world)
 
     def P(points) -> np.ndarray:
         return (np.asarray(points, dtype=float) - origin) / scale
@@ -361,8 +350,7 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
     half = half_world / scale
     lo, hi = cen - half, cen + half
 
-    fig = Figure(figsize=(2.0 * FIGSIZE_IN, FIGSIZE_IN))
-    FigureCanvasSVG(fig)
+    fig = new_figure(2.0 * FIGSIZE_IN, FIGSIZE_IN)
     ax, ax2 = fig.subplots(1, 2)
 
     # ---- left: the pusher's path ----------------------------------------------------------
@@ -405,8 +393,8 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
     (h,) = ax.plot(*cen, marker="+", color=COLORS["centre"], markersize=10, markeredgewidth=1.3,
                    linestyle="none", zorder=5, label="centre", gid="centre")
     handles.append(h)
-    ax.set_xlabel(_axis_label("x", float(origin[0]), unit_exp))
-    ax.set_ylabel(_axis_label("y", float(origin[1]), unit_exp))
+    ax.set_xlabel(axis_label("x", float(origin[0]), unit_exp))
+    ax.set_ylabel(axis_label("y", float(origin[1]), unit_exp))
     ax.set_title(f"pusher path (a = {a:.4g}, b_floor = {b_floor:.4g})", fontsize=9)
     legend = ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2,
                        fontsize=7, framealpha=0.85)

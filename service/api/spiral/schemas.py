@@ -5,8 +5,8 @@ the pusher's path, the approach to b_inf of figure 4-21, an optional simulation 
 
 A disk of radius a lies somewhere within radius b_1 of a centre; a point pusher circles
 the centre on a shrinking spiral and herds it in. Lengths in the client's unit, angles in
-radians, speeds in length per second. Conventions as in :mod:`service.schemas`: strict
-finite numbers, unknown fields rejected, null counts as absent.
+radians, speeds in length per second. Conventions as in :mod:`service.common.fields`:
+strict finite numbers, unknown fields rejected, null counts as absent.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, create_model
 
 from service.limits import (
     MAX_DISK_RADIUS,
@@ -34,14 +34,13 @@ from service.limits import (
     SPIRAL_MIN_RESOLUTION,
     SPIRAL_SWEEP_MARGIN_REL,
 )
-from service.schemas import Point
+from service.common.fields import Point, Strict, TimeLimit
 
 SpiralMethod = Literal["exact", "sweep", "tip_line"]
 SpiralLength = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SPIRAL_MIN_LENGTH, le=MAX_DISK_RADIUS)]
 PositiveLength = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_DISK_RADIUS * SPIRAL_MAX_RADIUS_REL)]
 MuCPositive = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_MU_C)]
 Beta = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SPIRAL_MIN_BETA, lt=0.5 * math.pi)]
-TimeLimit = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_TIME_LIMIT_S)]
 
 REFERENCE = (
     "M. A. Peshkin, Robotic Manipulation Strategies (1990): 4.5 (spiral localization of a disk: "
@@ -304,17 +303,23 @@ class RecursionOut(BaseModel):
     max_step_excess: float
 
 
-class TipLineOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-    revolutions: int = Field(description="Revolutions of (4.26) with the tip line's d* (closed form).")
-    final_radius: float
-    reaches_target: bool = Field(description="False: the tip line stalls at 2a above the target.")
-    unsafe_revolutions: int = Field(
+# Two published response schemas are called TipLineOut (this one and the locus's); the
+# OpenAPI document tells them apart by the module they were first defined in, here
+# "service__schemas_spiral__TipLineOut". create_model gives the class that module, so the
+# component's name stays what clients know.
+TipLineOut = create_model(
+    "TipLineOut",
+    __base__=Strict,
+    __module__="service.schemas_spiral",
+    revolutions=(int, Field(description="Revolutions of (4.26) with the tip line's d* (closed form).")),
+    final_radius=(float, ...),
+    reaches_target=(bool, Field(description="False: the tip line stalls at 2a above the target.")),
+    unsafe_revolutions=(int, Field(
         description="Its revolutions shown unsafe by the request's r* table: some collision parameter the step "
         "allows has r* above the new radius (models.spiral.unsafe_revolutions; no margin)."
-    )
-    revolutions_difference: int | None = Field(description="Tip line minus the OR-Tools schedule.")
+    )),
+    revolutions_difference=(int | None, Field(description="Tip line minus the OR-Tools schedule.")),
+)
 
 
 class FitOut(BaseModel):

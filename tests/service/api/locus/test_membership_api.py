@@ -15,6 +15,7 @@ import pytest
 from models.footprint import Footprint
 from models.scene import PushScene
 from service.limits import MAX_TIME_LIMIT_S
+from solver.core.budget import Budget
 from solver.core.errors import SolverError
 from solver.locus.membership import membership
 
@@ -40,7 +41,7 @@ def direct(body):
     else:
         scene = PushScene.create(body["disk_radius"], body["contact_point"], body["edge_angle"],
                                  body.get("push_direction", 0.0), body.get("center_of_mass", (0.0, 0.0)))
-    return scene, membership(scene, body["cor"], fp, time_limit_s=body.get("time_limit_s", 10.0))
+    return scene, membership(scene, body["cor"], fp, budget=Budget.of(body.get("time_limit_s", 10.0)))
 
 
 @pytest.mark.parametrize("body", [
@@ -146,11 +147,11 @@ def test_nan_cor_is_422(client):
 
 
 def test_solver_error_is_422(client, monkeypatch):
-    import service.convert_mpp as conv
+    import service.api.locus.routes as routes
 
     def fail(*args, **kwargs):
         raise SolverError("Clarabel failed on the membership master: numerical trouble")
 
-    monkeypatch.setattr(conv, "membership", fail)
+    monkeypatch.setattr(routes, "decide_membership", fail)
     r = client.post(URL, json={**DISK, "cor": [0, 1]})
     assert r.status_code == 422 and r.json()["detail"][0]["type"] == "solver_error"

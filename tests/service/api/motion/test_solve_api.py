@@ -362,7 +362,7 @@ def test_newton_batch_size_limit(client):
 
 
 def test_batch_size_limits(client, monkeypatch):
-    import service.convert_mpp as conv
+    import service.api.motion.convert as conv
 
     monkeypatch.setattr(conv, "MAX_BATCH_POINTS", 8)
     r = client.post(URL, json={**PUSH, "supports": [TRIPOD, TRIPOD, TRIPOD]})
@@ -372,12 +372,12 @@ def test_batch_size_limits(client, monkeypatch):
 
 
 def test_solver_errors_are_422_not_500(client, monkeypatch):
-    import service.convert_mpp as conv
+    import solver.motion.solve as solve
 
     def fail(*args, **kwargs):
         raise SolverError("minimum-power problem ended with status infeasible")
 
-    monkeypatch.setattr(conv, "solve_forward", fail)
+    monkeypatch.setattr(solve, "solve_forward", fail)
     r = client.post(URL, json={**SUP, "method": "cvxpy"})
     assert r.status_code == 422
     d = r.json()["detail"][0]

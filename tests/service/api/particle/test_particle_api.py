@@ -3,6 +3,8 @@ invalid inputs are 422 naming the field."""
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from models import particle
@@ -81,12 +83,12 @@ def test_particle_nan_is_422(client):
 def test_particle_float_trouble_is_422_not_500(client, monkeypatch):
     """eta = mg (1 + 1 ulp) with n = 0 once divided by zero inside the solver; whatever the
     solver does with such inputs, the client gets a 422."""
-    import service.convert_mpp as conv
+    import service.api.particle.routes as routes
 
     def boom(*args, **kwargs):
         raise ZeroDivisionError("float division by zero")
 
-    monkeypatch.setattr(conv, "solve_particle", boom)
+    monkeypatch.setattr(routes, "particle", boom)
     r = client.post(PARTICLE, json={"v_x": 1, "mg": 1, "eta": 2, "n": 0})
     assert r.status_code == 422
     assert r.json()["detail"][0]["type"] == "numeric_range"

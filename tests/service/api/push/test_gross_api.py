@@ -24,8 +24,9 @@ from models.gross import gross_bounds as gb
 from models.gross import gross_motion as gm
 from models.gross import quasistatic as qs
 from models.footprint import Footprint
-from service import convert_push
+from service.api.push import convert as push_convert
 from service.limits import GROSS_MAX_N_NODES, MAX_TIME_LIMIT_S, SKETCH_MAX_N_POINTS
+from solver.gross.bounds import SKETCH_COST, SketchCost
 
 ALIGN = "/v1/push/align"
 ENCOUNTER = "/v1/push/disk-encounter"
@@ -106,7 +107,7 @@ def test_align_answer_is_the_models(client):
     assert got["shortest_push"]["exact"] == shortest.value
     assert got["nu"] == math.atan(0.25) and got["quasi_static"] is None
     assert "3.1.8" in got["note"] and "circumscribing" in got["note"]
-    assert got["predicted_time_s"] == convert_push.gross_cost_s(1, 4, 16) and got["elapsed_ms"] > 0
+    assert got["predicted_time_s"] == SKETCH_COST.bounds_s(1, 4, 16) and got["elapsed_ms"] > 0
 
 
 def test_book_example_4_3(client):
@@ -313,23 +314,29 @@ def test_align_bad_inputs_are_422_naming_the_field(client, change, loc, type_):
 
 
 def test_time_budget(client, monkeypatch):
-    """The cost model refuses before any work; if the prediction is too optimistic the
-    clock stops the request between exact bounds."""
+    """The cost model refuses before any work (422); if the prediction is too optimistic the
+    clock stops the request between exact bounds (504, saying where it got to, with what
+    was finished)."""
     r, got = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.3, "n_nodes": 16, "time_limit_s": 1.0})
     assert r.status_code == 422 and "predicted" in detail(got)[2]
-    monkeypatch.setattr(convert_push, "GROSS_SKETCH_COST_S", 0.0)
-    monkeypatch.setattr(convert_push, "GROSS_SKETCH_COST_PER_POINT_S", 0.0)
+    monkeypatch.setattr(push_convert, "SKETCH_COST", SketchCost(fixed_s=0.0, per_point_s=0.0))
     r, got = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.3, **FAST, "time_limit_s": 0.01})
-    assert r.status_code == 422
-    loc, _, msg = detail(got)
-    assert loc == ["body", "time_limit_s"] and "ran out" in msg
+    assert r.status_code == 504
+    loc, type_, msg = detail(got)
+    assert loc == ["body", "time_limit_s"] and type_ == "time_limit" and "ran out" in msg
     assert "exact bounds of stage 1" in msg or "the sketch at beta" in msg  # where it got to
+    assert got["reached"] in msg and got["time_limit_s"] == 0.01 and got["elapsed_s"] > 0.01
+    assert [s["contact_vertex_index"] for s in got["partial"]["stages"]] == []  # stage 1 was not finished
     # the deadline is checked between the sketches of one bound, too
     r, got = post(client, ENCOUNTER, {"disk_radius": 1.0, "beta_initial": 0.7, "mu_c": 0.5, **FAST,
                                       "time_limit_s": 1e-9})
     loc, _, msg = detail(got)
-    assert r.status_code == 422 and loc == ["body", "time_limit_s"]
+    assert r.status_code == 504 and loc == ["body", "time_limit_s"]
     assert "ran out" in msg and "the sketch at beta" in msg and "node 1" in msg
+    # what was finished: the closed forms, the exact bounds left out
+    done = got["partial"]
+    assert done["length_greatest"]["closed_form"] == pytest.approx(gm.encounter_length_max(0.7, 1.0), rel=1e-15)
+    assert done["length_greatest"]["exact"] is None and done["rotation_least"]["exact"] is None
 
 
 def test_align_numbers_stay_finite_at_the_limits(client):
@@ -374,7 +381,7 @@ def test_encounter_answer_is_the_models(client):
     assert si["occurs"] is True and "(4.17)" in si["note"]
     assert got["length_least"]["exact"] < got["length_greatest"]["exact"]
     assert got["rotation_least"]["exact"] < got["rotation_greatest"]["exact"]
-    assert got["predicted_time_s"] == convert_push.gross_cost_s(1, 4, 16)
+    assert got["predicted_time_s"] == SKETCH_COST.bounds_s(1, 4, 16)
 
 
 def test_encounter_book_numbers_and_the_offset(client):
@@ -457,7 +464,7 @@ def test_limits_are_in_the_openapi_schema(client):
             "$ref": "#/components/schemas/ErrorResponse"}
 
 
-DOC = Path(__file__).resolve().parents[2] / "docs" / "api.md"
+DOC = Path(__file__).resolve().parents[4] / "docs" / "api.md"
 CURL = re.compile(
     r"curl -s '?http://127\.0\.0\.1:8000(/v1/push/[^ ']+)'? -H 'content-type: application/json' \\\n  -d '([^']+)'"
 )

@@ -220,7 +220,7 @@ def test_limits_are_in_the_openapi_schema(client):
     assert op["responses"]["422"]["content"]["application/json"]["schema"] == {"$ref": "#/components/schemas/ErrorResponse"}
 
 
-DOC = Path(__file__).resolve().parents[2] / "docs" / "api.md"
+DOC = Path(__file__).resolve().parents[4] / "docs" / "api.md"
 CURL = re.compile(
     r"curl -s '?http://127\.0\.0\.1:8000(/v1/push/[^ ']+)'? -H 'content-type: application/json' \\\n  -d '([^']+)'"
 )

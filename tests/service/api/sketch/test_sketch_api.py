@@ -30,7 +30,7 @@ from tests.models.locus.test_cor_sketch import CONFIGS, SHORT, SKETCH_SCENES
 URL = "/v1/cor/sketch"
 EXAMPLE = {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": math.pi / 2, "mu_c": 0.3}
 L_SHAPE = [[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]]
-DOC = Path(__file__).resolve().parents[2] / "docs" / "api.md"
+DOC = Path(__file__).resolve().parents[4] / "docs" / "api.md"
 
 
 def strict_json(text: str):
@@ -304,7 +304,7 @@ def test_unknown_format_is_refused(client):
 
 
 def test_docs_describe_every_response_field_and_the_nine_sketches():
-    from service.schemas_sketch import CorSketchResponse
+    from service.api.sketch.schemas import CorSketchResponse
 
     text = DOC.read_text(encoding="utf-8")
     section = text[text.index("## `POST /v1/cor/sketch`"):]

@@ -1,4 +1,4 @@
-"""The spiral-localization pictures (service/render_spiral.py): figure 4-19 (a / r* against
+"""The spiral-localization pictures (service/api/spiral/render.py): figure 4-19 (a / r* against
 beta / pi) and the schedule (pusher path + figure 4-21), on synthetic numpy data."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from service.errors import NonFiniteResult
-from service.render_spiral import (
+from service.api.spiral.render import (
     MAX_PATH_POINTS,
     CriticalCurve,
     decimate_polyline,
