@@ -21,7 +21,7 @@ from models.support import Support, random_balanced_tripods
 from solver.core.tolerances import SOLVER_DEFAULT
 from solver.core.errors import SolverError
 from solver.motion.forward import solve_forward
-from solver.locus.membership import membership
+from solver.locus.membership import MembershipProblem, decide_membership, membership
 from tests.scenes import SEED, point_in_polygon, scene_for_mu
 from solver.core.budget import Budget
 
@@ -390,3 +390,15 @@ def test_conic_solver_failure_is_a_solver_error(monkeypatch):
     monkeypatch.setattr(cp.Problem, "solve", broken)
     with pytest.raises(SolverError):
         membership(scene_for_mu(0.3), [0.5, 0.5])
+
+
+def test_decide_membership_is_membership_of_the_problem_3_8():
+    """The one-call form answers as membership() (3.8): inside with a witness beyond the
+    disk, outside beyond the tip (3.37), undecided when the budget is already spent."""
+    sc = scene_for_mu(0.3)
+    tip = cd.disk_cor_locus(sc, outputs=["tip"]).tip
+    inside = decide_membership(MembershipProblem(sc, 0.9 * tip.point))
+    assert inside.status == "inside" == membership(sc, 0.9 * tip.point).status and inside.complete
+    assert decide_membership(MembershipProblem(sc, 1.1 * tip.point)).status == "outside"
+    spent = decide_membership(MembershipProblem(sc, 0.9 * tip.point), Budget.of(0.0))
+    assert spent.status == "undecided" and not spent.complete

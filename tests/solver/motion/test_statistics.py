@@ -10,7 +10,15 @@ import pytest
 from models.errors import InvalidInput
 from models.footprint import Footprint
 from models.mpp import perp
-from solver.motion.statistics import sticking_line_histogram, tripod_sample, uniform_pressure_cor
+from solver.core.outcome import Outcome
+from solver.motion.statistics import (
+    HistogramQuery,
+    TripodStatisticsProblem,
+    sticking_line_histogram,
+    tripod_sample,
+    tripod_statistics,
+    uniform_pressure_cor,
+)
 from tests.scenes import SEED, scene_for_mu
 
 
@@ -70,3 +78,15 @@ def test_uniform_square_cor_matches_a_finer_discretisation_and_symmetry():
     mirror = ms.PushScene.create(math.sqrt(2), (-1.0, -0.4), math.pi / 2, 0.0)
     cm = uniform_pressure_cor(mirror, sq, resolution=16).cor
     assert np.allclose(cm, [cors[2][0], -cors[2][1]], atol=4.0 * np.linalg.norm(cors[2] - cors[1]))
+
+
+def test_tripod_statistics_in_one_call_figures_3_5_and_7_2():
+    sc = scene_for_mu(0.3)
+    problem = TripodStatisticsProblem(sc, 300, SEED, histogram=HistogramQuery(mu_c=1e6, bins=20))
+    res = tripod_statistics(problem)
+    want = tripod_sample(sc, 300, seed=SEED)
+    assert np.allclose(res.sample.batch.cor, want.batch.cor, equal_nan=True)
+    h = sticking_line_histogram(sc, 300, seed=SEED, mu_c=1e6, bins=20)
+    assert np.array_equal(res.histogram.counts, h.counts) and np.array_equal(res.histogram.edges, h.edges)
+    assert isinstance(res, Outcome) and res.complete and res.status == "optimal"
+    assert tripod_statistics(TripodStatisticsProblem(sc, 10, SEED)).histogram is None
