@@ -213,3 +213,16 @@ def test_pictures_are_svg(client, sweep_plan):
     r = client.post(SCHED, json=sched, params={"format": "svg"})
     assert r.status_code == 200 and r.headers["content-type"].startswith("image/svg+xml")
     ET.fromstring(r.text)
+
+
+def test_a_table_that_runs_out_of_time_is_504_with_how_far_it_got(client):
+    """A first table for a new mu_c cannot be built in a microsecond: the time limit is
+    reached before the first collision parameter (504), and the answer says so."""
+    r, got = post(client, SCHED, {"disk_radius": 1.0, "mu_c": 0.377, "start_radius": 8.0, "target": 2.0,
+                                  "time_limit_s": 1e-6})
+    assert r.status_code == 504, r.text
+    loc, type_, msg = detail(got)
+    assert loc == ["body", "time_limit_s"] and type_ == "time_limit" and "ran out" in msg
+    assert "first collision parameter" in got["reached"] and "a finished table is cached" in msg
+    table = got["partial"]["table"]
+    assert table["n_points"] == 0 and table["time_limited"] is True and table["covers_radius"] is None
