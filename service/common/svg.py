@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import io
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from matplotlib.backends.backend_svg import FigureCanvasSVG
@@ -33,6 +34,9 @@ MIN_DRAWABLE_HALF_WIDTH = 1e-300
 """Narrower views (subnormal sizes) have no representable unit 10^k: refused (HTTP 422)."""
 PLAIN_UNITS = (1e-3, 1e4)
 """Views of half-width in this range are drawn in the client's units, others in 10^k."""
+LINE_MARGIN_REL = 0.05
+"""Lines and polygons are clipped to the view widened by this fraction of its half-width
+(so that they run off the picture's edge instead of stopping at it)."""
 
 COLORS = {
     "disk": "#555555",
@@ -125,3 +129,60 @@ def view_frame(must_see, centre_world: np.ndarray) -> tuple[float, int, float, n
     far = float(np.max(np.abs(centre_world))) > ORIGIN_SHIFT_RATIO * half_world
     origin = centre_world if far else np.zeros(2)
     return half_world, unit_exp, scale, origin
+
+
+@dataclass(frozen=True)
+class SquareView:
+    """A square view of half-width ``half_world`` (world units) about ``centre_world``,
+    drawn from ``origin`` in units of ``scale`` = 10^``unit_exp`` (:func:`view_frame`).
+    The properties are in drawing coordinates."""
+
+    centre_world: np.ndarray
+    half_world: float
+    unit_exp: int
+    scale: float
+    origin: np.ndarray
+
+    @classmethod
+    def around(cls, must_see, centre_world) -> SquareView:
+        """The view about ``centre_world`` holding every point of ``must_see`` (offsets
+        from the centre, world units)."""
+        centre = np.asarray(centre_world, dtype=float)
+        half_world, unit_exp, scale, origin = view_frame(must_see, centre)
+        return cls(centre, half_world, unit_exp, scale, origin)
+
+    def to_drawing(self, points) -> np.ndarray:
+        """World point(s) -> drawing coordinates."""
+        return (np.asarray(points, dtype=float) - self.origin) / self.scale
+
+    @property
+    def centre(self) -> np.ndarray:
+        return self.to_drawing(self.centre_world)
+
+    @property
+    def half(self) -> float:
+        return self.half_world / self.scale
+
+    @property
+    def lo(self) -> np.ndarray:
+        return self.centre - self.half
+
+    @property
+    def hi(self) -> np.ndarray:
+        return self.centre + self.half
+
+    @property
+    def clip_box(self) -> tuple[np.ndarray, np.ndarray]:
+        """The box lines and polygons are clipped to (:data:`LINE_MARGIN_REL`)."""
+        margin = LINE_MARGIN_REL * self.half
+        return self.lo - margin, self.hi + margin
+
+    def frame(self, ax) -> None:
+        """Limits, equal aspect, grid and axis labels of ``ax`` for this view."""
+        lo, hi = self.lo, self.hi
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
+        ax.set_aspect("equal", adjustable="box")
+        ax.grid(True, linewidth=0.3, alpha=0.5)
+        ax.set_xlabel(axis_label("x", float(self.origin[0]), self.unit_exp))
+        ax.set_ylabel(axis_label("y", float(self.origin[1]), self.unit_exp))

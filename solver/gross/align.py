@@ -33,12 +33,11 @@ from models.gross import gross_bounds as gb
 from models.gross import gross_motion as gm
 from models.gross.quasistatic import PartGeometry, QuasiStaticAssessment
 from solver.core.budget import UNLIMITED, Budget
-from solver.core.errors import BackendNotFound
 from solver.gross.bounds import (
-    GROSS_METHODS,
     SKETCH_COST,
     Bound,
     BoundPiece,
+    GrossMethod,
     QuasiStaticQuery,
     SketchCost,
     refuse_over_budget,
@@ -58,10 +57,10 @@ SHORTEST_EQUATION_FRICTIONLESS = "r_min push ((3.31); not in the book)"
 
 
 @dataclass(frozen=True)
-class AlignProblem:
+class AlignProblem(GrossMethod):
     """A fence with direction ``fence_angle`` advancing along ``push_direction`` meets
     ``footprint`` turned by ``orientation`` about its CM (radians, world), with fence-part
-    friction ``mu_c``. ``method``: one of :data:`GROSS_METHODS`; ``n_nodes`` /
+    friction ``mu_c``. ``method``: one of :data:`solver.gross.bounds.GROSS_METHODS`; ``n_nodes`` /
     ``n_points``: Gauss nodes and locus points of the exact bounds; ``cost``: their cost
     model; ``quasi_static``: optionally, whether the fence's speed is quasi-static (6.8)."""
 
@@ -77,16 +76,7 @@ class AlignProblem:
     cost: SketchCost = SKETCH_COST
 
     def __post_init__(self) -> None:
-        if self.method not in GROSS_METHODS:
-            raise BackendNotFound("method", self.method, GROSS_METHODS)
-
-    @property
-    def closed(self) -> bool:
-        return self.method != "exact"
-
-    @property
-    def exact(self) -> bool:
-        return self.method != "closed_form"
+        self.check_method()
 
 
 @dataclass(frozen=True)

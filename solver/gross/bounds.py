@@ -15,9 +15,30 @@ from dataclasses import dataclass
 from models.errors import InvalidInput
 from models.gross.quasistatic import PartGeometry, QuasiStaticAssessment, assess
 from solver.core.budget import Budget
+from solver.core.errors import BackendNotFound
 
 GROSS_METHODS = ("both", "closed_form", "exact")
 """``closed_form``: the book's closed forms only; ``exact``: the exact bounds only; ``both``."""
+
+
+class GrossMethod:
+    """What a gross-motion problem's ``method`` (one of :data:`GROSS_METHODS`) asks for."""
+
+    method: str
+
+    def check_method(self) -> None:
+        if self.method not in GROSS_METHODS:
+            raise BackendNotFound("method", self.method, GROSS_METHODS)
+
+    @property
+    def closed(self) -> bool:
+        """The book's closed forms are asked for."""
+        return self.method != "exact"
+
+    @property
+    def exact(self) -> bool:
+        """The exact bounds are asked for."""
+        return self.method != "closed_form"
 
 
 @dataclass(frozen=True)

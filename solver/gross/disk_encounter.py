@@ -25,15 +25,21 @@ from models.gross import gross_bounds as gb
 from models.gross import gross_motion as gm
 from models.gross.quasistatic import PartGeometry, QuasiStaticAssessment
 from solver.core.budget import UNLIMITED, Budget
-from solver.core.errors import BackendNotFound
-from solver.gross.bounds import GROSS_METHODS, SKETCH_COST, Bound, QuasiStaticQuery, SketchCost, refuse_over_budget
+from solver.gross.bounds import (
+    SKETCH_COST,
+    Bound,
+    GrossMethod,
+    QuasiStaticQuery,
+    SketchCost,
+    refuse_over_budget,
+)
 
 LENGTH_MAX_EQUATION = "(4.16)"
 ROTATION_MAX_EQUATION = "(4.18), re-derived: pi/2 - beta_initial"
 
 
 @dataclass(frozen=True)
-class DiskEncounterProblem:
+class DiskEncounterProblem(GrossMethod):
     """A disk of radius ``disk_radius`` met by a point pusher at collision parameter
     ``beta_initial`` (rad) or with its line ``offset`` inside the grazing line (exactly one),
     pusher-disk friction ``mu_c`` > 0. ``method``, ``n_nodes``, ``n_points``, ``cost``,
@@ -52,16 +58,7 @@ class DiskEncounterProblem:
     def __post_init__(self) -> None:
         if (self.beta_initial is None) == (self.offset is None):
             raise InvalidInput("beta_initial", "give exactly one of beta_initial or offset")
-        if self.method not in GROSS_METHODS:
-            raise BackendNotFound("method", self.method, GROSS_METHODS)
-
-    @property
-    def closed(self) -> bool:
-        return self.method != "exact"
-
-    @property
-    def exact(self) -> bool:
-        return self.method != "closed_form"
+        self.check_method()
 
 
 @dataclass(frozen=True)

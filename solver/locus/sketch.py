@@ -20,7 +20,11 @@ from models.scene import PushScene
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import BackendNotFound
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.locus.certified_sketch import DEFAULT_RAYS, CertifiedSketch, certified_sketch
+from solver.locus.certified_sketch import (
+    DEFAULT_RAYS,
+    CertifiedSketch,
+    certified_sketch,
+)
 
 SKETCH_METHODS = ("analytic", "certified")
 

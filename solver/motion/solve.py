@@ -28,7 +28,13 @@ from models.support import Support
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import BackendNotFound
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.motion.forward import METHODS, BatchResult, ForwardResult, solve_forward, solve_forward_batch
+from solver.motion.forward import (
+    METHODS,
+    BatchResult,
+    ForwardResult,
+    solve_forward,
+    solve_forward_batch,
+)
 from solver.motion.statistics import uniform_pressure_cor
 
 

@@ -10,7 +10,7 @@ import math
 import pytest
 
 from models.locus.cor_disk import BoundaryNotConverged
-from service.errors import json_safe, time_limit_body, time_limited, TimeLimitAnswer
+from service.errors import TimeLimitAnswer, json_safe, time_limit_body, time_limited
 from solver.core.errors import NotConverged, TimeLimitReached
 
 URL = "/v1/cor/locus"

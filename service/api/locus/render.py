@@ -22,12 +22,11 @@ from service.common.scene import PreparedPush
 from service.common.svg import (
     COLORS,
     FIGSIZE_IN,
-    axis_label,
+    SquareView,
     clip_line_to_box,
     clip_polygon_to_box,
     new_figure,
     svg_bytes,
-    view_frame,
 )
 
 MAX_TIP_IN_VIEW = 6.0
@@ -62,25 +61,17 @@ def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
         must_see.append(rel(locus.tip.point))
     if locus.tip_line is not None and locus.tip_line.distance <= MAX_TIP_IN_VIEW * a_world:
         must_see.append(rel(locus.tip_line.point))
-    half_world, unit_exp, scale, origin = view_frame(must_see, cm_world)
-
-    def P(point) -> np.ndarray:
-        """World point(s) -> drawing coordinates (from ``origin``, in 10^unit_exp)."""
-        return (np.asarray(point, dtype=float) - origin) / scale
-
-    a = a_world / scale
-    cm = P(cm_world)
+    view = SquareView.around(must_see, cm_world)
+    P = view.to_drawing
+    a = a_world / view.scale
+    cm = view.centre
     contact = P(scene.contact_point)
-    half = half_world / scale
-    lo, hi = cm - half, cm + half
-    line_lo, line_hi = lo - 0.05 * half, hi + 0.05 * half
+    half = view.half
+    line_lo, line_hi = view.clip_box
 
     fig = new_figure(FIGSIZE_IN, FIGSIZE_IN)
     ax = fig.add_subplot()
-    ax.set_xlim(lo[0], hi[0])
-    ax.set_ylim(lo[1], hi[1])
-    ax.set_aspect("equal", adjustable="box")
-    ax.grid(True, linewidth=0.3, alpha=0.5)
+    view.frame(ax)
     handles = []
 
     def line(point, direction, **style):
@@ -162,8 +153,6 @@ def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
                               label="pure translation"))
 
     ax.set_title(_title(prep, locus), fontsize=10)
-    ax.set_xlabel(axis_label("x", float(origin[0]), unit_exp))
-    ax.set_ylabel(axis_label("y", float(origin[1]), unit_exp))
     ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.85)
     fig.tight_layout()
     return fig

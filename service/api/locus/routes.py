@@ -12,9 +12,19 @@ from __future__ import annotations
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
-from service.api.locus.convert import locus_problem, locus_response, membership_problem, membership_response
+from service.api.locus.convert import (
+    locus_problem,
+    locus_response,
+    membership_problem,
+    membership_response,
+)
 from service.api.locus.render import render_locus_svg
-from service.api.locus.schemas import CorLocusRequest, CorLocusResponse, MembershipRequest, MembershipResponse
+from service.api.locus.schemas import (
+    CorLocusRequest,
+    CorLocusResponse,
+    MembershipRequest,
+    MembershipResponse,
+)
 from service.common.fields import ResponseFormat
 from service.common.inputs import located
 from service.common.responses import INVALID_INPUT, SVG_MEDIA_TYPE, json_or_svg

@@ -50,7 +50,11 @@ from service.limits import (
 )
 from solver.motion.forward import BatchResult, ForwardResult
 from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure
-from solver.motion.statistics import HistogramQuery, TripodStatistics, TripodStatisticsProblem
+from solver.motion.statistics import (
+    HistogramQuery,
+    TripodStatistics,
+    TripodStatisticsProblem,
+)
 
 PRESSURE_FIELDS = {"subdivisions": ("pressure", "resolution"), "rings": ("pressure", "resolution")}
 """Where an InvalidInput of the uniform-pressure discretisation is located in the request."""

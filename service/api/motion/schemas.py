@@ -13,7 +13,15 @@ from typing import Annotated, Literal
 
 from pydantic import ConfigDict, Field
 
-from service.common.fields import DISK_OR_FOOTPRINT, DiskRadius, MuC, Point, PushIn, Strict, Vec2
+from service.common.fields import (
+    DISK_OR_FOOTPRINT,
+    DiskRadius,
+    MuC,
+    Point,
+    PushIn,
+    Strict,
+    Vec2,
+)
 from service.limits import (
     DEFAULT_PRESSURE_RESOLUTION,
     MAX_BATCH,

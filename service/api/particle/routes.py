@@ -6,7 +6,11 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 
-from service.api.particle.convert import particle_errors, particle_problem, particle_response
+from service.api.particle.convert import (
+    particle_errors,
+    particle_problem,
+    particle_response,
+)
 from service.api.particle.schemas import ParticleRequest, ParticleResponse
 from service.common.responses import INVALID_INPUT
 from solver.core.budget import Budget

@@ -12,7 +12,11 @@ from typing import Annotated
 from pydantic import ConfigDict, Field
 
 from service.common.fields import Strict
-from service.limits import PARTICLE_MAX_EXPONENT, PARTICLE_MAX_MAGNITUDE, PARTICLE_MIN_MAGNITUDE
+from service.limits import (
+    PARTICLE_MAX_EXPONENT,
+    PARTICLE_MAX_MAGNITUDE,
+    PARTICLE_MIN_MAGNITUDE,
+)
 
 ParticleMagnitude = Annotated[
     float,

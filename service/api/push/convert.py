@@ -52,7 +52,13 @@ from service.common.inputs import exactly_one, footprint_of
 from service.common.numbers import finite, finite_list, finite_or_none
 from service.errors import FieldError
 from service.limits import GROSS_MIN_LENGTH
-from solver.gross.align import AlignProblem, AlignResult, AlignStage, Slip, below_line_of_motion
+from solver.gross.align import (
+    AlignProblem,
+    AlignResult,
+    AlignStage,
+    Slip,
+    below_line_of_motion,
+)
 from solver.gross.bounds import SKETCH_COST, Bound, QuasiStaticQuery
 from solver.gross.disk_encounter import DiskEncounterProblem, DiskEncounterResult
 

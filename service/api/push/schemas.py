@@ -16,8 +16,20 @@ from typing import Annotated, Literal
 from pydantic import ConfigDict, Field, field_validator
 from pydantic_core import PydanticCustomError
 
-from models.gross.quasistatic import BOOK_TRANSLATIONAL_ERROR_REL, GRAVITY_M_S2, METRES_PER_UNIT
-from service.common.fields import Angle, MuC, MuCPositive, Point, Polygon, Strict, TimeLimit
+from models.gross.quasistatic import (
+    BOOK_TRANSLATIONAL_ERROR_REL,
+    GRAVITY_M_S2,
+    METRES_PER_UNIT,
+)
+from service.common.fields import (
+    Angle,
+    MuC,
+    MuCPositive,
+    Point,
+    Polygon,
+    Strict,
+    TimeLimit,
+)
 from service.limits import (
     ALIGN_DEFAULT_N_NODES,
     DEFAULT_TIME_LIMIT_S,
@@ -26,11 +38,10 @@ from service.limits import (
     GROSS_MAX_N_NODES,
     GROSS_MIN_LENGTH,
     GROSS_MIN_N_NODES,
+    MAX_DISK_RADIUS,
     MAX_MU_C,
     MAX_TIME_LIMIT_S,
     MIN_N_POINTS,
-    SKETCH_MAX_N_POINTS,
-    MAX_DISK_RADIUS,
     QS_MAX_ANGULAR_ERROR,
     QS_MAX_GRAVITY,
     QS_MAX_MU_S,
@@ -38,6 +49,7 @@ from service.limits import (
     QS_MIN_GRAVITY,
     QS_MIN_LENGTH,
     QS_MIN_MU_S,
+    SKETCH_MAX_N_POINTS,
 )
 from solver.gross.bounds import SKETCH_COST
 

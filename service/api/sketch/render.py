@@ -31,12 +31,11 @@ from service.api.sketch.convert import IMPLICATION_TEXT, is_translation
 from service.common.scene import PreparedPush
 from service.common.svg import (
     FIGSIZE_IN,
-    axis_label,
+    SquareView,
     clip_line_to_box,
     clip_polygon_to_box,
     new_figure,
     svg_bytes,
-    view_frame,
 )
 
 MAX_IN_VIEW = 6.0
@@ -128,24 +127,17 @@ def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | N
         near = r[np.hypot(r[:, 0], r[:, 1]) <= reach]
         if len(near):
             must_see.append(near)
-    half_world, unit_exp, scale, origin = view_frame(must_see, cm_world)
-
-    def P(points) -> np.ndarray:
-        return (np.asarray(points, dtype=float) - origin) / scale
-
-    a = a_world / scale
-    cm = P(cm_world)
+    view = SquareView.around(must_see, cm_world)
+    P = view.to_drawing
+    a = a_world / view.scale
+    cm = view.centre
     contact = P(scene.contact_point)
-    half = half_world / scale
-    lo, hi = cm - half, cm + half
-    line_lo, line_hi = lo - 0.05 * half, hi + 0.05 * half
+    lo, hi = view.lo, view.hi
+    line_lo, line_hi = view.clip_box
 
     fig = new_figure(FIGSIZE_IN + LEGEND_WIDTH_IN, FIGSIZE_IN)
     ax = fig.add_subplot()
-    ax.set_xlim(lo[0], hi[0])
-    ax.set_ylim(lo[1], hi[1])
-    ax.set_aspect("equal", adjustable="box")
-    ax.grid(True, linewidth=0.3, alpha=0.5)
+    view.frame(ax)
     handles = []
 
     def line(point, direction, gid, **style):
@@ -249,8 +241,6 @@ def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | N
                               label="translation (COR at infinity)"))
 
     ax.set_title(sketch_title(prep, sk), fontsize=9)
-    ax.set_xlabel(axis_label("x", float(origin[0]), unit_exp))
-    ax.set_ylabel(axis_label("y", float(origin[1]), unit_exp))
     legend = ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
                        fontsize=7, framealpha=0.85)
     legend.set_gid("legend")

@@ -17,20 +17,6 @@ from pydantic import ConfigDict, Field, field_validator
 from pydantic_core import PydanticCustomError
 
 from models.locus.cor_sketch import CONFIG_ORDER, IMPLIED_MODES, SKETCHES
-
-from service.limits import (
-    DEFAULT_TIME_LIMIT_S,
-    MAX_CERTIFIED_POINTS,
-    MAX_DISK_RADIUS,
-    MAX_MU_C,
-    MAX_TIME_LIMIT_S,
-    MIN_CERTIFIED_POINTS,
-    MIN_N_POINTS,
-    SKETCH_DEFAULT_N_POINTS,
-    SKETCH_DEFAULT_RAYS,
-    SKETCH_MAX_N_POINTS,
-    SKETCH_MIN_LENGTH,
-)
 from service.common.fields import (
     CONTACT_POINT_DESCRIPTION,
     EDGE_ANGLE_DESCRIPTION,
@@ -44,6 +30,19 @@ from service.common.fields import (
     Strict,
     TimeLimit,
     Vec2,
+)
+from service.limits import (
+    DEFAULT_TIME_LIMIT_S,
+    MAX_CERTIFIED_POINTS,
+    MAX_DISK_RADIUS,
+    MAX_MU_C,
+    MAX_TIME_LIMIT_S,
+    MIN_CERTIFIED_POINTS,
+    MIN_N_POINTS,
+    SKETCH_DEFAULT_N_POINTS,
+    SKETCH_DEFAULT_RAYS,
+    SKETCH_MAX_N_POINTS,
+    SKETCH_MIN_LENGTH,
 )
 
 FRICTIONLESS_HINT = (

@@ -45,7 +45,11 @@ from service.limits import (
     SPIRAL_SWEEP_MARGIN_REL,
     SPIRAL_SWEEP_POINTS,
 )
-from solver.spiral.critical_radius import CriticalRadii, CriticalRadiusProblem, CriticalRadiusTable
+from solver.spiral.critical_radius import (
+    CriticalRadii,
+    CriticalRadiusProblem,
+    CriticalRadiusTable,
+)
 from solver.spiral.plan import PathQuery, SimulationQuery, SpiralPlan, SpiralProblem
 from solver.spiral.schedule import SpiralSchedule
 

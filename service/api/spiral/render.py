@@ -30,7 +30,7 @@ from matplotlib.patches import Circle
 
 from service.common.numbers import finite
 from service.common.svg import COLORS as LOCUS_COLORS
-from service.common.svg import FIGSIZE_IN, axis_label, new_figure, svg_bytes, view_frame
+from service.common.svg import FIGSIZE_IN, SquareView, new_figure, svg_bytes
 from service.errors import NonFiniteResult
 
 MAX_PATH_POINTS = 4000
@@ -341,23 +341,16 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
     must_see = [np.array([max(reach), max(reach)])]
     if path is not None and len(path):
         must_see.append(path - c_world)
-    half_world, unit_exp, scale, origin = view_frame(must_see, c_world)
-
-    def P(points) -> np.ndarray:
-        return (np.asarray(points, dtype=float) - origin) / scale
-
-    cen = P(c_world)
-    half = half_world / scale
-    lo, hi = cen - half, cen + half
+    view = SquareView.around(must_see, c_world)
+    P = view.to_drawing
+    scale = view.scale
+    cen = view.centre
 
     fig = new_figure(2.0 * FIGSIZE_IN, FIGSIZE_IN)
     ax, ax2 = fig.subplots(1, 2)
 
     # ---- left: the pusher's path ----------------------------------------------------------
-    ax.set_xlim(lo[0], hi[0])
-    ax.set_ylim(lo[1], hi[1])
-    ax.set_aspect("equal", adjustable="box")
-    ax.grid(True, linewidth=0.3, alpha=0.5)
+    view.frame(ax)
     handles: list = []
     if path is not None and len(path):
         drawn = decimate_polyline(P(path))
@@ -393,8 +386,6 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
     (h,) = ax.plot(*cen, marker="+", color=COLORS["centre"], markersize=10, markeredgewidth=1.3,
                    linestyle="none", zorder=5, label="centre", gid="centre")
     handles.append(h)
-    ax.set_xlabel(axis_label("x", float(origin[0]), unit_exp))
-    ax.set_ylabel(axis_label("y", float(origin[1]), unit_exp))
     ax.set_title(f"pusher path (a = {a:.4g}, b_floor = {b_floor:.4g})", fontsize=9)
     legend = ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2,
                        fontsize=7, framealpha=0.85)

@@ -21,7 +21,11 @@ from service.api.spiral.convert import (
     schedule_response,
     table_partial,
 )
-from service.api.spiral.render import CriticalCurve, render_critical_radius_svg, render_schedule_svg
+from service.api.spiral.render import (
+    CriticalCurve,
+    render_critical_radius_svg,
+    render_schedule_svg,
+)
 from service.api.spiral.schemas import (
     SpiralCriticalRadiusRequest,
     SpiralCriticalRadiusResponse,
@@ -30,7 +34,12 @@ from service.api.spiral.schemas import (
 )
 from service.common.fields import ResponseFormat
 from service.common.inputs import located
-from service.common.responses import INVALID_INPUT, SVG_MEDIA_TYPE, TIME_LIMIT, json_or_svg
+from service.common.responses import (
+    INVALID_INPUT,
+    SVG_MEDIA_TYPE,
+    TIME_LIMIT,
+    json_or_svg,
+)
 from service.errors import time_limited
 from solver.core.budget import Budget
 from solver.spiral.critical_radius import critical_radii

@@ -16,6 +16,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, create_model
 
+from service.common.fields import Point, Strict, TimeLimit
 from service.limits import (
     MAX_DISK_RADIUS,
     MAX_MU_C,
@@ -34,7 +35,6 @@ from service.limits import (
     SPIRAL_MIN_RESOLUTION,
     SPIRAL_SWEEP_MARGIN_REL,
 )
-from service.common.fields import Point, Strict, TimeLimit
 
 SpiralMethod = Literal["exact", "sweep", "tip_line"]
 SpiralLength = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SPIRAL_MIN_LENGTH, le=MAX_DISK_RADIUS)]

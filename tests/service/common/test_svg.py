@@ -6,7 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from service.common.svg import axis_label, clip_line_to_box, clip_polygon_to_box, view_frame
+from service.common.svg import (
+    axis_label,
+    clip_line_to_box,
+    clip_polygon_to_box,
+    view_frame,
+)
 from service.errors import NonFiniteResult
 
 

@@ -9,7 +9,13 @@ import pytest
 from models.errors import InvalidInput
 from models.gross import quasistatic as qs
 from solver.core.budget import UNLIMITED, Budget
-from solver.gross.bounds import SKETCH_COST, Bound, QuasiStaticQuery, SketchCost, refuse_over_budget
+from solver.gross.bounds import (
+    SKETCH_COST,
+    Bound,
+    QuasiStaticQuery,
+    SketchCost,
+    refuse_over_budget,
+)
 
 
 def test_cost_of_exact_bounds():
