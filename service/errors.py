@@ -1,4 +1,5 @@
-"""Error handling: every input problem is an HTTP 422 in FastAPI's validation-error shape.
+"""Error handling: every input problem is an HTTP 422 in FastAPI's validation-error shape,
+a time limit that runs out is an HTTP 504 saying what was reached, and nothing is a 500.
 
     {"detail": [{"loc": ["body", "<field>"], "msg": "<reason>", "type": "<type>"}]}
 
@@ -11,8 +12,12 @@
   ``value_error``;
 * :class:`FieldError` (an ``InvalidInput`` located inside a nested field, e.g. the
   weights of the third support of a batch): ``loc`` ["body", *path], type ``value_error``;
-* ``solver.core.errors.SolverError`` (an optimisation back end failed or ended with an
-  unusable status): ``loc`` ["body"], type ``solver_error``;
+* ``solver.core.errors.TimeLimitReached`` (the request's budget ran out before the answer
+  was complete): HTTP **504**, :class:`service.common.responses.TimeLimitResponse`:
+  ``loc`` ["body", "time_limit_s"], type ``time_limit``, the place reached (``reached``)
+  and, when a route converted it (:func:`time_limited`), the partial result;
+* any other ``solver.core.errors.SolverError`` (an optimisation back end failed or ended
+  with an unusable status): ``loc`` ["body"], type ``solver_error``;
 * any other ``models.errors.ModelError`` (e.g. a boundary solve that missed its
   tolerance): ``loc`` ["body"], type ``model_error``;
 * :class:`NonFiniteResult`: the input is valid but so extreme that a result overflowed;
@@ -21,28 +26,31 @@
   same way, and logged with its traceback.
 
 Anything else is a bug: HTTP 500 with a short JSON body (type ``internal_error``); the
-traceback goes to the ``service`` log only, never to the client.
+traceback goes to the ``service`` log only, never to the client. The routes must never
+let it happen.
 """
 
 from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
 from fastapi import FastAPI, Request
 from fastapi.exception_handlers import http_exception_handler
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
-
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from models.errors import InvalidInput, ModelError
-from solver.core.errors import SolverError
+from solver.core.errors import SolverError, TimeLimitReached
 
 log = logging.getLogger("service")
 
 UNPROCESSABLE = 422
+GATEWAY_TIMEOUT = 504
 
 
 class NonFiniteResult(Exception):
@@ -64,18 +72,45 @@ class FieldError(Exception):
         self.where = where
 
 
+class TimeLimitAnswer(Exception):
+    """A :class:`TimeLimitReached` with what the route made of its partial result
+    (``partial``: a JSON-able dict, or None) and a hint on how to ask for less (``hint``)."""
+
+    def __init__(self, reached: TimeLimitReached, partial: dict[str, Any] | None, hint: str) -> None:
+        super().__init__(str(reached))
+        self.reached = reached
+        self.partial = partial
+        self.hint = hint
+
+
+DEFAULT_TIME_LIMIT_HINT = "ask for less work, or raise time_limit_s"
+
+
+@contextmanager
+def time_limited(
+    convert: Callable[[Any], dict[str, Any] | None] | None = None, hint: str = DEFAULT_TIME_LIMIT_HINT,
+) -> Iterator[None]:
+    """Around a solver call: a :class:`TimeLimitReached` is answered 504 with ``convert``
+    of its partial result (when it carries one) and ``hint`` in the message."""
+    try:
+        yield
+    except TimeLimitReached as exc:
+        partial = None if (convert is None or exc.partial is None) else convert(exc.partial)
+        raise TimeLimitAnswer(exc, partial, hint) from exc
+
+
 def error_body(loc: list[str | int], msg: str, type_: str) -> dict[str, Any]:
     return {"detail": [{"loc": loc, "msg": msg, "type": type_}]}
 
 
-def _json_safe(value: Any) -> Any:
+def json_safe(value: Any) -> Any:
     """Replace non-finite floats (which JSON cannot carry) by their names, recursively."""
     if isinstance(value, float):
         return value if math.isfinite(value) else repr(value)  # 'nan', 'inf', '-inf'
     if isinstance(value, dict):
-        return {str(k): _json_safe(v) for k, v in value.items()}
+        return {str(k): json_safe(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_json_safe(v) for v in value]
+        return [json_safe(v) for v in value]
     if value is None or isinstance(value, (str, int, bool)):
         return value
     return str(value)
@@ -84,7 +119,7 @@ def _json_safe(value: Any) -> Any:
 async def _request_validation(request: Request, exc: RequestValidationError) -> JSONResponse:
     errors = []
     for err in exc.errors():
-        item = {k: _json_safe(v) for k, v in err.items() if k in ("loc", "msg", "type", "input", "ctx")}
+        item = {k: json_safe(v) for k, v in err.items() if k in ("loc", "msg", "type", "input", "ctx")}
         errors.append(item)
     return JSONResponse(status_code=UNPROCESSABLE, content={"detail": errors})
 
@@ -123,6 +158,25 @@ async def _solver_error(request: Request, exc: SolverError) -> JSONResponse:
             "solver_error",
         ),
     )
+
+
+def time_limit_body(exc: TimeLimitReached, partial: dict[str, Any] | None, hint: str) -> dict[str, Any]:
+    """The 504 body (:class:`service.common.responses.TimeLimitResponse`)."""
+    limit = "no time limit" if exc.limit_s is None else f"time_limit_s = {exc.limit_s:g} s"
+    msg = f"ran out after {exc.elapsed_s:.3g} s ({limit}) before {exc.where}: {hint}"
+    body = error_body(["body", "time_limit_s"], msg, "time_limit")
+    body.update(reached=exc.where, time_limit_s=exc.limit_s, elapsed_s=exc.elapsed_s, partial=json_safe(partial))
+    return body
+
+
+async def _time_limit(request: Request, exc: TimeLimitReached) -> JSONResponse:
+    log.info("time limit on %s: %s", request.url.path, exc)
+    return JSONResponse(status_code=GATEWAY_TIMEOUT, content=time_limit_body(exc, None, DEFAULT_TIME_LIMIT_HINT))
+
+
+async def _time_limit_answer(request: Request, exc: TimeLimitAnswer) -> JSONResponse:
+    log.info("time limit on %s: %s", request.url.path, exc)
+    return JSONResponse(status_code=GATEWAY_TIMEOUT, content=time_limit_body(exc.reached, exc.partial, exc.hint))
 
 
 async def _model_error(request: Request, exc: ModelError) -> JSONResponse:
@@ -166,6 +220,8 @@ def install(app: FastAPI) -> None:
     app.add_exception_handler(InvalidInput, _invalid_input)
     app.add_exception_handler(FieldError, _field_error)
     app.add_exception_handler(SolverError, _solver_error)
+    app.add_exception_handler(TimeLimitReached, _time_limit)
+    app.add_exception_handler(TimeLimitAnswer, _time_limit_answer)
     app.add_exception_handler(ModelError, _model_error)
     app.add_exception_handler(NonFiniteResult, _non_finite)
     app.add_exception_handler(ArithmeticError, _arithmetic)

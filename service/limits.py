@@ -1,6 +1,6 @@
 """Input limits and service-level tolerances, in one place.
 
-Every limit here is enforced by the request schemas (:mod:`service.schemas`), shows up
+Every limit here is enforced by the request schemas (``service/api/*/schemas.py``), shows up
 in the OpenAPI document as ``minimum``/``maximum``/``minItems``/``maxItems``, and is
 listed in docs/api.md. A request outside them is answered with HTTP 422 naming the field.
 Lengths are in whatever unit the client uses consistently; angles are radians.
@@ -168,11 +168,10 @@ push into a translation."""
 # ---------------------------------------------------------------------------------------
 # Gross motions (book 3.4, 4.3, 4.4): POST /v1/push/align and POST /v1/push/disk-encounter.
 # An exact bound (models.gross.gross_bounds) builds one COR sketch per Gauss node at n_nodes and
-# at n_nodes // 2 nodes (the error estimate); measured on one core, a sketch takes
-# 0.05-0.09 s at 8 points, 0.09-0.14 s at 256, 0.2-0.3 s at 1024 and 0.55-0.9 s at 4096
-# (sketch points and sticking sweep alike). The cost model below is a little above those
-# numbers; a request whose predicted cost exceeds its time_limit_s is refused (422 at
-# time_limit_s) before any work.
+# at n_nodes // 2 nodes (the error estimate). The cost model of the sketches is
+# solver.gross.bounds.SKETCH_COST; a request whose predicted cost exceeds its time_limit_s is
+# refused (422 at time_limit_s) before any work, and one that runs out on the way is answered
+# 504 with the stages it finished.
 # ---------------------------------------------------------------------------------------
 
 GROSS_MIN_N_NODES = 4
@@ -187,12 +186,6 @@ the book example); the encounter's has a kink where sketch i begins (16 nodes: ~
 GROSS_DEFAULT_N_POINTS = 256
 """Boundary points of each elementary locus of the sketches of an exact bound (and of its
 sticking sweep); MIN_N_POINTS..SKETCH_MAX_N_POINTS."""
-
-GROSS_SKETCH_COST_S = 0.1
-GROSS_SKETCH_COST_PER_POINT_S = 2.5e-4
-"""Predicted time of one sketch: GROSS_SKETCH_COST_S + GROSS_SKETCH_COST_PER_POINT_S *
-n_points seconds (an estimate for one core; a slower machine may take longer, and the
-service also stops between exact bounds once time_limit_s is spent)."""
 
 GROSS_MIN_LENGTH = 1e-100
 """Smallest disk radius (or footprint circumradius) of a gross-motion request: the closed

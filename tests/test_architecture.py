@@ -1,4 +1,5 @@
-"""Architecture checks: the one-way layering service -> solver -> models.
+"""Architecture checks: the one-way layering service -> solver -> models, and the
+resources of service/api independent of each other.
 
 The contracts live in pyproject.toml under [tool.importlinter]; these tests
 run import-linter on the real code base (in a fresh interpreter) and also
@@ -89,6 +90,12 @@ def test_config_declares_expected_contracts() -> None:
         "fastapi", "pydantic", "starlette", "uvicorn", "matplotlib", "service",
     }
 
+    api = by_id["api-independent"]
+    assert api["type"] == "independence"
+    resources = sorted(p.name for p in (REPO_ROOT / "service" / "api").iterdir() if (p / "__init__.py").is_file())
+    assert resources, "service/api holds no resource packages"
+    assert sorted(api["modules"]) == [f"service.api.{name}" for name in resources]
+
 
 # ---------------------------------------------------------------------------
 # The real code base keeps every contract
@@ -143,6 +150,7 @@ def test_models_imports_only_numpy_and_stdlib() -> None:
 # ---------------------------------------------------------------------------
 
 _VIOLATIONS = {
+    "api-resource-imports-another": ("service/api/sketch/bad.py", "import service.api.locus\n", "service/api resources"),
     "models-imports-solver": ("models/bad.py", "import solver\n", "Layers"),
     "solver-imports-service": ("solver/bad.py", "import service\n", "Layers"),
     "models-imports-scipy": ("models/bad.py", "import scipy\n", "models is pure"),
@@ -155,9 +163,17 @@ _VIOLATIONS = {
 @pytest.mark.parametrize("case", sorted(_VIOLATIONS))
 def test_contracts_catch_violations(tmp_path: Path, case: str) -> None:
     rel, source, contract_name = _VIOLATIONS[case]
-    for pkg in _importlinter_config()["root_packages"]:
-        (tmp_path / pkg).mkdir()
-        (tmp_path / pkg / "__init__.py").write_text("")
+    cfg = _importlinter_config()
+    packages = list(cfg["root_packages"])
+    for contract in cfg["contracts"]:
+        if contract["type"] == "independence":  # its modules must exist
+            packages += [m.replace(".", "/") for m in contract["modules"]]
+    for pkg in packages:
+        (tmp_path / pkg).mkdir(parents=True, exist_ok=True)
+        for parent in [tmp_path / pkg, *(tmp_path / pkg).parents]:
+            if parent == tmp_path:
+                break
+            (parent / "__init__.py").touch()
     shutil.copy2(PYPROJECT, tmp_path / "pyproject.toml")
     (tmp_path / rel).write_text(source)
 

@@ -272,3 +272,19 @@ def membership(
         dual = np.concatenate([[y[0]], outline.vector_to_world(y[1:3]), outline.vector_to_world(y[3:5])])
     fields = answer_fields(dec, outline, r, in_f, dual, forward_err, time.perf_counter() - t_start)
     return MembershipResult(**fields, rows="far" if isinstance(rows, ConditionedRows) else "near")
+
+
+@dataclass(frozen=True)
+class MembershipProblem:
+    """"Can ``cor`` (world) be the COR of the push ``scene``, for some pressure distribution
+    on ``footprint`` (None: the scene's disk)?" Frictionless pusher (book 3.3.2-3.3.13)."""
+
+    scene: PushScene
+    cor: np.ndarray
+    footprint: Footprint | None = None
+    tol: SolverTolerances = SOLVER_DEFAULT
+
+
+def decide_membership(problem: MembershipProblem, budget: Budget = UNLIMITED) -> MembershipResult:
+    """:func:`membership` of ``problem`` within ``budget`` (undecided when it runs out)."""
+    return membership(problem.scene, problem.cor, problem.footprint, tol=problem.tol, budget=budget)

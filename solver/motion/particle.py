@@ -25,6 +25,7 @@ import casadi as ca
 
 from models import particle as mp
 from models.errors import InvalidInput
+from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import NotConverged, SolverError
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 
@@ -37,7 +38,9 @@ class ParticleSolution:
     minimiser of (2.30). ``relative_disagreement``: (newton - mpp) / newton, which is 0 for
     n = 0 and 1/2 for n = 1. ``numeric_error``: |numeric - mpp| / mpp. ``power_newton`` and
     ``power_mpp`` are (2.30) at the two answers (the minimum power principle prefers the
-    wrong one whenever n > 0). ``status`` is IPOPT's return status.
+    wrong one whenever n > 0). ``status`` is IPOPT's return status. ``kkt_residual``:
+    |dP/dv_y| / mg at the numeric minimiser (2.31); ``newton_residual``: Newton's force
+    balance (2.27) at ``newton_v_y``, relative to mg.
     """
 
     scene: mp.ParticleScene
@@ -51,6 +54,8 @@ class ParticleSolution:
     status: str
     iterations: int
     solve_time_s: float
+    kkt_residual: float
+    newton_residual: float
 
     @property
     def complete(self) -> bool:
@@ -141,4 +146,24 @@ def solve_particle(
         status=status,
         iterations=iterations,
         solve_time_s=elapsed,
+        kkt_residual=abs(float(mp.power_derivative(numeric, scene))) / scene.mg,
+        newton_residual=float(mp.force_balance_residual(newton, scene)),
     )
+
+
+@dataclass(frozen=True)
+class ParticleProblem:
+    """The particle of figure 2-2: fence speed ``v_x``, external force ``mg``, dissipative
+    force ``eta`` |v|^``n`` (book 2.5)."""
+
+    v_x: float
+    mg: float
+    eta: float
+    n: float
+    tol: SolverTolerances = SOLVER_DEFAULT
+
+
+def particle(problem: ParticleProblem, budget: Budget = UNLIMITED) -> ParticleSolution:
+    """:func:`solve_particle` of ``problem`` (one small NLP; ``budget`` is accepted for
+    uniformity)."""
+    return solve_particle(problem.v_x, problem.mg, problem.eta, problem.n, tol=problem.tol)

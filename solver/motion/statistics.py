@@ -17,6 +17,7 @@ from models.footprint import Footprint
 from models.mpp import perp
 from models.scene import PushScene
 from models.support import random_balanced_tripods, uniform_disk_support, uniform_polygon_support
+from solver.core.budget import UNLIMITED, Budget
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.motion.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch
 
@@ -154,3 +155,68 @@ def uniform_pressure_cor(
     else:
         support = uniform_polygon_support(footprint, subdivisions=resolution)
     return solve_forward(scene, support, mu_c=mu_c, method=method, tol=tol)
+
+
+@dataclass(frozen=True)
+class HistogramQuery:
+    """Figure 7-2's histogram: the tripods solved again with pusher friction ``mu_c``,
+    ``bins`` bins over ``span`` (None: the 1st..99th percentile)."""
+
+    mu_c: float = 1e6
+    bins: int = 50
+    span: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class TripodStatisticsProblem:
+    """``n_tripods`` random balanced tripods (3.3.3, seeded by ``seed``) on the scene's disk
+    or on ``footprint``, solved with pusher friction ``mu_c`` (figure 3-5), and optionally
+    the sticking-line histogram (figure 7-2)."""
+
+    scene: PushScene
+    n_tripods: int
+    seed: int
+    mu_c: float = 0.0
+    footprint: Footprint | None = None
+    histogram: HistogramQuery | None = None
+    tol: SolverTolerances = SOLVER_DEFAULT
+
+
+@dataclass(frozen=True)
+class TripodStatistics:
+    """The sample of a :class:`TripodStatisticsProblem` and its histogram (None unless
+    asked for). ``status``: "optimal" when every tripod's solve converged."""
+
+    problem: TripodStatisticsProblem
+    sample: TripodSample
+    histogram: StickingHistogram | None
+    solve_time_s: float
+
+    @property
+    def status(self) -> str:
+        return "optimal" if bool(np.all(self.sample.batch.converged)) else "not_converged"
+
+    @property
+    def complete(self) -> bool:
+        return True
+
+    @property
+    def message(self) -> str:
+        b = self.sample.batch
+        return f"{int(np.sum(b.converged))} of {self.problem.n_tripods} tripods converged"
+
+
+def tripod_statistics(problem: TripodStatisticsProblem, budget: Budget = UNLIMITED) -> TripodStatistics:
+    """The tripod sample of ``problem`` and, if asked, its histogram (figures 3-5, 7-2).
+    Not time-limited: the caller bounds the sample's size (``budget`` is accepted for
+    uniformity)."""
+    p = problem
+    sample = tripod_sample(p.scene, p.n_tripods, p.seed, mu_c=p.mu_c, footprint=p.footprint, tol=p.tol)
+    solve_s = sample.batch.solve_time_s
+    hist = None
+    if p.histogram is not None:
+        h = p.histogram
+        hist = sticking_line_histogram(p.scene, p.n_tripods, p.seed, mu_c=h.mu_c, bins=h.bins, span=h.span,
+                                       footprint=p.footprint, tol=p.tol)
+        solve_s += hist.solve_time_s
+    return TripodStatistics(problem, sample, hist, solve_s)

@@ -218,21 +218,38 @@ def kink_beta(a: float, mu_c: float, sweep_points: int = KINK_SWEEP_POINTS,
     return 0.5 * (lo + hi)
 
 
-def beta_grid(a: float, r_max: float, grazing_delta: float = SPIRAL_DEFAULT.grazing_delta, n_low: int = 12,
-              n_mid: int = 10, n_grazing: int = 16, refine: tuple[float, ...] = (), n_refine: int = 4,
-              refine_width: float = 0.04) -> np.ndarray:
+@dataclass(frozen=True)
+class BetaGrid:
+    """How dense the beta grid of a table is (:func:`beta_grid`): ``n_low`` points
+    geometric from beta_min to 0.4, ``n_mid`` uniform to pi/2 - 0.1, ``n_grazing``
+    geometric in pi/2 - beta from 0.1 down to the grazing delta, and ``n_refine`` points on
+    each side of every kink, geometric within ``refine_width`` (rad)."""
+
+    n_low: int = 12
+    n_mid: int = 10
+    n_grazing: int = 16
+    n_refine: int = 4
+    refine_width: float = 0.04
+
+
+BETA_GRID = BetaGrid()
+"""The default grid of a table (figure 4-19)."""
+
+
+def beta_grid(a: float, r_max: float, grazing_delta: float = SPIRAL_DEFAULT.grazing_delta,
+              refine: tuple[float | None, ...] = (), grid: BetaGrid = BETA_GRID) -> np.ndarray:
     """A beta grid for a table: geometric from beta_min (where the tip line gives r_max,
     r* ~ 2a/sin beta, less 10 % so the table reaches r_max) to 0.4, uniform to pi/2 - 0.1,
     geometric in pi/2 - beta from 0.1 down to ``grazing_delta`` (dense near grazing), and
-    ``n_refine`` points on each side of every beta in ``refine`` (the kinks), geometrically
-    within ``refine_width``."""
+    ``grid.n_refine`` points on each side of every beta in ``refine`` (the kinks),
+    geometrically within ``grid.refine_width``."""
     beta_min = max(MIN_BETA, 0.9 * math.asin(min(1.0, 2.0 * float(a) / float(r_max))))
-    parts = [np.geomspace(beta_min, 0.4, max(n_low, 2)), np.linspace(0.4, 0.5 * math.pi - 0.1, max(n_mid, 2)),
-             0.5 * math.pi - np.geomspace(0.1, grazing_delta, max(n_grazing, 2))]
+    parts = [np.geomspace(beta_min, 0.4, max(grid.n_low, 2)), np.linspace(0.4, 0.5 * math.pi - 0.1, max(grid.n_mid, 2)),
+             0.5 * math.pi - np.geomspace(0.1, grazing_delta, max(grid.n_grazing, 2))]
     for b in refine:
         if b is None:
             continue
-        off = refine_width * np.geomspace(1e-3, 1.0, max(n_refine, 1))
+        off = grid.refine_width * np.geomspace(1e-3, 1.0, max(grid.n_refine, 1))
         parts.append(np.concatenate([b - off, [b], b + off]))
     g = np.unique(np.concatenate(parts))
     return g[(g >= beta_min) & (g <= 0.5 * math.pi - grazing_delta)]
@@ -278,11 +295,11 @@ class CriticalRadiusTable:
 def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=None, r_max: float | None = None,
                           budget: Budget = UNLIMITED, tol: SolverTolerances = SOLVER_DEFAULT,
                           spiral_tol: SpiralTolerances = SPIRAL_DEFAULT, sweep_points: int = SWEEP_POINTS,
-                          find_kink: bool = True, grid_kwargs: dict | None = None,
+                          find_kink: bool = True, grid: BetaGrid = BETA_GRID,
                           margin_rel: float = 0.0) -> CriticalRadiusTable:
-    """r*(beta) over ``betas`` (default :func:`beta_grid` for radii up to ``r_max``,
-    default 100 a, refined around the kink (:func:`kink_beta`, if ``find_kink``) and the
-    sketch change (4.17)), by ``method``; stops when ``budget`` expires (checked between
+    """r*(beta) over ``betas`` (default :func:`beta_grid` with ``grid`` for radii up to
+    ``r_max``, default 100 a, refined around the kink (:func:`kink_beta`, if ``find_kink``)
+    and the sketch change (4.17)), by ``method``; stops when ``budget`` expires (checked between
     points and passed down to each exact solve) and says how far it got. ``margin_rel``:
     the envelope (what schedules use) takes r* + margin_rel * a, a safety margin for the
     uncertified methods (the reported radii are unchanged)."""
@@ -295,15 +312,15 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
     if betas is None:
         if find_kink and method != "tip_line":
             kink = kink_beta(a, mu, budget=budget)
-        grid = beta_grid(a, 100.0 * a if r_max is None else float(r_max), spiral_tol.grazing_delta,
-                         refine=(kink, change), **(grid_kwargs or {}))
+        planned = beta_grid(a, 100.0 * a if r_max is None else float(r_max), spiral_tol.grazing_delta,
+                            refine=(kink, change), grid=grid)
     else:
-        grid = np.unique(np.asarray(betas, dtype=float).ravel())
-        for b in grid:
+        planned = np.unique(np.asarray(betas, dtype=float).ravel())
+        for b in planned:
             _check(a, b, mu)
     rows = []
     time_limited = False
-    for b in grid[::-1]:
+    for b in planned[::-1]:
         if budget.expired():
             time_limited = True
             break
@@ -324,7 +341,7 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
         raise InvalidInput("margin", "must be a finite number >= 0")
     margin = float(margin_rel) * a
     env = critical_envelope(bet[usable], rad[usable] + margin, a, spiral_tol) if usable.any() else None
-    msg = f"{n} of {grid.size} collision parameters ({method})"
+    msg = f"{n} of {planned.size} collision parameters ({method})"
     if margin > 0.0:
         msg += f"; schedules use r* + {margin:.3g}"
     if time_limited:
@@ -337,9 +354,9 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
     return CriticalRadiusTable(
         a=a, mu_c=mu, method=method, betas=bet, radii=rad, midpoints=mid, widths=wid, certified=cert,
         statuses=tuple(r.status for r in rows), times=np.array([r.solve_time_s for r in rows]), envelope=env,
-        dropped_betas=bet[~usable], kink_beta=kink, sketch_change_beta=change, complete=n == grid.size,
+        dropped_betas=bet[~usable], kink_beta=kink, sketch_change_beta=change, complete=n == planned.size,
         time_limited=time_limited, stopped_at_beta=float(bet[0]) if (time_limited and n) else None,
-        n_planned=int(grid.size), n_done=n, solve_time_s=time.perf_counter() - t0, message=msg, margin=margin,
+        n_planned=int(planned.size), n_done=n, solve_time_s=time.perf_counter() - t0, message=msg, margin=margin,
     )
 
 
@@ -457,3 +474,101 @@ def limiting_radius_check(a: float, mu_c: float, method: str = "exact", tol: Sol
         difference=None if res.radius is None else res.radius - closed, certified=res.certified,
         solve_time_s=res.solve_time_s,
     )
+
+
+# --------------------------------------------------------------------------------------
+# One call: r*(beta), its inverse and b_inf (4.5.3-4.5.4)
+
+DEFAULT_REACH_REL = 100.0
+"""Default reach of the table of figure 4-19, in units of a (the book's b_1 = 100 a)."""
+
+LIMIT_BETA_MATCH = 1e-12
+"""The table's last beta is the limit point pi/2 - grazing_delta (4.5.4) when this close
+to it (radians): its r* is then the numerical b_inf, no extra solve."""
+
+
+@dataclass(frozen=True)
+class CriticalRadiusProblem:
+    """r*(beta) of a disk of radius ``disk_radius`` with pusher friction ``mu_c`` by
+    ``method``: at the collision parameters ``betas`` (computed for this problem), or on
+    the grid of figure 4-19 for pusher radii up to ``max_radius`` (default 100 a; through
+    the cache of complete tables at a = 1); with ``radii``, the inverse beta*(r) and d*(r)
+    (4.24) on the table's safe envelope. ``sweep_points``: locus points of the sweep."""
+
+    disk_radius: float
+    mu_c: float
+    method: str = "sweep"
+    betas: tuple[float, ...] | None = None
+    max_radius: float | None = None
+    radii: tuple[float, ...] | None = None
+    sweep_points: int = SWEEP_POINTS
+    tol: SolverTolerances = SOLVER_DEFAULT
+    spiral_tol: SpiralTolerances = SPIRAL_DEFAULT
+
+    def __post_init__(self) -> None:
+        if self.betas is not None and self.max_radius is not None:
+            raise InvalidInput("max_radius", "give betas or max_radius, not both")
+
+
+@dataclass(frozen=True)
+class CriticalRadii:
+    """The answer to a :class:`CriticalRadiusProblem`: the ``table`` (``from_cache``), the
+    tip line's r* = 2a / sin(beta) (4.13) at its betas, b_inf by (4.25) and numerically
+    (r* at pi/2 - ``grazing_delta``; None when there was no time for it), and the inverse
+    ``(r, beta*(r), d*(r))`` per asked radius (None unless asked for)."""
+
+    problem: CriticalRadiusProblem
+    table: CriticalRadiusTable
+    from_cache: bool
+    tip_line_radii: np.ndarray
+    b_inf_closed_form: float
+    b_inf_numeric: float | None
+    grazing_delta: float
+    inverse: tuple[tuple[float, float, float], ...] | None
+    solve_time_s: float
+
+    @property
+    def status(self) -> str:
+        return "complete" if self.table.complete else "time_limited"
+
+    @property
+    def complete(self) -> bool:
+        return self.table.complete
+
+    @property
+    def message(self) -> str:
+        return self.table.message
+
+
+def critical_radii(problem: CriticalRadiusProblem, budget: Budget = UNLIMITED) -> CriticalRadii:
+    """The critical radii of ``problem`` within ``budget``: the table stops early and says
+    so; the numerical b_inf is solved only when time is left."""
+    t0 = time.perf_counter()
+    p = problem
+    a, mu = p.disk_radius, p.mu_c
+    if p.betas is not None:
+        tab = critical_radius_table(a, mu, p.method, betas=p.betas, budget=budget, tol=p.tol, spiral_tol=p.spiral_tol,
+                                    sweep_points=p.sweep_points, find_kink=False)
+        cached = False
+    else:
+        r_max = DEFAULT_REACH_REL * a if p.max_radius is None else p.max_radius
+        tab, cached = cached_critical_radius_table(a, mu, p.method, r_max, budget=budget, sweep_points=p.sweep_points,
+                                                   tol=p.tol)
+    delta = p.spiral_tol.grazing_delta
+    lim_delta = 0.5 * math.pi - float(tab.betas[-1]) if tab.betas.size else None
+    if lim_delta is not None and abs(lim_delta - delta) <= LIMIT_BETA_MATCH:
+        numeric = tab.radii[-1]
+    elif not budget.expired():
+        numeric = limiting_radius_check(a, mu, p.method, tol=p.tol, spiral_tol=p.spiral_tol).numeric
+    else:
+        numeric = None
+    numeric = None if numeric is None or not math.isfinite(numeric) else float(numeric)
+    inverse = None
+    if p.radii is not None:
+        if tab.envelope is None:
+            raise InvalidInput("radii", f"no usable critical radius to invert: {tab.message}")
+        env = tab.envelope
+        inverse = tuple((float(r), float(env.beta_star(r)), float(env.d_star(r))) for r in p.radii)
+    tips = tip_line_critical_radius(a, tab.betas) if tab.betas.size else np.empty(0)
+    return CriticalRadii(p, tab, cached, np.asarray(tips, dtype=float), limiting_radius(a, mu), numeric, delta,
+                         inverse, time.perf_counter() - t0)

@@ -20,16 +20,14 @@ from models.spiral import (
     arc_costs,
     fastest_spiral,
     greedy_on_graph,
-    limiting_radius,
     schedule_graph,
     schedule_grid,
     shortest_path_potentials,
     spiral_path_length,
 )
 from solver.core.budget import UNLIMITED, Budget
-from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.core.errors import SolverError
-from solver.spiral.critical_radius import CriticalRadiusTable, critical_radius_table, envelope_of
+from solver.spiral.critical_radius import envelope_of
 
 # --------------------------------------------------------------------------------------
 # The fastest guaranteed spiral on OR-Tools (4.5.5)
@@ -317,52 +315,3 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
         greedy_revolutions=g_rev, greedy_path_length=g_len, recursion=recursion, max_step_excess=excess,
         build_time_s=build, solve_time_s=solve, total_time_s=time.perf_counter() - t0, message=msg, **common,
     )
-
-
-@dataclass(frozen=True)
-class SpiralPlan:
-    """A table and the schedule from it (:func:`plan_spiral`): ``table`` (r*(beta)),
-    ``schedule`` (the OR-Tools optimum on the grid; None when no target or the table is
-    incomplete below it), ``recursion`` (4.26 on the envelope, from b_1 to the target or
-    until it stalls), ``b_inf_closed_form`` (4.25) and the table's floor."""
-
-    table: CriticalRadiusTable
-    schedule: SpiralSchedule | None
-    recursion: SpiralRecursion | None
-    b_inf_closed_form: float
-    b_floor: float | None
-    solve_time_s: float
-    message: str
-
-
-def plan_spiral(a: float, mu_c: float, b_1: float, target: float | None = None, method: str = "sweep",
-                objective: str = "revolutions", min_step: float | None = None, max_step: float | None = None,
-                speed: float | None = None, budget: Budget = UNLIMITED, backend: str = "min_cost_flow",
-                resolution: int = 16, spacing: float | None = None, grid_kwargs: dict | None = None,
-                tol: SolverTolerances = SOLVER_DEFAULT, spiral_tol: SpiralTolerances = SPIRAL_DEFAULT,
-                table: CriticalRadiusTable | None = None, max_nodes: int = 200_000,
-                max_arcs: int = 5_000_000) -> SpiralPlan:
-    """One call for the service: the critical-radius table for radii up to ``b_1`` by
-    ``method`` (time-limited; or ``table``, already built), the recursion (4.26) and, with
-    a ``target``, the certified OR-Tools schedule. The remaining time after the table goes
-    to the schedule."""
-    t0 = time.perf_counter()
-    if table is not None:
-        tab = table
-    else:
-        tab = critical_radius_table(a, mu_c, method, r_max=b_1, budget=budget, tol=tol,
-                                    spiral_tol=spiral_tol, grid_kwargs=grid_kwargs)
-    closed = limiting_radius(a, mu_c)
-    if tab.envelope is None:
-        return SpiralPlan(tab, None, None, closed, None, time.perf_counter() - t0, tab.message)
-    env = tab.envelope
-    rec = fastest_spiral(env, b_1, target, max_step=max_step, speed=speed, tol=spiral_tol)
-    sched = None
-    msg = tab.message
-    if target is not None:
-        sched = spiral_schedule(env, b_1, target, objective=objective, min_step=min_step, max_step=max_step,
-                                speed=speed, spacing=spacing, resolution=resolution, backend=backend,
-                                budget=budget, spiral_tol=spiral_tol, max_nodes=max_nodes,
-                                max_arcs=max_arcs)
-        msg += "; " + sched.message
-    return SpiralPlan(tab, sched, rec, closed, env.b_floor, time.perf_counter() - t0, msg)

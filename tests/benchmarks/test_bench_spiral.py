@@ -22,6 +22,7 @@ from models.tolerances import SpiralTolerances
 
 from models.spiral import fastest_spiral, limiting_radius, power_law_fit, spiral_polyline, tip_line_envelope
 from solver.spiral.critical_radius import (
+    BetaGrid,
     beta_grid,
     critical_radius,
     critical_radius_table,
@@ -66,11 +67,11 @@ def test_spiral_benchmark():
     # ---------------------------------------------------------------- tables
     tables = {}
     grids = {}
-    for mu, kw in ((0.25, dict(n_low=20, n_mid=14, n_grazing=40)), (1.0, dict(n_low=14, n_mid=10, n_grazing=16))):
+    for mu, kw in ((0.25, BetaGrid(n_low=20, n_mid=14, n_grazing=40)), (1.0, BetaGrid(n_low=14, n_mid=10, n_grazing=16))):
         t0 = time.perf_counter()
         kink = kink_beta(1.0, mu)
         t_kink = time.perf_counter() - t0
-        grid = beta_grid(1.0, B1, 1e-6, refine=(kink, sketch_change_beta(mu)), **kw)
+        grid = beta_grid(1.0, B1, 1e-6, refine=(kink, sketch_change_beta(mu)), grid=kw)
         grids[mu] = (grid, kink, t_kink)
         for method in ("exact", "sweep", "tip_line"):
             tables[(mu, method)] = critical_radius_table(1.0, mu, method, betas=grid)
@@ -216,8 +217,8 @@ def test_spiral_benchmark():
 
     # ---------------------------------------------------------------- figure 4-21
     t0 = time.perf_counter()
-    dense_grid = beta_grid(1.0, B1, 1e-6, n_low=40, n_mid=30, n_grazing=110,
-                           refine=(grids[0.25][1], sketch_change_beta(0.25)))
+    dense_grid = beta_grid(1.0, B1, 1e-6, refine=(grids[0.25][1], sketch_change_beta(0.25)),
+                           grid=BetaGrid(n_low=40, n_mid=30, n_grazing=110))
     dense = critical_radius_table(1.0, 0.25, "sweep", betas=dense_grid)
     t_dense = time.perf_counter() - t0
     lines += [

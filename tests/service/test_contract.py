@@ -1,6 +1,8 @@
 """Contract test: schemathesis drives every operation of the OpenAPI document in-process
-(ASGI, no network) and checks that the service never answers 5xx, that every status code
-and media type it answers is documented, and that bodies conform to their schemas.
+(ASGI, no network) and checks that the service never answers 5xx other than the documented
+504 of a time limit (TIME_LIMIT_STATUS; a 500 is never right), that every status code and
+media type it answers is documented (so a 504 only where the operation documents it), and
+that bodies conform to their schemas.
 
 Bounded in time: derandomized (seeded) Hypothesis, a few dozen examples per operation
 and generation mode (positive data from the schema and negative data that violates it).
@@ -41,10 +43,15 @@ GROSS_PATHS = ("/v1/push/align", "/v1/push/disk-encounter")
 SPIRAL_PATHS = ("/v1/spiral/critical-radius", "/v1/spiral/schedule")
 CONTRACT_SPIRAL_TIME_LIMIT_S = 0.3
 
+TIME_LIMIT_STATUS = "504"
+"""A time limit that runs out (on a busy machine, within the capped budgets below) is
+answered 504 with what was reached: documented, so not a server error."""
+
 schema = schemathesis.openapi.from_asgi("/openapi.json", app)
 schema.config.generation.update(
     modes=[schemathesis.GenerationMode.POSITIVE, schemathesis.GenerationMode.NEGATIVE],
 )
+schema.config.checks.not_a_server_error.expected_statuses = ["2xx", "3xx", "4xx", TIME_LIMIT_STATUS]
 
 CHECKS = [
     not_a_server_error,

@@ -132,3 +132,16 @@ def test_minimum_power_limits_are_in_the_schema():
     for op in ("/v1/cor/solve", "/v1/cor/membership", "/v1/cor/tripod-statistics", "/v1/mpp/particle"):
         responses = app.openapi()["paths"][op]["post"]["responses"]
         assert responses["422"]["content"]["application/json"]["schema"] == {"$ref": "#/components/schemas/ErrorResponse"}
+
+
+def test_time_limits_are_documented_where_they_can_run_out():
+    """504 (a TimeLimitResponse) on the operations whose computation may stop at its time
+    limit, nowhere else; every operation documents 422."""
+    ops = {op["operationId"]: op for item in app.openapi()["paths"].values() for op in item.values()}
+    with_504 = {name for name, op in ops.items() if "504" in op["responses"]}
+    assert with_504 == {"push_align", "push_disk_encounter", "spiral_schedule"}
+    for name in with_504:
+        assert ops[name]["responses"]["504"]["content"]["application/json"]["schema"] == {
+            "$ref": "#/components/schemas/TimeLimitResponse"
+        }
+    assert all("422" in op["responses"] for name, op in ops.items() if name != "healthz")

@@ -19,7 +19,7 @@ from models.scene import PushScene
 from models.support import Support, random_balanced_tripods
 from solver.core.errors import SolverError
 from solver.motion.forward import solve_forward
-from solver.locus.membership import membership
+from solver.locus.membership import MembershipProblem, decide_membership, membership
 from tests.scenes import SEED, point_in_polygon, scene_for_mu
 from solver.locus import membership as mm
 from solver.certify.colgen import decide
@@ -323,3 +323,15 @@ def test_far_candidates_are_decided_on_the_conditioned_rows():
     assert res.dual_lower_bound - y[0] == pytest.approx(res.dual_margin, abs=1e-12)
     inner = membership(sc, inside)
     check_witness(sc, inner, a)
+
+
+def test_decide_membership_is_membership_of_the_problem_3_8():
+    """The one-call form answers as membership() (3.8): inside with a witness beyond the
+    disk, outside beyond the tip (3.37), undecided when the budget is already spent."""
+    sc = scene_for_mu(0.3)
+    tip = cd.disk_cor_locus(sc, outputs=["tip"]).tip
+    inside = decide_membership(MembershipProblem(sc, 0.9 * tip.point))
+    assert inside.status == "inside" == membership(sc, 0.9 * tip.point).status and inside.complete
+    assert decide_membership(MembershipProblem(sc, 1.1 * tip.point)).status == "outside"
+    spent = decide_membership(MembershipProblem(sc, 0.9 * tip.point), Budget.of(0.0))
+    assert spent.status == "undecided" and not spent.complete

@@ -104,3 +104,14 @@ def test_solution_is_an_outcome():
     sol = sp.solve_particle(1.0, 1.0, 2.0, 1.0)
     assert isinstance(sol, Outcome) and sol.complete and sol.status == "Solve_Succeeded"
     assert sol.message.startswith(f"IPOPT Solve_Succeeded in {sol.iterations} iterations: v_y = ")
+
+
+def test_one_call_reports_the_residuals_2_27_and_2_31():
+    """The stationarity (2.31) holds at IPOPT's minimiser and Newton's balance (2.27) at
+    Newton's answer, both relative to mg."""
+    sol = sp.particle(sp.ParticleProblem(1.0, 1.0, 2.0, 1.0))
+    assert sol.kkt_residual == abs(float(mp.power_derivative(sol.mpp_v_y_numeric, sol.scene))) / sol.scene.mg
+    assert sol.kkt_residual < 1e-8 and abs(sol.newton_residual) < 1e-12
+    assert sol.complete and "Newton" in sol.message and sol.status == "Solve_Succeeded"
+    with pytest.raises(InvalidInput):
+        sp.particle(sp.ParticleProblem(1.0, 2.0, 2.0, 0.0))  # n = 0 needs eta > mg (2.5)

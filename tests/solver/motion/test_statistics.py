@@ -12,7 +12,14 @@ from models.footprint import Footprint
 from models.mpp import perp
 from solver.core.outcome import Outcome
 from solver.core.tolerances import SolverTolerances
-from solver.motion.statistics import sticking_line_histogram, tripod_sample, uniform_pressure_cor
+from solver.motion.statistics import (
+    HistogramQuery,
+    TripodStatisticsProblem,
+    sticking_line_histogram,
+    tripod_sample,
+    tripod_statistics,
+    uniform_pressure_cor,
+)
 from tests.scenes import SEED, scene_for_mu
 
 
@@ -87,3 +94,13 @@ def test_sample_and_histogram_are_outcomes():
     assert not tripod_sample(sc, 50, seed=SEED, tol=never).complete
     bad = sticking_line_histogram(sc, 50, seed=SEED, mu_c=1e6, bins=10, tol=never)
     assert bad.status == "not_converged" and not bad.complete and bad.n_converged == 0
+def test_tripod_statistics_in_one_call_figures_3_5_and_7_2():
+    sc = scene_for_mu(0.3)
+    problem = TripodStatisticsProblem(sc, 300, SEED, histogram=HistogramQuery(mu_c=1e6, bins=20))
+    res = tripod_statistics(problem)
+    want = tripod_sample(sc, 300, seed=SEED)
+    assert np.allclose(res.sample.batch.cor, want.batch.cor, equal_nan=True)
+    h = sticking_line_histogram(sc, 300, seed=SEED, mu_c=1e6, bins=20)
+    assert np.array_equal(res.histogram.counts, h.counts) and np.array_equal(res.histogram.edges, h.edges)
+    assert isinstance(res, Outcome) and res.complete and res.status == "optimal"
+    assert tripod_statistics(TripodStatisticsProblem(sc, 10, SEED)).histogram is None

@@ -19,10 +19,12 @@ from models.gross.gross_bounds import encounter_scene
 from models.mpp import perp
 from models.spiral import critical_envelope, tip_line_critical_radius
 from solver.spiral.critical_radius import (
+    CriticalRadiusProblem,
     critical_beta,
     critical_distance,
     critical_radius,
     critical_radius_table,
+    critical_radii,
     kink_beta,
     limiting_radius_check,
 )
@@ -205,3 +207,35 @@ def test_cached_tables_scale_with_a_and_carry_their_margin():
     assert "before the first collision parameter" in cut.message
     with pytest.raises(InvalidInput):
         critical_radius_table(1.0, 0.7, "tip_line", r_max=10.0, margin_rel=-1.0)
+
+
+def test_critical_radii_in_one_call_4_13_4_24_4_25():
+    """At given betas: the table computed for the problem (not cached), the tip line 2a/sin
+    beta (4.13) beside it, b_inf numerically against (4.25), and the inverse beta*(r), d*(r)
+    (4.24) on the safe envelope."""
+    betas = (0.3, 0.8, 1.3, HALF_PI - 1e-6)
+    res = critical_radii(CriticalRadiusProblem(1.0, 0.25, "sweep", betas=betas, radii=(0.5, 4.0), sweep_points=256))
+    want = critical_radius_table(1.0, 0.25, "sweep", betas=betas, sweep_points=256, find_kink=False)
+    np.testing.assert_array_equal(res.table.radii, want.radii)
+    np.testing.assert_allclose(res.tip_line_radii, 2.0 / np.sin(np.array(betas)), rtol=1e-15)
+    assert res.b_inf_closed_form == 1.25 and res.b_inf_numeric == want.radii[-1]  # the last beta is the limit point
+    env = want.envelope
+    want_inverse = [(r, float(env.beta_star(r)), float(env.d_star(r))) for r in (0.5, 4.0)]
+    np.testing.assert_array_equal(np.array(res.inverse), np.array(want_inverse))  # NaN where NaN
+    assert math.isnan(res.inverse[0][1]) and res.inverse[0][2] == 0.0  # below b_inf: no guarantee
+    assert res.complete and res.status == "complete" and not res.from_cache
+    with pytest.raises(InvalidInput) as info:
+        CriticalRadiusProblem(1.0, 0.25, betas=betas, max_radius=10.0)
+    assert info.value.field == "max_radius"
+
+
+def test_critical_radii_of_the_cached_grid_and_an_empty_table():
+    res = critical_radii(CriticalRadiusProblem(1.0, 0.4, "tip_line", max_radius=20.0))
+    assert res.table.betas[-1] == pytest.approx(HALF_PI - 1e-6) and res.b_inf_numeric == res.table.radii[-1]
+    again = critical_radii(CriticalRadiusProblem(2.0, 0.4, "tip_line", max_radius=40.0))
+    assert again.from_cache and np.allclose(again.table.radii, 2.0 * res.table.radii, rtol=1e-12)
+    with pytest.raises(InvalidInput) as info:  # nothing decided in no time: nothing to invert
+        critical_radii(CriticalRadiusProblem(1.0, 0.4, "sweep", betas=(0.5,), radii=(3.0,)), Budget.of(0.0))
+    assert info.value.field == "radii"
+    cut = critical_radii(CriticalRadiusProblem(1.0, 0.4, "sweep", betas=(0.5,)), Budget.of(0.0))
+    assert cut.status == "time_limited" and cut.b_inf_numeric is None

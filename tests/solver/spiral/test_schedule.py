@@ -1,6 +1,7 @@
 """The fastest guaranteed spiral of spiral localization (solver/spiral/schedule.py; book
 4.5.5): the OR-Tools optimum against the recursion (4.26), robot limits, the CP-SAT back
-end, the exponent of figure 4-21 and the one-call plan. Tables: tests/solver/spiral/conftest.py."""
+end and the exponent of figure 4-21. Tables: tests/solver/spiral/conftest.py; the one-call
+plan: tests/solver/spiral/test_plan.py."""
 
 from __future__ import annotations
 
@@ -13,10 +14,8 @@ import pytest
 from models.errors import InvalidInput
 from models.tolerances import SpiralTolerances
 from models.spiral import fastest_spiral, power_law_fit
-from solver.spiral.critical_radius import (
-    critical_radius,
-)
-from solver.spiral.schedule import plan_spiral, spiral_schedule
+from solver.spiral.critical_radius import critical_radius, critical_radius_table
+from solver.spiral.schedule import spiral_schedule
 from solver.core.budget import Budget
 
 HALF_PI = 0.5 * math.pi
@@ -94,12 +93,10 @@ def test_exponent_of_figure_4_21(dense_sweep_025):
     assert late.exponent < early.exponent
 
 
-def test_plan_and_inputs():
-    plan = plan_spiral(1.0, 0.5, 12.0, target=2.1, method="tip_line")
-    assert plan.schedule.solver_status == "OPTIMAL" and plan.b_inf_closed_form == 1.5
-    assert plan.b_floor == pytest.approx(2.0, abs=1e-6)  # the tip line cannot go below 2a
+def test_inputs():
+    table = critical_radius_table(1.0, 0.5, "tip_line", r_max=12.0)
     with pytest.raises(InvalidInput):
-        spiral_schedule(plan.table, 12.0, 1.8)  # below the table's floor
+        spiral_schedule(table, 12.0, 1.8)  # below the table's floor (the tip line's 2a)
     with pytest.raises(InvalidInput):
         critical_radius(1.0, HALF_PI, 0.5)  # grazing
     with pytest.raises(InvalidInput):

@@ -1,0 +1,427 @@
+"""Schema <-> problem <-> schema of ``POST /v1/cor/solve`` and ``POST
+/v1/cor/tripod-statistics`` (no mechanics here).
+
+:func:`motion_problem` builds the domain objects of :mod:`models` (``PushScene``,
+``Support``, ``Footprint``) and a :class:`solver.motion.solve.MotionProblem`, checking the
+service's size limits; :func:`solve_response` turns the
+:class:`solver.motion.solve.MotionResult` into the response schema with plain floats and
+no NaN/inf. Domain ``InvalidInput`` errors are re-located to the request field they
+concern (e.g. ``["body", "supports", 3, "weights"]``). The same for the tripod statistics
+with :class:`solver.motion.statistics.TripodStatisticsProblem`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from models.footprint import Footprint, area_centroid
+from models.mpp import mason_sense
+from models.scene import PushScene
+from models.support import Support
+from service.api.motion.schemas import (
+    BatchSummaryOut,
+    CorSolveRequest,
+    CorSolveResponse,
+    HistogramOut,
+    ImpactOut,
+    MotionOut,
+    PressureSummaryOut,
+    SupportIn,
+    TripodStatisticsRequest,
+    TripodStatisticsResponse,
+)
+from service.common.inputs import Loc, exactly_one, footprint_of, located
+from service.common.numbers import finite, finite_list
+from service.common.scene import contact_warnings, disk_or_footprint, push_scene
+from service.errors import FieldError
+from service.limits import (
+    MAX_BATCH_POINTS,
+    MAX_BATCH_SLOW,
+    MAX_SUPPORT_POINTS,
+    MAX_SUPPORT_POINTS_SLOW,
+    MAX_TRIPOD_CORS,
+    MIN_FOOTPRINT_FILL,
+    SAMPLING_MIN_SIZE,
+    SAMPLING_MIN_SIZE_REL,
+    SUPPORT_IN_DISK_REL,
+)
+from solver.motion.forward import BatchResult, ForwardResult
+from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure
+from solver.motion.statistics import (
+    HistogramQuery,
+    TripodStatistics,
+    TripodStatisticsProblem,
+)
+
+PRESSURE_FIELDS = {"subdivisions": ("pressure", "resolution"), "rings": ("pressure", "resolution")}
+"""Where an InvalidInput of the uniform-pressure discretisation is located in the request."""
+
+# ---------------------------------------------------------------------------------------
+# POST /v1/cor/solve
+# ---------------------------------------------------------------------------------------
+
+
+class RequestSupport:
+    """A request support as a domain ``Support`` plus the map from the support's points
+    (coincident points merged, zero weights dropped) back to the request's indices."""
+
+    def __init__(self, sin: SupportIn, center_of_mass, loc: Loc, max_points: int, method: str):
+        k = len(sin.points)
+        if k > max_points:
+            raise FieldError(
+                (*loc, "points"),
+                f"has {k} points; method {method} accepts at most {max_points} per support",
+            )
+        with located(loc):
+            self.support = Support.create(sin.points, sin.weights, center_of_mass)
+        pts = np.asarray(sin.points, dtype=float)
+        kept = np.nonzero(np.asarray(sin.weights, dtype=float) > 0.0)[0]
+        if np.array_equal(self.support.points, pts[kept]):
+            self.index = kept
+        else:  # coincident points were merged (or a tiny weight vanished on normalising)
+            first: dict[tuple[float, float], int] = {}
+            for i in kept[::-1]:
+                first[(pts[i, 0], pts[i, 1])] = int(i)
+            self.index = np.array([first[(w[0], w[1])] for w in self.support.points], dtype=int)
+        self.extent = float(np.max(np.linalg.norm(self.support.points - self.support.center_of_mass, axis=1)))
+
+    def original(self, j: int | None) -> int | None:
+        return None if j is None or j < 0 else int(self.index[j])
+
+
+def _disk_radius(req: CorSolveRequest, cm: np.ndarray, extent: float) -> float:
+    """The explicit disk_radius (checked against the support's extent) or the default: the
+    largest distance of a support point or of the contact from the CM."""
+    if req.disk_radius is not None:
+        if req.disk_radius < (1.0 - SUPPORT_IN_DISK_REL) * extent:
+            raise FieldError(
+                ("disk_radius",),
+                f"is smaller than the support: a support point is {extent:.6g} from the centre of "
+                "mass, outside the disk (omit disk_radius to use that distance)",
+            )
+        return float(req.disk_radius)
+    a = max(extent, float(np.linalg.norm(np.asarray(req.contact_point, dtype=float) - cm)))
+    if not (a > 0.0 and math.isfinite(a)):
+        raise FieldError(
+            ("disk_radius",),
+            "cannot be derived: every support point and the contact are at the centre of mass; give it",
+        )
+    return a
+
+
+def _require_length_scale(scene: PushScene, extent: float, loc: Loc) -> None:
+    """The forward solver measures lengths in units of the farthest support point or
+    contact from the CM; when all of them are at the CM there is no such unit."""
+    if not max(extent, float(np.linalg.norm(scene.contact_rel))) > 0.0:
+        raise FieldError(
+            loc,
+            "are all at the centre of mass, and so is the contact: the motion is undefined "
+            "(move the contact or spread the support)",
+        )
+
+
+@dataclass(frozen=True)
+class MotionRequest:
+    """A /v1/cor/solve request as a problem, with what the answer needs of the request:
+    ``which`` input was given, the request's supports (their index maps), the pressure's
+    cell count."""
+
+    problem: MotionProblem
+    which: str
+    supports: tuple[RequestSupport, ...]
+    n_cells: int | None
+
+
+def motion_problem(req: CorSolveRequest) -> MotionRequest:
+    """Check the service's limits and build the problem of ``req``."""
+    which = exactly_one(req, ("support", "supports", "pressure"))
+    slow = req.method != "newton"
+    max_points = MAX_SUPPORT_POINTS_SLOW if slow else MAX_SUPPORT_POINTS
+    mu_c = float(req.mu_c)
+    if which == "pressure":
+        pr = req.pressure
+        n = pr.resolution
+        if pr.footprint is not None:
+            footprint = footprint_of(pr.footprint, req.center_of_mass, ("pressure", "footprint"))
+            cm = footprint.center_of_mass
+            extent = footprint.circumradius
+            n_cells = (len(footprint.vertices) - 2) * n * n
+        else:
+            footprint = None
+            cm = np.asarray(req.center_of_mass if req.center_of_mass is not None else (0.0, 0.0), dtype=float)
+            if req.disk_radius is None:
+                raise FieldError(("disk_radius",), "is required for uniform pressure on the disk (or give pressure.footprint)")
+            extent = 0.0
+            n_cells = 6 * n * n
+        if n_cells > max_points:
+            raise FieldError(
+                ("pressure", "resolution"),
+                f"gives {n_cells} cells; method {req.method} accepts at most {max_points} points",
+            )
+        scene = push_scene(req, _disk_radius(req, cm, extent), cm)
+        problem = MotionProblem(scene, pressure=UniformPressure(footprint, n), mu_c=mu_c, method=req.method)
+        return MotionRequest(problem, which, (), n_cells)
+    cm = np.asarray(req.center_of_mass if req.center_of_mass is not None else (0.0, 0.0), dtype=float)
+    if which == "support":
+        us = RequestSupport(req.support, cm, ("support",), max_points, req.method)
+        scene = push_scene(req, _disk_radius(req, cm, us.extent), cm)
+        _require_length_scale(scene, us.extent, ("support", "points"))
+        problem = MotionProblem(scene, support=us.support, mu_c=mu_c, method=req.method)
+        return MotionRequest(problem, which, (us,), None)
+    sups = req.supports
+    if slow and len(sups) > MAX_BATCH_SLOW:
+        raise FieldError(
+            ("supports",),
+            f"has {len(sups)} supports; method {req.method} accepts at most {MAX_BATCH_SLOW} "
+            "(use method newton for large batches)",
+        )
+    total = sum(len(s.points) for s in sups)
+    if total > MAX_BATCH_POINTS:
+        raise FieldError(("supports",), f"has {total} points in all, more than {MAX_BATCH_POINTS}")
+    users = tuple(RequestSupport(s, cm, ("supports", i), max_points, req.method) for i, s in enumerate(sups))
+    scene = push_scene(req, _disk_radius(req, cm, max(u.extent for u in users)), cm)
+    for i, u in enumerate(users):
+        _require_length_scale(scene, u.extent, ("supports", i, "points"))
+    problem = MotionProblem(scene, supports=tuple(u.support for u in users), mu_c=mu_c, method=req.method)
+    return MotionRequest(problem, which, users, None)
+
+
+def motion_errors_located(mr: MotionRequest):
+    """Where the solver's input errors go in the request: a pressure's discretisation at
+    ``pressure.resolution``; a Newton batch's below ``supports``; the others at their own
+    path (a member of a batch solved one by one at ``supports[i]``)."""
+    if mr.which == "pressure":
+        return located(rename=PRESSURE_FIELDS)
+    if mr.which == "supports" and mr.problem.method == "newton":
+        return located(("supports",), rename={"mu_c": ("mu_c",)})
+    return located()
+
+
+def _sense_of(omega: float, translation: bool) -> str:
+    return "none" if translation else ("ccw" if omega > 0.0 else "cw")
+
+
+def motion_out(scene: PushScene, res: ForwardResult, mu_c: float, cor_on_support: int | None) -> MotionOut:
+    mason = mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c)
+    return MotionOut(
+        status=res.status,
+        method=res.method,
+        mode=res.mode,
+        kind="translation" if res.cor is None else "rotation",
+        cor=None if res.cor is None else finite_list(res.cor, "cor"),
+        velocity_cm=finite_list(res.velocity_cm, "velocity_cm"),
+        rotation_per_push=finite(res.omega, "rotation_per_push"),
+        slip_per_push=finite(res.slip, "slip_per_push"),
+        sense=res.sense,
+        mason_sense=mason,
+        mason_agrees=mason == res.sense,
+        power=finite(res.power, "power"),
+        contact_force=finite_list(res.contact_force, "contact_force"),
+        kkt_residual=finite(res.kkt_residual, "kkt_residual"),
+        gap=finite(res.gap, "gap"),
+        cor_on_support=cor_on_support,
+        iterations=int(res.iterations),
+        solve_time_ms=res.solve_time_s * 1e3,
+        raw_twist_error=None if res.raw_twist_error is None else finite(res.raw_twist_error, "raw_twist_error"),
+    )
+
+
+def batch_motion_out(scene: PushScene, br: BatchResult, j: int, mu_c: float, cor_on_support: int | None) -> MotionOut:
+    """Row ``j`` of a Newton batch (the batch has no per-motion time)."""
+    cor = br.cor[j]
+    translation = not bool(np.all(np.isfinite(cor)))
+    omega = float(br.omega[j])
+    v = br.velocity_cm[j]
+    sense = _sense_of(omega, translation)
+    mason = mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c)
+    return MotionOut(
+        status="optimal" if bool(br.converged[j]) else "not_converged",
+        method="newton",
+        mode=BatchResult.MODES[int(br.mode[j])],
+        kind="translation" if translation else "rotation",
+        cor=None if translation else finite_list(cor, "cor"),
+        velocity_cm=finite_list(v, "velocity_cm"),
+        rotation_per_push=finite(omega, "rotation_per_push"),
+        slip_per_push=finite(br.slip[j], "slip_per_push"),
+        sense=sense,
+        mason_sense=mason,
+        mason_agrees=mason == sense,
+        power=finite(br.power[j], "power"),
+        contact_force=finite_list(br.contact_force[j], "contact_force"),
+        kkt_residual=finite(br.kkt_residual[j], "kkt_residual"),
+        gap=finite(br.gap[j], "gap"),
+        cor_on_support=cor_on_support,
+        iterations=int(br.iterations[j]),
+        solve_time_ms=None,
+    )
+
+
+def _impact_out(impact: Impact | None) -> ImpactOut | None:
+    if impact is None:
+        return None
+    return ImpactOut(
+        cor=None if impact.cor is None else finite_list(impact.cor, "impact.cor"),
+        distance=None if impact.distance is None else finite(impact.distance, "impact.distance"),
+        radius_of_gyration=finite(impact.radius_of_gyration, "impact.radius_of_gyration"),
+        source=impact.source,
+    )
+
+
+def solve_response(req: CorSolveRequest, mr: MotionRequest, result: MotionResult, elapsed_ms: float) -> CorSolveResponse:
+    scene = mr.problem.scene
+    mu_c = float(req.mu_c)
+    motion = motions = batch = pressure = None
+    notes: list[str] = []
+    if mr.which == "pressure":
+        motion = motion_out(scene, result.motion, mu_c, result.motion.cor_on_support)
+        pr = req.pressure
+        pressure = PressureSummaryOut(kind=pr.kind, region="disk" if pr.footprint is None else "polygon",
+                                      resolution=pr.resolution, n_cells=mr.n_cells)
+    elif mr.which == "support":
+        us = mr.supports[0]
+        motion = motion_out(scene, result.motion, mu_c, us.original(result.motion.cor_on_support))
+        if result.impact is None:
+            notes.append("impact is null: the whole support is at the centre of mass (radius of gyration 0)")
+    else:
+        users = mr.supports
+        out: list[MotionOut | None] = [None] * len(users)
+        if result.motions is not None:
+            for i, res in enumerate(result.motions):
+                out[i] = motion_out(scene, res, mu_c, users[i].original(res.cor_on_support))
+            fallbacks = 0
+        else:
+            fallbacks = 0
+            for group in result.groups:
+                br = group.result
+                fallbacks += int(br.fallbacks)
+                for j, i in enumerate(group.indices):
+                    out[i] = batch_motion_out(scene, br, j, mu_c, users[i].original(int(br.cor_on_support[j])))
+        motions = out
+        batch = BatchSummaryOut(
+            n=len(out),
+            converged=sum(m.status == "optimal" for m in out),
+            translations=sum(m.kind == "translation" for m in out),
+            fallbacks=fallbacks,
+            support_sizes=sorted({len(u.support.points) for u in users}),
+        )
+    all_motions = motions if motions is not None else [motion]
+    bad = sum(m.status != "optimal" for m in all_motions)
+    if bad:
+        notes.append(
+            f"{bad} of {len(all_motions)} motions are not optimal (status not_converged or inconsistent): "
+            "see their kkt_residual; another method may do better"
+        )
+    return CorSolveResponse(
+        input=mr.which,
+        disk_radius=finite(scene.disk_radius, "disk_radius"),
+        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
+        mu_c=mu_c,
+        method=req.method,
+        motion=motion,
+        impact=None if mr.which == "supports" else _impact_out(result.impact),
+        motions=motions,
+        batch=batch,
+        pressure=pressure,
+        warnings=contact_warnings(scene) + notes,
+        solve_time_ms=result.solve_time_s * 1e3,
+        elapsed_ms=elapsed_ms,
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# POST /v1/cor/tripod-statistics
+# ---------------------------------------------------------------------------------------
+
+
+def _check_samplable(scene: PushScene, footprint: Footprint | None, explicit_cm: bool) -> None:
+    """Refuse what the tripod sampler (rejection sampling of balanced tripods, 3.3.3) cannot
+    finish in reasonable time: a region below the float resolution of its coordinates, a
+    sliver filling little of its bounding box, a centre of mass near the hull (almost no
+    triangle contains it)."""
+    size = scene.disk_radius
+    field = "disk_radius" if footprint is None else "footprint"
+    if size < SAMPLING_MIN_SIZE or size < SAMPLING_MIN_SIZE_REL * float(np.max(np.abs(scene.center_of_mass))):
+        raise FieldError(
+            (field,),
+            f"is too small to sample: its size {size:.3g} must be at least {SAMPLING_MIN_SIZE:g} and "
+            f"{SAMPLING_MIN_SIZE_REL:g} times the distance of the centre of mass from the origin",
+        )
+    if footprint is None:
+        return
+    if explicit_cm:
+        centroid = area_centroid(footprint.vertices)
+        if np.linalg.norm(centroid - footprint.center_of_mass) > SUPPORT_IN_DISK_REL * footprint.circumradius:
+            raise FieldError(
+                ("center_of_mass",),
+                "must be the footprint's area centroid (or omitted) for tripod statistics: with the "
+                "CM near the hull almost no random triangle contains it and sampling would not end",
+            )
+    box = np.ptp(footprint.vertices, axis=0)
+    fill = footprint.area / float(box[0] * box[1])
+    if fill < MIN_FOOTPRINT_FILL:
+        raise FieldError(
+            ("footprint",),
+            f"fills {fill:.3g} of its bounding box, less than {MIN_FOOTPRINT_FILL:g}: tripods are "
+            "drawn by rejection from the box and would take too long (rotate the polygon to "
+            "align it with the axes, or use a fuller shape)",
+        )
+
+
+def tripod_problem(req: TripodStatisticsRequest) -> TripodStatisticsProblem:
+    """Check the service's limits and build the problem of ``req``."""
+    if req.include_cors and req.n_tripods > MAX_TRIPOD_CORS:
+        raise FieldError(
+            ("include_cors",),
+            f"the CORs of at most {MAX_TRIPOD_CORS} tripods are returned; set include_cors false "
+            "for larger samples",
+        )
+    scene, footprint = disk_or_footprint(req)
+    _check_samplable(scene, footprint, req.center_of_mass is not None)
+    histogram = None
+    if req.histogram:
+        span = None if req.span is None else (req.span[0], req.span[1])
+        histogram = HistogramQuery(mu_c=req.histogram_mu_c, bins=req.bins, span=span)
+    return TripodStatisticsProblem(scene, req.n_tripods, req.seed, mu_c=req.mu_c, footprint=footprint,
+                                   histogram=histogram)
+
+
+def tripod_statistics_response(req: TripodStatisticsRequest, stats: TripodStatistics,
+                               elapsed_ms: float) -> TripodStatisticsResponse:
+    scene = stats.problem.scene
+    b = stats.sample.batch
+    ok = np.all(np.isfinite(b.cor), axis=1)
+    cors = None
+    if req.include_cors:
+        cors = [(finite_list(c, "cors") if good else None) for c, good in zip(b.cor, ok)]
+    modes = {name: int(np.sum(b.mode == i)) for i, name in enumerate(BatchResult.MODES)}
+    hist = None
+    if stats.histogram is not None:
+        h = stats.histogram
+        hist = HistogramOut(
+            edges=finite_list(h.edges, "histogram.edges"),
+            counts=[int(c) for c in h.counts],
+            sticking_fraction=finite(h.sticking_fraction, "histogram.sticking_fraction"),
+            outside_range=int(h.outside_range),
+            mu_c=float(req.histogram_mu_c),
+            solve_time_ms=h.solve_time_s * 1e3,
+        )
+    return TripodStatisticsResponse(
+        status=stats.status,
+        max_kkt_residual=finite(np.max(b.kkt_residual), "max_kkt_residual"),
+        n_tripods=req.n_tripods,
+        seed=req.seed,
+        disk_radius=finite(scene.disk_radius, "disk_radius"),
+        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
+        mu_c=float(req.mu_c),
+        cors=cors,
+        converged=int(np.sum(b.converged)),
+        translations=int(np.sum(~ok)),
+        fallbacks=int(b.fallbacks),
+        mode_counts=modes,
+        histogram=hist,
+        solve_time_ms=stats.solve_time_s * 1e3,
+        elapsed_ms=elapsed_ms,
+    )

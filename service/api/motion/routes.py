@@ -1,0 +1,70 @@
+"""``POST /v1/cor/solve`` (motions for known pressure distributions) and ``POST
+/v1/cor/tripod-statistics`` (CORs of random tripods, figures 3-5 and 7-2).
+
+Each route: request -> problem (:mod:`service.api.motion.convert`) -> one solver call
+(:func:`solver.motion.solve.solve_motion`,
+:func:`solver.motion.statistics.tripod_statistics`) -> response. Plain ``def``: FastAPI
+runs them in its thread pool, so a long solve does not block the event loop.
+"""
+
+from __future__ import annotations
+
+from fastapi import APIRouter
+
+from service.api.motion.convert import (
+    motion_errors_located,
+    motion_problem,
+    solve_response,
+    tripod_problem,
+    tripod_statistics_response,
+)
+from service.api.motion.schemas import (
+    CorSolveRequest,
+    CorSolveResponse,
+    TripodStatisticsRequest,
+    TripodStatisticsResponse,
+)
+from service.common.inputs import located
+from service.common.responses import INVALID_INPUT
+from solver.core.budget import Budget
+from solver.motion.solve import solve_motion
+from solver.motion.statistics import tripod_statistics
+
+router = APIRouter(tags=["cor"])
+
+
+@router.post(
+    "/v1/cor/solve",
+    operation_id="cor_solve",
+    summary="Motion of a pushed workpiece for a known pressure distribution",
+    response_model=CorSolveResponse,
+    responses=INVALID_INPUT,
+)
+def cor_solve(req: CorSolveRequest) -> CorSolveResponse:
+    """The motion (COR, rotation and slip per unit push, contact mode, forces) that
+    minimises the frictional power (book 3.2-3.3.3; with pusher friction mu_c, 4.1), for
+    one support, a batch of supports, or a modelled uniform pressure (figure 7-1)."""
+    budget = Budget.of(None)
+    mr = motion_problem(req)
+    with motion_errors_located(mr):
+        result = solve_motion(mr.problem, budget)
+    return solve_response(req, mr, result, budget.elapsed() * 1e3)
+
+
+@router.post(
+    "/v1/cor/tripod-statistics",
+    operation_id="cor_tripod_statistics",
+    summary="CORs of random tripod supports (figures 3-5, 7-2)",
+    response_model=TripodStatisticsResponse,
+    responses=INVALID_INPUT,
+)
+def cor_tripod_statistics(req: TripodStatisticsRequest) -> TripodStatisticsResponse:
+    """Random balanced tripods (3.3.3) on the disk or a polygon, seeded: their CORs
+    (figure 3-5) and optionally where the sticking CORs fall along the sticking line for a
+    large mu_c (figure 7-2). Statistics of a model of pressure distributions, not of the
+    locus (7.7)."""
+    budget = Budget.of(None)
+    problem = tripod_problem(req)
+    with located():
+        stats = tripod_statistics(problem, budget)
+    return tripod_statistics_response(req, stats, budget.elapsed() * 1e3)

@@ -1,0 +1,299 @@
+"""Request and response schemas of ``POST /v1/cor/solve`` (the motion for a known
+pressure distribution) and ``POST /v1/cor/tripod-statistics`` (figures 3-5 and 7-2).
+
+Conventions are those of :mod:`service.common.fields`: world frame, radians, lengths in
+any consistent unit, strict finite numbers, unknown fields rejected. Forces and powers of
+the pushed workpiece are divided by mu_s times its weight (dimensionless); motions are per
+unit advance of the pusher.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import ConfigDict, Field
+
+from service.common.fields import (
+    DISK_OR_FOOTPRINT,
+    DiskRadius,
+    MuC,
+    Point,
+    PushIn,
+    Strict,
+    Vec2,
+)
+from service.limits import (
+    DEFAULT_PRESSURE_RESOLUTION,
+    MAX_BATCH,
+    MAX_BATCH_POINTS,
+    MAX_BATCH_SLOW,
+    MAX_HISTOGRAM_BINS,
+    MAX_MU_C,
+    MAX_PRESSURE_FOOTPRINT_VERTICES,
+    MAX_PRESSURE_RESOLUTION,
+    MAX_SUPPORT_POINTS,
+    MAX_SUPPORT_POINTS_SLOW,
+    MAX_TRIPODS,
+    MAX_WEIGHT,
+)
+
+# ---------------------------------------------------------------------------------------
+# Request building blocks
+# ---------------------------------------------------------------------------------------
+
+Weight = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=MAX_WEIGHT)]
+ForwardMethod = Literal["newton", "cvxpy", "casadi"]
+
+
+class SupportIn(Strict):
+    """A discrete pressure distribution: point masses on which the workpiece rests (3.1.5)."""
+
+    points: Annotated[list[Point], Field(min_length=1, max_length=MAX_SUPPORT_POINTS)] = Field(
+        description=f"Support points [x, y], world frame; 1..{MAX_SUPPORT_POINTS} with method "
+        f"newton, at most {MAX_SUPPORT_POINTS_SLOW} with cvxpy / casadi."
+    )
+    weights: Annotated[list[Weight], Field(min_length=1, max_length=MAX_SUPPORT_POINTS)] = Field(
+        description=f"One weight >= 0 (at most {MAX_WEIGHT:g}) per point, not all zero; they are "
+        "normalised to sum 1. Their weighted centroid must be the centre of mass."
+    )
+
+
+class PressureIn(Strict):
+    """A modelled pressure distribution (figure 7-1)."""
+
+    kind: Literal["uniform"] = Field(description="Only 'uniform' pressure for now.")
+    footprint: Annotated[
+        list[Point] | None,
+        Field(min_length=3, max_length=MAX_PRESSURE_FOOTPRINT_VERTICES),
+    ] = Field(
+        default=None,
+        description="The pressed region as a simple polygon (either orientation, "
+        f"3..{MAX_PRESSURE_FOOTPRINT_VERTICES} vertices); its area centroid is the centre of "
+        "mass. Omitted or null: the disk of radius `disk_radius` about the centre of mass.",
+    )
+    resolution: Annotated[int, Field(strict=True, ge=1, le=MAX_PRESSURE_RESOLUTION)] = Field(
+        default=DEFAULT_PRESSURE_RESOLUTION,
+        description="Rings of the disk discretisation (6 n^2 annular-sector cells) or "
+        "subdivisions of each triangle of the polygon (n^2 cells per triangle). The cell count "
+        f"is limited to {MAX_SUPPORT_POINTS} (newton) or {MAX_SUPPORT_POINTS_SLOW} (cvxpy, casadi).",
+    )
+
+
+class CorSolveRequest(PushIn):
+    """The motion of a pushed workpiece for a known pressure distribution (book 3.2-3.3.3,
+    4.1): exactly one of `support`, `supports` (a batch) or `pressure`."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={
+            "oneOf": [
+                {"required": ["support"], "properties": {"support": {"type": "object"}}},
+                {"required": ["supports"], "properties": {"supports": {"type": "array"}}},
+                {"required": ["pressure"], "properties": {"pressure": {"type": "object"}}},
+            ],
+            "examples": [
+                {
+                    "contact_point": [-0.5, -0.3],
+                    "edge_angle": 1.5707963267948966,
+                    "support": {"points": [[0.6, 0.0], [-0.3, 0.5], [-0.3, -0.5]], "weights": [1, 1, 1]},
+                },
+            ],
+        },
+    )
+
+    center_of_mass: Point | None = Field(
+        default=None,
+        description="Centre of mass [x, y]. Default: [0, 0]; with `pressure.footprint` the "
+        "polygon's area centroid (an explicit one must equal it).",
+    )
+    disk_radius: DiskRadius | None = Field(
+        default=None,
+        description="Radius a of a disk about the CM bounding the workpiece (length). Default: the "
+        "largest distance of a support point (or footprint vertex) or of the contact from the "
+        "CM. Required for uniform pressure on the disk. An explicit one must not be smaller "
+        "than the support's extent.",
+    )
+    mu_c: MuC = Field(
+        default=0.0,
+        description=f"Coefficient of friction between pusher and workpiece, 0..{MAX_MU_C:g} (4.1). "
+        "0: frictionless pusher.",
+    )
+    method: ForwardMethod = Field(
+        default="newton",
+        description="Back end: 'newton' (exact batched Newton, default), 'cvxpy' (Clarabel "
+        "cone programme, polished), 'casadi' (IPOPT on the dual).",
+    )
+    support: SupportIn | None = Field(default=None, description="One support: one motion.")
+    supports: Annotated[list[SupportIn] | None, Field(min_length=1, max_length=MAX_BATCH)] = Field(
+        default=None,
+        description=f"A batch of supports: 1..{MAX_BATCH} with newton (at most {MAX_BATCH_POINTS} "
+        f"points in all), at most {MAX_BATCH_SLOW} with cvxpy / casadi.",
+    )
+    pressure: PressureIn | None = Field(default=None, description="A modelled pressure distribution.")
+
+
+class TripodStatisticsRequest(PushIn):
+    """Random balanced tripods (3.3.3) on the disk or a footprint, their CORs (figure 3-5) and,
+    with `histogram`, where the sticking CORs fall on the sticking line (figure 7-2)."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={
+            "oneOf": DISK_OR_FOOTPRINT,
+            "examples": [
+                {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966,
+                 "n_tripods": 1000, "seed": 7},
+            ],
+        },
+    )
+
+    disk_radius: DiskRadius | None = Field(default=None, description="Disk about the CM the tripods are drawn in.")
+    footprint: Annotated[
+        list[Point] | None,
+        Field(min_length=3, max_length=MAX_PRESSURE_FOOTPRINT_VERTICES),
+    ] = Field(default=None, description="Or a polygon the tripods are drawn in (its area centroid is the CM).")
+    center_of_mass: Point | None = Field(default=None, description="Centre of mass (default [0, 0] or the area centroid).")
+    n_tripods: Annotated[int, Field(strict=True, ge=1, le=MAX_TRIPODS)] = Field(
+        description=f"Number of tripods, 1..{MAX_TRIPODS}."
+    )
+    seed: Annotated[int, Field(strict=True, ge=0, le=2**63 - 1)] = Field(
+        description="Seed of the random generator: the same request gives the same answer."
+    )
+    mu_c: MuC = Field(default=0.0, description="Pusher friction for the COR sample (figure 3-5 uses 0).")
+    histogram: bool = Field(
+        default=False,
+        description="Also the sticking-line histogram of figure 7-2 (solved again with "
+        "`histogram_mu_c`).",
+    )
+    histogram_mu_c: MuC = Field(default=MAX_MU_C, description="mu_c of the histogram (7.7: a large one).")
+    bins: Annotated[int, Field(strict=True, ge=1, le=MAX_HISTOGRAM_BINS)] = Field(
+        default=50, description="Histogram bins."
+    )
+    span: Annotated[list[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-1e9, le=1e9)]] | None,
+                    Field(min_length=2, max_length=2)] = Field(
+        default=None,
+        description="[lo, hi] of the histogram, signed distance from the contact along the push "
+        "direction turned +90 degrees (length). Default: the 1st..99th percentile.",
+    )
+    include_cors: bool = Field(default=True, description="Return the CORs themselves (n_tripods points).")
+
+
+# ---------------------------------------------------------------------------------------
+# Responses
+# ---------------------------------------------------------------------------------------
+
+
+Sense = Literal["cw", "ccw", "none"]
+
+
+class MotionOut(Strict):
+    """The motion of the workpiece per unit advance of the pusher, world frame."""
+
+    status: Literal["optimal", "not_converged", "inconsistent"] = Field(
+        description="'optimal' when the KKT residual is within tolerance and the friction mode's "
+        "own assumptions hold; 'inconsistent' when the mode's assumptions fail; else 'not_converged'."
+    )
+    method: str = Field(description="Back end that produced the answer.")
+    mode: Literal["frictionless", "sticking", "slipping_up", "slipping_down"] = Field(
+        description="Contact mode (4.1): 'frictionless' for mu_c = 0."
+    )
+    kind: Literal["rotation", "translation"] = Field(description="'translation' when the COR is at infinity.")
+    cor: Vec2 | None = Field(description="Centre of rotation [x, y]; null for a translation.")
+    velocity_cm: Vec2 = Field(description="Velocity of the CM per unit push (dimensionless).")
+    rotation_per_push: float = Field(description="omega: rotation per unit push, rad per length, CCW positive (3.3).")
+    slip_per_push: float = Field(
+        description="Slip of the pusher along the edge per unit push, positive along the book's "
+        "alpha (the normal turned +90 degrees) (3.2)."
+    )
+    sense: Sense = Field(description="Sense of rotation of the solved motion.")
+    mason_sense: Sense = Field(description="Sense by Mason's rules (1.6.2), from the push alone.")
+    mason_agrees: bool = Field(description="Whether `sense` equals `mason_sense`.")
+    power: float = Field(description="Frictional power per unit push / (mu_s W) (3.6).")
+    contact_force: Vec2 = Field(description="Force of the pusher on the workpiece / (mu_s W), world vector.")
+    kkt_residual: float = Field(description="Dimensionless KKT residual of the minimum-power problem.")
+    gap: float | None = Field(
+        description="power - work rate of the contact force on the part (0 at the optimum)."
+    )
+    cor_on_support: int | None = Field(
+        description="Index (into the request's points) of the support point the COR sits on, if any. "
+        "For `pressure`: index of the discretisation cell."
+    )
+    iterations: int | None = Field(description="Newton iterations (0 for a COR found on a support point), or IPOPT's for method casadi.")
+    solve_time_ms: float | None = Field(description="Solver time of this motion, ms; null in newton batches.")
+    raw_twist_error: float | None = Field(
+        default=None,
+        description="cvxpy: distance (normalised units) between Clarabel's own answer and the polished one.",
+    )
+
+
+class ImpactOut(Strict):
+    """The impact-limit COR (7.1) of a body with the support's mass distribution."""
+
+    cor: Vec2 | None = Field(description="COR of the impulsive motion; null for a pure translation.")
+    distance: float | None = Field(description="rho^2 / |alpha . c|: its distance from the CM.")
+    radius_of_gyration: float = Field(description="rho about the CM (length).")
+    source: Literal["support", "uniform_disk", "uniform_polygon"] = Field(
+        description="Whose radius of gyration: the point masses of the support, or the uniform lamina."
+    )
+
+
+class BatchSummaryOut(Strict):
+    n: int = Field(description="Supports solved.")
+    converged: int = Field(description="Of them with status 'optimal'.")
+    translations: int = Field(description="Of them translating (cor null).")
+    fallbacks: int = Field(description="Newton solves re-done by the conic solver.")
+    support_sizes: list[int] = Field(description="Distinct support sizes (after merging coincident points).")
+
+
+class PressureSummaryOut(Strict):
+    kind: Literal["uniform"]
+    region: Literal["disk", "polygon"]
+    resolution: int
+    n_cells: int = Field(description="Cells of the discretisation (point masses solved).")
+
+
+class CorSolveResponse(Strict):
+    """Motions for known pressure distributions."""
+
+    input: Literal["support", "supports", "pressure"] = Field(description="Which of the three inputs was given.")
+    disk_radius: float = Field(description="Disk radius a used (length).")
+    center_of_mass: Vec2 = Field(description="Centre of mass used.")
+    mu_c: float
+    method: str
+    motion: MotionOut | None = Field(description="The motion (`support`, `pressure`); null for a batch.")
+    impact: ImpactOut | None = Field(description="Impact-limit COR (7.1) (`support`, `pressure`); null for a batch.")
+    motions: list[MotionOut] | None = Field(description="One motion per support, in order (`supports`).")
+    batch: BatchSummaryOut | None = Field(description="Counts of a batch (`supports`).")
+    pressure: PressureSummaryOut | None = Field(description="The discretisation (`pressure`).")
+    warnings: list[str]
+    solve_time_ms: float = Field(description="Time in the solver, ms.")
+    elapsed_ms: float = Field(description="Time spent computing in all, ms.")
+
+
+class HistogramOut(Strict):
+    edges: list[float] = Field(description="Bin edges: signed distance from the contact along J p (length).")
+    counts: list[int]
+    sticking_fraction: float = Field(description="Fraction of tripods that stick.")
+    outside_range: int = Field(description="Sticking CORs outside [edges[0], edges[-1]].")
+    mu_c: float
+    solve_time_ms: float
+
+
+class TripodStatisticsResponse(Strict):
+    status: Literal["optimal", "not_converged"] = Field(
+        description="'optimal' when every tripod's solve converged (KKT residual within tolerance)."
+    )
+    max_kkt_residual: float = Field(description="Largest KKT residual over the sample (dimensionless).")
+    n_tripods: int
+    seed: int
+    disk_radius: float
+    center_of_mass: Vec2
+    mu_c: float
+    cors: list[Vec2 | None] | None = Field(description="CORs of the tripods (null entries: translations).")
+    converged: int
+    translations: int
+    fallbacks: int
+    mode_counts: dict[str, int] = Field(description="Tripods per contact mode.")
+    histogram: HistogramOut | None
+    solve_time_ms: float
+    elapsed_ms: float

@@ -1,0 +1,117 @@
+"""Spiral localization of a disk over HTTP (book 4.5): the critical radius r*(beta) of
+figure 4-19 and the fastest guaranteed spiral (4.26) planned on OR-Tools.
+
+Each route: request -> problem (:mod:`service.api.spiral.convert`) -> one solver call
+(:func:`solver.spiral.critical_radius.critical_radii`, :func:`solver.spiral.plan.plan_spiral`)
+-> response or picture (:mod:`service.api.spiral.render`). Plain ``def``: FastAPI runs them
+in its thread pool (a first table for a new mu_c takes seconds; later ones come from the
+cache).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from fastapi import APIRouter, Query
+from fastapi.responses import Response
+
+from service.api.spiral.convert import (
+    critical_radius_problem,
+    critical_radius_response,
+    schedule_problem,
+    schedule_response,
+    table_partial,
+)
+from service.api.spiral.render import (
+    CriticalCurve,
+    render_critical_radius_svg,
+    render_schedule_svg,
+)
+from service.api.spiral.schemas import (
+    SpiralCriticalRadiusRequest,
+    SpiralCriticalRadiusResponse,
+    SpiralScheduleRequest,
+    SpiralScheduleResponse,
+)
+from service.common.fields import ResponseFormat
+from service.common.inputs import located
+from service.common.responses import (
+    INVALID_INPUT,
+    SVG_MEDIA_TYPE,
+    TIME_LIMIT,
+    json_or_svg,
+)
+from service.errors import time_limited
+from solver.core.budget import Budget
+from solver.spiral.critical_radius import critical_radii
+from solver.spiral.plan import plan_spiral
+
+router = APIRouter(tags=["spiral"])
+
+FORMAT = Query("json", alias="format", description="`json` (default) or `svg` for a picture.")
+TABLE_TIME_LIMIT_HINT = "raise time_limit_s (a finished table is cached for later requests)"
+
+
+@router.post(
+    "/v1/spiral/critical-radius",
+    operation_id="spiral_critical_radius",
+    summary="Critical radius r*(beta) of spiral localization, its inverse and b_inf (book 4.5.3-4.5.4)",
+    response_model=SpiralCriticalRadiusResponse,
+    responses={**json_or_svg("JSON (default) or, with `format=svg`, an SVG picture."), **INVALID_INPUT},
+)
+def spiral_critical_radius(req: SpiralCriticalRadiusRequest, response_format: ResponseFormat = FORMAT):
+    """The tightest pusher circle r*(beta) that still pushes a disk met at collision
+    parameter beta into the circle (4.5.2-4.5.3: the distance from the pusher's line to the
+    lower end of the sticking locus), by the certified sticking locus, the book's sweep or
+    its tip line; the inverse beta*(r) and the critical distance from grazing d*(r) (4.24);
+    the limiting radius b_inf against (4.25). SVG: figure 4-19 (a / r* against beta / pi)."""
+    budget = Budget.of(req.time_limit_s)
+    problem = critical_radius_problem(req)
+    with located():
+        res = critical_radii(problem, budget)
+    body = critical_radius_response(req, res, budget.elapsed() * 1e3)
+    if response_format == "svg":
+        tab = res.table
+        ok = np.isfinite(tab.radii)  # points not decided are left out of the picture
+        betas = tab.betas[ok]
+        curve = CriticalCurve(
+            label=f"mu_c = {req.mu_c:g} ({req.method})", mu_c=req.mu_c, betas=betas, radii=tab.radii[ok],
+            a=req.disk_radius, tip_line=None if req.method == "tip_line" else 2.0 * req.disk_radius / np.sin(betas),
+            b_inf=body.b_inf.closed_form, certified=tab.certified[ok],
+        )
+        svg = render_critical_radius_svg([curve], f"Critical radius of spiral localization (4.5.3), a = {req.disk_radius:g}")
+        return Response(content=svg, media_type=SVG_MEDIA_TYPE)
+    return body
+
+
+@router.post(
+    "/v1/spiral/schedule",
+    operation_id="spiral_schedule",
+    summary="The fastest guaranteed spiral to localise a disk, certified on OR-Tools (book 4.5.5)",
+    response_model=SpiralScheduleResponse,
+    responses={**json_or_svg("JSON (default) or, with `format=svg`, an SVG picture."), **INVALID_INPUT, **TIME_LIMIT},
+)
+def spiral_schedule(req: SpiralScheduleRequest, response_format: ResponseFormat = FORMAT):
+    """The radii b_1 ... b_N of a pusher spiralling in from `start_radius` to `target`,
+    every revolution safe by (4.26) (the disk is pushed into the spiral, never out), with
+    the fewest revolutions or the shortest path under optional robot limits, solved as a
+    shortest path on OR-Tools and certified optimal; the book's recursion and its tip-line
+    version beside it; the path as a polyline; the approach to b_inf (figure 4-21); and,
+    on request, disks with random pressure distributions pushed along it. SVG: the path and
+    figure 4-21."""
+    budget = Budget.of(req.time_limit_s)
+    problem = schedule_problem(req)
+    with time_limited(table_partial, TABLE_TIME_LIMIT_HINT), located():
+        plan = plan_spiral(problem, budget)
+    body = schedule_response(req, plan, budget.elapsed() * 1e3)
+    if response_format == "svg":
+        fit = plan.fit
+        points = None if body.path is None else body.path.points
+        svg = render_schedule_svg(
+            radii=plan.radii, a=req.disk_radius, b_inf=body.b_inf, b_floor=body.b_floor,
+            path_points=None if points is None else np.asarray(points), centre=np.asarray(req.center, dtype=float),
+            target=req.target, fit=None if fit is None else (fit.exponent, fit.coefficient, fit.n_min, fit.n_max),
+            title=f"Spiral localization (4.5.5), mu_c = {req.mu_c:g}, a = {req.disk_radius:g}",
+            tip_line_radii=plan.tip_line.radii,
+        )
+        return Response(content=svg, media_type=SVG_MEDIA_TYPE)
+    return body

@@ -1,0 +1,405 @@
+"""Request and response schemas of the spiral endpoints (book 4.5): ``POST
+/v1/spiral/critical-radius`` (r*(beta), beta*(r), d*(r), b_inf; figure 4-19) and ``POST
+/v1/spiral/schedule`` (the fastest guaranteed spiral on OR-Tools, the recursion (4.26),
+the pusher's path, the approach to b_inf of figure 4-21, an optional simulation check).
+
+A disk of radius a lies somewhere within radius b_1 of a centre; a point pusher circles
+the centre on a shrinking spiral and herds it in. Lengths in the client's unit, angles in
+radians, speeds in length per second. Conventions as in :mod:`service.common.fields`:
+strict finite numbers, unknown fields rejected, null counts as absent.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, create_model
+
+from service.common.fields import Point, Strict, TimeLimit
+from service.limits import (
+    MAX_DISK_RADIUS,
+    MAX_MU_C,
+    MAX_TIME_LIMIT_S,
+    SPIRAL_DEFAULT_POINTS_PER_REVOLUTION,
+    SPIRAL_DEFAULT_RESOLUTION,
+    SPIRAL_DEFAULT_TIME_LIMIT_S,
+    SPIRAL_MAX_BETAS,
+    SPIRAL_MAX_POINTS_PER_REVOLUTION,
+    SPIRAL_MAX_RADIUS_REL,
+    SPIRAL_MAX_RESOLUTION,
+    SPIRAL_MAX_SIMULATED,
+    SPIRAL_MIN_BETA,
+    SPIRAL_MIN_LENGTH,
+    SPIRAL_MIN_POINTS_PER_REVOLUTION,
+    SPIRAL_MIN_RESOLUTION,
+    SPIRAL_SWEEP_MARGIN_REL,
+)
+
+SpiralMethod = Literal["exact", "sweep", "tip_line"]
+SpiralLength = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SPIRAL_MIN_LENGTH, le=MAX_DISK_RADIUS)]
+PositiveLength = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_DISK_RADIUS * SPIRAL_MAX_RADIUS_REL)]
+MuCPositive = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_MU_C)]
+Beta = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SPIRAL_MIN_BETA, lt=0.5 * math.pi)]
+
+REFERENCE = (
+    "M. A. Peshkin, Robotic Manipulation Strategies (1990): 4.5 (spiral localization of a disk: "
+    "4.5.2 the critical case, 4.5.3 r*(beta) and (4.24), 4.5.4 b_inf (4.25), 4.5.5 the recursion (4.26), "
+    "figures 4-19 and 4-21); 4.1.4 (the sticking locus). Re-derived in models/spiral.py and "
+    "solver/spiral.py, simulated in solver/spiral_simulation.py"
+)
+
+METHOD_DESCRIPTION = (
+    "How r*(beta), the distance from the pusher's line to the lower end of the sticking locus "
+    "(4.5.3), is found. 'sweep' (default): the book's force-angle sweep over the analytic loci (4.1.4); "
+    "not certified, within ~1e-4 a of the exact value (schedules add `safety_margin`). 'exact': the "
+    "certified lower end (a witness pressure distribution inside, a dual certificate outside; the "
+    "outside end of each bracket is used, ~0.8 s per collision parameter). 'tip_line': the book's "
+    "approximation 2a / sin(beta), independent of mu_c (it misses b_inf = a(1 + mu_c) for mu_c < 1 and "
+    "understates r* near mu_c = 1)."
+)
+
+
+class SpiralCriticalRadiusRequest(BaseModel):
+    """r*(beta) for a disk of radius `disk_radius` and pusher friction `mu_c` (4.5.3): at
+    the collision parameters `betas`, or on the grid of figure 4-19 (dense near grazing and
+    around the slope kink) for pusher radii up to `max_radius`; with `radii`, the inverse
+    beta*(r) and the critical distance from grazing d*(r) (4.24)."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"examples": [{"disk_radius": 1.0, "mu_c": 0.25, "betas": [0.3, 0.8, 1.3]}]},
+    )
+
+    disk_radius: SpiralLength = Field(description=f"Radius a of the disk, [{SPIRAL_MIN_LENGTH:g}, {MAX_DISK_RADIUS:g}].")
+    mu_c: MuCPositive = Field(description=f"Pusher-disk friction, (0, {MAX_MU_C:g}].")
+    betas: list[Beta] | None = Field(
+        default=None, min_length=1, max_length=SPIRAL_MAX_BETAS,
+        description=f"Collision parameters (rad) in [{SPIRAL_MIN_BETA:g}, pi/2): beta = pi/2 is a grazing touch; "
+        f"at most {SPIRAL_MAX_BETAS}. Default: the grid of figure 4-19 up to `max_radius` (cached per mu_c).",
+    )
+    max_radius: PositiveLength | None = Field(
+        default=None,
+        description=f"Without `betas`: the grid covers pusher radii up to this (default 100 a, at most "
+        f"{SPIRAL_MAX_RADIUS_REL:g} a).",
+    )
+    radii: list[PositiveLength] | None = Field(
+        default=None, min_length=1, max_length=SPIRAL_MAX_BETAS,
+        description="Pusher circle radii r for the inverse beta*(r) and d*(r) (from the table's safe envelope).",
+    )
+    method: SpiralMethod = Field(default="sweep", description=METHOD_DESCRIPTION)
+    time_limit_s: TimeLimit = Field(
+        default=SPIRAL_DEFAULT_TIME_LIMIT_S,
+        description=f"Time budget, (0, {MAX_TIME_LIMIT_S:g}] s. The table is built from grazing downwards, so a "
+        "cut table covers beta >= `stopped_at_beta` (the radii below some size) and says so.",
+    )
+
+
+class CriticalPointOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    beta: float = Field(description="Collision parameter (rad).")
+    beta_over_pi: float = Field(description="beta / pi, the abscissa of figure 4-19.")
+    distance_from_grazing: float = Field(description="d = a (1 - sin beta) (4.24).")
+    r_star: float | None = Field(
+        description="r*(beta): the radius to use ('exact': the certified outside end, a safe upper bound); null "
+        "when this point could not be decided."
+    )
+    midpoint: float | None = Field(description="'exact': the bracket's midpoint.")
+    lower_bound: float | None = Field(description="'exact': the certified inside end of the bracket.")
+    bracket_width: float | None = Field(description="'exact': the bracket width.")
+    certified: bool
+    status: str = Field(description="'bracketed', 'wide', ... (exact), or 'approximate'.")
+    tip_line_radius: float = Field(description="The book's tip-line approximation 2a / sin(beta).")
+    tip_line_error: float | None = Field(description="tip_line_radius - r_star (negative: the tip line is unsafe here).")
+
+
+class LimitOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    closed_form: float = Field(description="(4.25): a (1 + mu_c) for mu_c <= 1, 2a above.")
+    numeric: float | None = Field(description="r*(pi/2 - delta) by the request's method (the limit beta -> pi/2).")
+    delta: float = Field(description="pi/2 - beta of the numerical limit.")
+    difference: float | None = Field(description="numeric - closed_form.")
+    tip_line: float = Field(description="The tip line's limit, 2a for every mu_c.")
+
+
+class InverseOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    radius: float = Field(description="The pusher circle's radius r.")
+    beta_star: float | None = Field(
+        description="beta*(r): the smallest tabulated collision parameter whose whole tail beta' >= beta has "
+        "r*(beta') <= r (4.5.3); null when r is below every r* (no guarantee, r < b_inf)."
+    )
+    distance_star: float = Field(description="d*(r) = a (1 - sin beta*) (4.24); 0 when there is no guarantee.")
+
+
+class SpiralCriticalRadiusResponse(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    message: str
+    disk_radius: float
+    mu_c: float
+    nu: float = Field(description="atan(mu_c).")
+    method: SpiralMethod
+    points: list[CriticalPointOut] = Field(description="r*(beta) at each collision parameter, ascending in beta.")
+    b_inf: LimitOut = Field(description="The limiting radius (4.5.4).")
+    inverse: list[InverseOut] | None = Field(description="beta*(r), d*(r) at the requested `radii`.")
+    kink_beta: float | None = Field(
+        description="Where the lower end of the sticking locus leaves the disk (the slope kink of 1/r*, "
+        "figure 4-19); null when not located (tip line, explicit betas, or mu_c >= 1)."
+    )
+    sketch_change_beta: float = Field(description="atan(2 mu_c): above it the sketch is type i (4.17).")
+    monotone: bool = Field(description="r* never increases with beta on this table (the envelope's assumption).")
+    complete: bool
+    time_limited: bool
+    stopped_at_beta: float | None
+    from_cache: bool = Field(description="The table came from the service's cache (computed for a = 1, scaled).")
+    reference: str
+    time_limit_s: float
+    elapsed_ms: float
+
+
+# ---------------------------------------------------------------------------------------
+# POST /v1/spiral/schedule
+# ---------------------------------------------------------------------------------------
+
+Objective = Literal["revolutions", "length", "time"]
+Backend = Literal["min_cost_flow", "cp_sat"]
+SupportKind = Literal["tripod", "rim", "dipod", "cloud"]
+
+
+class SimulationIn(BaseModel):
+    """Push disks with random pressure distributions along the planned spiral with the
+    forward solver (issue check of 4.5): none may be pushed out, all must end inside the
+    final radius."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    n_supports: Annotated[int, Field(strict=True, ge=1, le=SPIRAL_MAX_SIMULATED)] = Field(
+        default=8, description=f"Random supports simulated, 1..{SPIRAL_MAX_SIMULATED}."
+    )
+    seed: Annotated[int, Field(strict=True, ge=0, le=2**63 - 1)] = Field(default=0, description="Random seed.")
+    kind: SupportKind = Field(
+        default="tripod",
+        description="'tripod' (book figure 3-5), 'rim' (tripods on the rim), 'dipod' (two points on a diameter: "
+        "the extremes of the sketch), 'cloud' (8 random points).",
+    )
+
+
+class SpiralScheduleRequest(BaseModel):
+    """The fastest guaranteed spiral (4.5.5) from `start_radius` b_1 down to `target`:
+    every revolution n satisfies b_{n-1} - b_n <= d*(b_n) (4.26), so a disk of radius a
+    anywhere within b_1 - a is herded in and never pushed out; planned as a certified
+    shortest path on OR-Tools (fewest revolutions, or shortest path / time), with the
+    book's recursion beside it."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"examples": [{"disk_radius": 1.0, "mu_c": 0.25, "start_radius": 20.0, "target": 3.0}]},
+    )
+
+    disk_radius: SpiralLength = Field(description=f"Radius a of the disk, [{SPIRAL_MIN_LENGTH:g}, {MAX_DISK_RADIUS:g}].")
+    mu_c: MuCPositive = Field(description=f"Pusher-disk friction, (0, {MAX_MU_C:g}].")
+    start_radius: PositiveLength = Field(
+        description=f"b_1: the first revolution's radius (the disk lies within b_1 - a); at most "
+        f"{SPIRAL_MAX_RADIUS_REL:g} a."
+    )
+    target: PositiveLength = Field(
+        description="The radius to localise to: the last revolution's radius b_N <= target. Must exceed b_inf "
+        "(4.25), the smallest radius with any guarantee."
+    )
+    method: SpiralMethod = Field(default="sweep", description=METHOD_DESCRIPTION)
+    safety_margin: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=1.0)] | None = Field(
+        default=None,
+        description=f"Added to every r* (in units of a) before planning. Default {SPIRAL_SWEEP_MARGIN_REL:g} for "
+        "'sweep' (about 10x its measured error), 0 for 'exact' and 'tip_line'.",
+    )
+    objective: Objective = Field(
+        default="revolutions",
+        description="'revolutions' (fewest, ties broken by length), 'length' (shortest pusher path) or 'time' "
+        "(= length / speed; needs `speed`).",
+    )
+    min_step: PositiveLength | None = Field(
+        default=None, description="A robot limit: every revolution shrinks the radius by at least this."
+    )
+    max_step: PositiveLength | None = Field(default=None, description="A robot limit: by at most this.")
+    speed: PositiveLength | None = Field(default=None, description="Pusher speed (length/s): times are reported.")
+    backend: Backend = Field(
+        default="min_cost_flow",
+        description="OR-Tools solver of the shortest path: 'min_cost_flow' (SimpleMinCostFlow) or 'cp_sat' (time "
+        "limit inside the search).",
+    )
+    resolution: Annotated[int, Field(strict=True, ge=SPIRAL_MIN_RESOLUTION, le=SPIRAL_MAX_RESOLUTION)] = Field(
+        default=SPIRAL_DEFAULT_RESOLUTION,
+        description="Grid radii per safe step of the OR-Tools graph (the recursion is continuous).",
+    )
+    center: Point = Field(default=[0.0, 0.0], description="Centre of the spiral, world frame.")
+    clockwise: bool = Field(default=True, description="Direction of travel of the pusher.")
+    start_angle: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-100.0, le=100.0)] = Field(
+        default=0.5 * math.pi, description="Polar angle (rad) of the pusher's start about the centre."
+    )
+    points_per_revolution: Annotated[
+        int, Field(strict=True, ge=SPIRAL_MIN_POINTS_PER_REVOLUTION, le=SPIRAL_MAX_POINTS_PER_REVOLUTION)
+    ] = Field(default=SPIRAL_DEFAULT_POINTS_PER_REVOLUTION, description="Polyline points per revolution.")
+    include_path: bool = Field(default=True, description="Return the pusher's path as a polyline.")
+    simulate: SimulationIn | None = Field(default=None, description="Optional simulation check of the schedule.")
+    time_limit_s: TimeLimit = Field(
+        default=SPIRAL_DEFAULT_TIME_LIMIT_S,
+        description=f"Time budget, (0, {MAX_TIME_LIMIT_S:g}] s, shared by the table, the schedule and the simulation.",
+    )
+
+
+class CertificateOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    certified: bool = Field(description="Dual feasible potentials whose bound equals the schedule's cost: optimal.")
+    primal_cost: int = Field(description="The schedule's cost in integer units (see cost_unit).")
+    dual_bound: int = Field(description="The shortest-path potentials' lower bound on every schedule's cost.")
+    gap: int
+    min_reduced_cost: int = Field(description=">= 0: the potentials are dual feasible.")
+    n_arcs_checked: int
+    cost_unit: float = Field(description="Length per cost unit ('length'), or 1 revolution.")
+
+
+class ScheduleOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    solver_status: str = Field(description="'OPTIMAL', 'FEASIBLE' (stopped early), 'INFEASIBLE', 'TIME_LIMIT'.")
+    stopped_early: bool
+    objective: Objective
+    objective_value: float | None
+    backend: Backend
+    radii: list[float] = Field(description="b_1 ... b_N, one per revolution (grid radii).")
+    steps: list[float] = Field(description="b_{n-1} - b_n.")
+    revolutions: int
+    path_length: float | None
+    path_length_error: float | None
+    time_s: float | None
+    certificate: CertificateOut | None
+    greedy_revolutions: int | None = Field(description="The greedy recursion on the same grid.")
+    greedy_path_length: float | None
+    max_step_excess: float | None = Field(description="max_n (b_{n-1} - b_n - d*(b_n)) <= 0: every revolution safe.")
+    n_nodes: int
+    n_arcs: int
+    grid_kind: str
+    min_spacing: float
+    max_spacing: float
+    solve_time_s: float
+    total_time_s: float
+    message: str
+
+
+class RecursionOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    radii: list[float] = Field(description="The book's (4.26), b_n = b_{n-1} - d*(b_n), exactly on the envelope.")
+    revolutions: int
+    stop_reason: str = Field(description="'target', 'stalled' (at the table's floor) or 'max_revolutions'.")
+    reached_target: bool
+    path_length: float
+    time_s: float | None
+    max_step_excess: float
+
+
+# Two published response schemas are called TipLineOut (this one and the locus's); the
+# OpenAPI document tells them apart by the module they were first defined in, here
+# "service__schemas_spiral__TipLineOut". create_model gives the class that module, so the
+# component's name stays what clients know.
+TipLineOut = create_model(
+    "TipLineOut",
+    __base__=Strict,
+    __module__="service.schemas_spiral",
+    revolutions=(int, Field(description="Revolutions of (4.26) with the tip line's d* (closed form).")),
+    final_radius=(float, ...),
+    reaches_target=(bool, Field(description="False: the tip line stalls at 2a above the target.")),
+    unsafe_revolutions=(int, Field(
+        description="Its revolutions shown unsafe by the request's r* table: some collision parameter the step "
+        "allows has r* above the new radius (models.spiral.unsafe_revolutions; no margin)."
+    )),
+    revolutions_difference=(int | None, Field(description="Tip line minus the OR-Tools schedule.")),
+)
+
+
+class FitOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    exponent: float = Field(
+        description="k of (b_n - b_floor) ~ C n^-k over the revolutions within a of the floor (figure 4-21; the "
+        "book reads ~1.6 at mu_c 0.25 from b_1 = 100 a; the exponent drifts towards 1 as n grows)."
+    )
+    coefficient: float = Field(description="C (length).")
+    n_min: int
+    n_max: int
+    n_points: int
+    rms_residual: float
+    local_exponent_min: float
+    local_exponent_max: float
+
+
+class PathOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    points: list[list[float]] = Field(description="The pusher path [[x, y], ...], world frame.")
+    points_per_revolution: int = Field(description="Used (lowered for very long schedules).")
+    max_chord_deviation: float = Field(description="Upper bound on the distance between the path and its chords.")
+    polyline_length: float
+    clockwise: bool
+
+
+class SimulationOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    n: int
+    all_inside: bool = Field(description="Every run completed, none pushed out, all inside the promised radius.")
+    escaped: int
+    escaped_runs: list[int]
+    outside_promise_runs: list[int]
+    promised_radius: float = Field(description="The final revolution's radius: the disk must end inside it.")
+    max_final_extent: float | None = Field(description="max over runs of |CM - centre| + a at the end.")
+    margin: float | None = Field(description="promised_radius - max_final_extent.")
+    contacts: int
+    statuses: dict[str, int]
+    forward_solves: int
+    solver_failures: int
+    wall_time_s: float
+    seed: int
+    kind: SupportKind
+
+
+class TableOut(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    n_points: int = Field(description="Collision parameters in the r* table.")
+    complete: bool
+    time_limited: bool
+    covers_radius: float = Field(
+        description="The largest pusher radius the table covers: above it d* is that of its smallest beta (safe, "
+        "slower than necessary)."
+    )
+    from_cache: bool
+    monotone: bool
+    message: str
+
+
+class SpiralScheduleResponse(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    message: str
+    disk_radius: float
+    mu_c: float
+    method: SpiralMethod
+    safety_margin: float = Field(description="Added to r* (units of a).")
+    b_inf: float = Field(description="(4.25).")
+    b_floor: float = Field(description="The table's smallest radius with a guarantee (its b_inf, plus the margin).")
+    table: TableOut = Field(description="The r* table the plan rests on.")
+    schedule: ScheduleOut | None = Field(description="The OR-Tools optimum on a grid of radii.")
+    recursion: RecursionOut = Field(description="The book's recursion (4.26) on the same table.")
+    tip_line: TipLineOut = Field(description="The same with the book's tip-line approximation.")
+    fit: FitOut | None = Field(description="The approach to the floor (figure 4-21), when >= 3 revolutions lie above it.")
+    path: PathOut | None
+    simulation: SimulationOut | None
+    reference: str
+    time_limit_s: float
+    elapsed_ms: float

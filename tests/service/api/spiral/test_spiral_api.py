@@ -1,0 +1,228 @@
+"""POST /v1/spiral/critical-radius and POST /v1/spiral/schedule (book 4.5).
+
+The routes are thin: the critical radii are solver.spiral.schedule's number for number, the
+schedule is plan_spiral's on the same (cached, scaled) table; (4.25) comes out of the
+numerical limit; schedules are safe against their table (every step <= d*, 4.26), certified
+optimal, never slower than the recursion by more than the grid, and scale with a; the
+tip-line comparison is counted; the simulation check keeps every disk; bad input is 422
+naming the field; the SVG pictures parse."""
+
+from __future__ import annotations
+
+import json
+import math
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from models.spiral import limiting_radius, tip_line_spiral
+from solver.spiral.critical_radius import critical_radius_table
+
+CRIT = "/v1/spiral/critical-radius"
+SCHED = "/v1/spiral/schedule"
+
+
+def strict_json(text: str):
+    def reject(token):
+        raise AssertionError(f"non-finite number {token} in JSON")
+
+    return json.loads(text, parse_constant=reject)
+
+
+def post(client, url, body, fmt=None):
+    r = client.post(url, json=body, params=None if fmt is None else {"format": fmt})
+    return r, (strict_json(r.text) if r.headers["content-type"].startswith("application/json") else None)
+
+
+def detail(got):
+    (item,) = got["detail"]
+    return item["loc"], item["type"], item["msg"]
+
+
+def test_critical_radius_at_given_betas_is_the_solvers(client):
+    """4.5.3: r*(beta) by the sweep at three collision parameters, the tip line 2a/sin(beta)
+    beside it, d = a(1 - sin beta) (4.24), and the limit beta -> pi/2 against (4.25)."""
+    body = {"disk_radius": 2.0, "mu_c": 0.25, "betas": [0.3, 0.8, 1.3], "radii": [2.4, 4.0, 10.0]}
+    r, got = post(client, CRIT, body)
+    assert r.status_code == 200, r.text
+    tab = critical_radius_table(2.0, 0.25, "sweep", betas=[0.3, 0.8, 1.3], sweep_points=512, find_kink=False)
+    assert [p["r_star"] for p in got["points"]] == tab.radii.tolist()
+    for p in got["points"]:
+        assert p["tip_line_radius"] == pytest.approx(4.0 / math.sin(p["beta"]), rel=1e-14)
+        assert p["distance_from_grazing"] == pytest.approx(2.0 * (1.0 - math.sin(p["beta"])), rel=1e-14)
+        assert p["tip_line_error"] == pytest.approx(p["tip_line_radius"] - p["r_star"], rel=1e-12)
+        assert p["status"] == "approximate" and p["certified"] is False
+    assert got["points"][0]["tip_line_error"] < 0.0  # the tip line is ~0.3 % low at beta = 0.3: unsafe there
+    lim = got["b_inf"]
+    assert lim["closed_form"] == 2.0 * 1.25 and lim["tip_line"] == 4.0
+    assert lim["numeric"] == pytest.approx(2.5, abs=1e-4)  # (4.25) from beta = pi/2 - 1e-6
+    # inverse on the safe envelope: below every r* no guarantee, then the smallest beta whose tail fits
+    inv = got["inverse"]
+    assert inv[0]["beta_star"] is None and inv[0]["distance_star"] == 0.0
+    assert inv[1]["beta_star"] == 1.3 and inv[2]["beta_star"] == 0.8
+    assert inv[2]["distance_star"] == pytest.approx(2.0 * (1.0 - math.sin(0.8)), rel=1e-14)
+    assert got["monotone"] and got["complete"] and not got["from_cache"]
+
+
+def test_exact_critical_radii_are_certified_upper_bounds(client):
+    r, got = post(client, CRIT, {"disk_radius": 1.0, "mu_c": 0.5, "betas": [0.6, 1.2], "method": "exact"})
+    assert r.status_code == 200, r.text
+    _, sweep = post(client, CRIT, {"disk_radius": 1.0, "mu_c": 0.5, "betas": [0.6, 1.2]})
+    for p, s in zip(got["points"], sweep["points"]):
+        assert p["certified"] and p["status"] == "bracketed"
+        assert p["lower_bound"] < p["midpoint"] < p["r_star"]
+        assert p["r_star"] - p["lower_bound"] == pytest.approx(p["bracket_width"], rel=1e-6)
+        assert s["r_star"] == pytest.approx(p["midpoint"], abs=2e-4)
+
+
+def test_figure_4_19_grid_by_the_tip_line_and_the_cache(client):
+    """Without betas: the grid of figure 4-19 up to max_radius; the tip line needs no solve;
+    a second request for another disk size comes from the cache, scaled by a."""
+    r, got = post(client, CRIT, {"disk_radius": 1.0, "mu_c": 0.3, "method": "tip_line", "max_radius": 50.0})
+    assert r.status_code == 200, r.text
+    betas = [p["beta"] for p in got["points"]]
+    assert betas == sorted(betas) and betas[-1] == pytest.approx(0.5 * math.pi - 1e-6)
+    assert max(p["r_star"] for p in got["points"]) >= 50.0
+    assert all(p["r_star"] == p["tip_line_radius"] for p in got["points"])
+    r2, again = post(client, CRIT, {"disk_radius": 1e-3, "mu_c": 0.3, "method": "tip_line", "max_radius": 0.05})
+    assert again["from_cache"] is True
+    assert [p["r_star"] for p in again["points"]] == pytest.approx([1e-3 * p["r_star"] for p in got["points"]], rel=1e-12)
+
+
+@pytest.fixture(scope="module")
+def sweep_plan(client):
+    """One sweep plan (the table for mu_c = 0.25 up to 10 a, cached afterwards)."""
+    body = {"disk_radius": 1.0, "mu_c": 0.25, "start_radius": 8.0, "target": 1.6,
+            "simulate": {"n_supports": 3, "seed": 5, "kind": "dipod"}}
+    r, got = post(client, SCHED, body)
+    assert r.status_code == 200, r.text
+    return body, got
+
+
+def test_schedule_is_safe_optimal_and_no_slower_than_the_recursion_by_more_than_the_grid(sweep_plan):
+    body, got = sweep_plan
+    s, rec = got["schedule"], got["recursion"]
+    assert s["solver_status"] == "OPTIMAL" and s["certificate"]["certified"]
+    assert s["certificate"]["gap"] == 0 and s["certificate"]["min_reduced_cost"] >= 0
+    radii = np.array(s["radii"])
+    assert radii[0] == 8.0 and radii[-1] <= 1.6 and np.all(np.diff(radii) < 0.0)
+    assert s["max_step_excess"] <= 0.0 and rec["max_step_excess"] <= 0.0
+    assert s["greedy_revolutions"] == s["revolutions"]  # greedy is optimal on its grid (no minimum step)
+    assert rec["reached_target"] and rec["revolutions"] <= s["revolutions"] <= rec["revolutions"] + 3
+    assert got["safety_margin"] == 1e-3 and got["b_inf"] == limiting_radius(1.0, 0.25)
+    assert got["b_floor"] == pytest.approx(1.25 + 1e-3, abs=1e-4)
+    assert got["table"]["monotone"] and got["table"]["complete"]
+    path = got["path"]
+    assert len(path["points"]) == s["revolutions"] * path["points_per_revolution"] + 1
+    assert path["points"][0] == pytest.approx([0.0, 8.0], abs=1e-12)  # starts at the top (start_angle pi/2)
+    assert path["max_chord_deviation"] < 0.05
+    tip = got["tip_line"]
+    assert tip["revolutions"] == len(tip_line_spiral(1.0, 8.0, 1.6)) and tip["reaches_target"] is False
+    fit = got["fit"]
+    assert fit is not None and fit["exponent"] > 0.0 and fit["n_points"] >= 3
+
+
+def test_simulated_disks_stay_inside_the_planned_spiral(sweep_plan):
+    """The issue's check, in the request: dipod supports (the extremes of the sketch) from
+    random starts inside b_1 - a are herded in, none pushed out, all within b_N."""
+    _, got = sweep_plan
+    sim = got["simulation"]
+    assert sim["n"] == 3 and sim["escaped"] == 0 and sim["all_inside"]
+    assert sim["promised_radius"] == got["schedule"]["radii"][-1]
+    assert sim["max_final_extent"] <= sim["promised_radius"] + 1e-6
+    assert sim["contacts"] > 0 and sim["solver_failures"] == 0
+
+
+def test_schedule_scales_with_the_disk(client, sweep_plan):
+    body, got = sweep_plan
+    small = {**{k: v for k, v in body.items() if k != "simulate"}, "disk_radius": 1e-3, "start_radius": 8e-3,
+             "target": 1.6e-3, "include_path": False}
+    r, tiny = post(client, SCHED, small)
+    assert r.status_code == 200, r.text
+    assert tiny["table"]["from_cache"] is True and tiny["path"] is None
+    # The recursion (4.26) scales exactly. The grid's adaptive radii sit exactly on the safety
+    # boundary b + d*(b), so a few arcs flip with the rounding of the scaled numbers (4583 vs
+    # 4594 arcs here): the optimum keeps its revolutions, its path may differ slightly.
+    assert tiny["recursion"]["radii"] == pytest.approx([1e-3 * x for x in got["recursion"]["radii"]], rel=1e-12)
+    s, t = got["schedule"], tiny["schedule"]
+    assert t["revolutions"] == s["revolutions"] and t["solver_status"] == "OPTIMAL" and t["certificate"]["certified"]
+    assert t["path_length"] == pytest.approx(1e-3 * s["path_length"], rel=1e-2)
+    assert t["max_step_excess"] <= 0.0
+
+
+def test_robot_limits_and_objectives(client, sweep_plan):
+    body, got = sweep_plan
+    base = {k: v for k, v in body.items() if k != "simulate"} | {"include_path": False}
+    _, capped = post(client, SCHED, {**base, "max_step": 0.5})
+    assert max(capped["schedule"]["steps"]) <= 0.5 and capped["schedule"]["revolutions"] > got["schedule"]["revolutions"]
+    _, floor = post(client, SCHED, {**base, "min_step": 0.2})
+    steps = floor["schedule"]["steps"]
+    assert floor["schedule"]["solver_status"] in ("OPTIMAL", "INFEASIBLE")
+    if steps:
+        assert min(steps[:-1]) >= 0.2 - 1e-12
+    _, timed = post(client, SCHED, {**base, "objective": "time", "speed": 2.0})
+    s = timed["schedule"]
+    assert s["time_s"] == pytest.approx(s["path_length"] / 2.0) and s["objective_value"] == s["time_s"]
+    assert s["path_length"] <= got["schedule"]["path_length"] + 1e-9
+    _, cp = post(client, SCHED, {**base, "backend": "cp_sat"})
+    assert cp["schedule"]["revolutions"] == got["schedule"]["revolutions"]
+
+
+def test_tip_line_schedule_at_mu_1_has_unsafe_revolutions(client):
+    """At mu_c = 1 the tip line understates r* at mid beta (4.5.3): the request counts the
+    tip-line revolutions that its own r* table shows unsafe (a witness beta each)."""
+    r, got = post(client, SCHED, {"disk_radius": 1.0, "mu_c": 1.0, "start_radius": 6.0, "target": 2.2,
+                                  "include_path": False})
+    assert r.status_code == 200, r.text
+    assert got["tip_line"]["unsafe_revolutions"] > 0 and "unsafe" in got["message"]
+
+
+@pytest.mark.parametrize("url, change, loc", [
+    (CRIT, {"betas": [1.5707963267948966]}, ["body", "betas", 0]),
+    (CRIT, {"betas": [1e-4]}, ["body", "betas", 0]),
+    (CRIT, {"mu_c": 0.0}, ["body", "mu_c"]),
+    (CRIT, {"betas": [0.5], "max_radius": 10.0}, ["body", "max_radius"]),
+    (CRIT, {"max_radius": 2e4}, ["body", "max_radius"]),
+    (SCHED, {"target": 1.2}, ["body", "target"]),
+    (SCHED, {"target": 9.0}, ["body", "target"]),
+    (SCHED, {"start_radius": 2e4}, ["body", "start_radius"]),
+    (SCHED, {"objective": "time"}, ["body", "speed"]),
+    (SCHED, {"simulate": {"n_supports": 0}}, ["body", "simulate", "n_supports"]),
+    (SCHED, {"min_step": 0.5, "max_step": 0.2}, ["body", "min_step"]),
+    (SCHED, {"max_step": 1e-6}, ["body", "max_step"]),
+    (SCHED, {"resolution": 256, "target": 2.0000001}, ["body", "resolution"]),
+])
+def test_bad_inputs_are_422_naming_the_field(client, url, change, loc):
+    base = ({"disk_radius": 1.0, "mu_c": 0.25} if url == CRIT else
+            {"disk_radius": 1.0, "mu_c": 0.25, "start_radius": 8.0, "target": 1.6, "method": "tip_line"})
+    if url == CRIT and "max_radius" in change and "betas" not in change:
+        base["method"] = "tip_line"
+    r, got = post(client, url, {**base, **change})
+    assert r.status_code == 422, r.text
+    assert detail(got)[0] == loc
+
+
+def test_pictures_are_svg(client, sweep_plan):
+    body, _ = sweep_plan
+    r = client.post(CRIT, json={"disk_radius": 1.0, "mu_c": 0.25, "betas": [0.3, 0.8, 1.3]}, params={"format": "svg"})
+    assert r.status_code == 200 and r.headers["content-type"].startswith("image/svg+xml")
+    assert "a / r*" in r.text
+    ET.fromstring(r.text)
+    sched = {k: v for k, v in body.items() if k != "simulate"}
+    r = client.post(SCHED, json=sched, params={"format": "svg"})
+    assert r.status_code == 200 and r.headers["content-type"].startswith("image/svg+xml")
+    ET.fromstring(r.text)
+
+
+def test_a_table_that_runs_out_of_time_is_504_with_how_far_it_got(client):
+    """A first table for a new mu_c cannot be built in a microsecond: the time limit is
+    reached before the first collision parameter (504), and the answer says so."""
+    r, got = post(client, SCHED, {"disk_radius": 1.0, "mu_c": 0.377, "start_radius": 8.0, "target": 2.0,
+                                  "time_limit_s": 1e-6})
+    assert r.status_code == 504, r.text
+    loc, type_, msg = detail(got)
+    assert loc == ["body", "time_limit_s"] and type_ == "time_limit" and "ran out" in msg
+    assert "first collision parameter" in got["reached"] and "a finished table is cached" in msg
+    table = got["partial"]["table"]
+    assert table["n_points"] == 0 and table["time_limited"] is True and table["covers_radius"] is None
