@@ -45,7 +45,7 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from models.errors import InvalidInput, ModelError
-from solver.core.errors import SolverError, TimeLimitReached
+from solver import SolverError, TimeLimitReached
 
 log = logging.getLogger("service")
 

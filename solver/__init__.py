@@ -1,0 +1,135 @@
+"""The solver layer's public entry points, and nothing else.
+
+Each workflow takes one problem object and a :class:`Budget` and returns a result that
+implements :class:`Outcome` (status, complete, solve_time_s, message); the service calls
+only these (import-linter contract ``solver-public``). The lower-level computations below
+them are public too, for tests, benchmarks and library users. docs/architecture.md
+describes the folders.
+"""
+
+from solver.core.budget import UNLIMITED, Budget
+from solver.core.errors import BackendNotFound, Infeasible, NotConverged, SolverError, TimeLimitReached
+from solver.core.outcome import Outcome
+from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
+from solver.gross.align import AlignProblem, AlignResult, AlignStage, Slip, align, below_line_of_motion
+from solver.gross.bounds import SKETCH_COST, Bound, QuasiStaticQuery
+from solver.gross.disk_encounter import DiskEncounterProblem, DiskEncounterResult, disk_encounter
+from solver.locus.certified_locus import (
+    CertifiedDiskBoundary,
+    CertifiedPolygonBoundary,
+    certified_disk_boundary,
+    certified_polygon_boundary,
+)
+from solver.locus.certified_sketch import CertifiedSketch, certified_sketch
+from solver.locus.cor_locus import LocusProblem, LocusResult, cor_locus
+from solver.locus.membership import MembershipProblem, MembershipResult, decide_membership, membership
+from solver.locus.sketch import SketchProblem, SketchResult, sketch
+from solver.locus.sticking import StickingResult, sticking_feasibility
+from solver.locus.sticking_locus import LocusEnd, StickingLocus, sticking_locus
+from solver.motion.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch
+from solver.motion.particle import ParticleProblem, ParticleSolution, particle
+from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure, solve_motion
+from solver.motion.statistics import HistogramQuery, TripodStatistics, TripodStatisticsProblem, tripod_statistics
+from solver.motion.tripod_search import ExtremeCorResult, extreme_cor_search
+from solver.spiral.critical_radius import (
+    CriticalRadii,
+    CriticalRadiusProblem,
+    CriticalRadiusTable,
+    critical_radii,
+    critical_radius_table,
+)
+from solver.spiral.plan import PathQuery, SimulationQuery, SpiralPlan, SpiralProblem, plan_spiral
+from solver.spiral.schedule import SpiralSchedule, spiral_schedule
+
+ENTRY_POINTS = (
+    align,
+    disk_encounter,
+    cor_locus,
+    sketch,
+    decide_membership,
+    solve_motion,
+    tripod_statistics,
+    particle,
+    plan_spiral,
+    critical_radii,
+)
+"""The workflows the service calls: each ``(problem, budget) -> Outcome``."""
+
+__all__ = [
+    "ENTRY_POINTS",
+    "UNLIMITED",
+    "Budget",
+    "BackendNotFound",
+    "Infeasible",
+    "NotConverged",
+    "SolverError",
+    "TimeLimitReached",
+    "Outcome",
+    "SOLVER_DEFAULT",
+    "SOLVER_FAST",
+    "SOLVER_HIGH_ACCURACY",
+    "SolverTolerances",
+    "AlignProblem",
+    "AlignResult",
+    "AlignStage",
+    "Slip",
+    "align",
+    "below_line_of_motion",
+    "SKETCH_COST",
+    "Bound",
+    "QuasiStaticQuery",
+    "DiskEncounterProblem",
+    "DiskEncounterResult",
+    "disk_encounter",
+    "CertifiedDiskBoundary",
+    "CertifiedPolygonBoundary",
+    "certified_disk_boundary",
+    "certified_polygon_boundary",
+    "CertifiedSketch",
+    "certified_sketch",
+    "LocusProblem",
+    "LocusResult",
+    "cor_locus",
+    "MembershipProblem",
+    "MembershipResult",
+    "decide_membership",
+    "membership",
+    "SketchProblem",
+    "SketchResult",
+    "sketch",
+    "StickingResult",
+    "sticking_feasibility",
+    "LocusEnd",
+    "StickingLocus",
+    "sticking_locus",
+    "BatchResult",
+    "ForwardResult",
+    "solve_forward",
+    "solve_forward_batch",
+    "ParticleProblem",
+    "ParticleSolution",
+    "particle",
+    "Impact",
+    "MotionProblem",
+    "MotionResult",
+    "UniformPressure",
+    "solve_motion",
+    "HistogramQuery",
+    "TripodStatistics",
+    "TripodStatisticsProblem",
+    "tripod_statistics",
+    "ExtremeCorResult",
+    "extreme_cor_search",
+    "CriticalRadii",
+    "CriticalRadiusProblem",
+    "CriticalRadiusTable",
+    "critical_radii",
+    "critical_radius_table",
+    "PathQuery",
+    "SimulationQuery",
+    "SpiralPlan",
+    "SpiralProblem",
+    "plan_spiral",
+    "SpiralSchedule",
+    "spiral_schedule",
+]

@@ -90,6 +90,16 @@ def test_config_declares_expected_contracts() -> None:
         "fastapi", "pydantic", "starlette", "uvicorn", "matplotlib", "service",
     }
 
+    inside = by_id["solver-layers"]
+    assert inside["type"] == "layers" and inside["containers"] == ["solver"] and inside["exhaustive"]
+    capabilities = sorted(p.name for p in (REPO_ROOT / "solver").iterdir() if (p / "__init__.py").is_file())
+    named = sorted(name.strip() for layer in inside["layers"] for name in layer.split("|"))
+    assert named == capabilities
+
+    public = by_id["solver-public"]
+    assert public["type"] == "protected" and public["allowed_importers"] == ["solver"]
+    assert sorted(public["protected_modules"]) == [f"solver.{name}" for name in capabilities]
+
     api = by_id["api-independent"]
     assert api["type"] == "independence"
     resources = sorted(p.name for p in (REPO_ROOT / "service" / "api").iterdir() if (p / "__init__.py").is_file())
@@ -150,6 +160,10 @@ def test_models_imports_only_numpy_and_stdlib() -> None:
 # ---------------------------------------------------------------------------
 
 _VIOLATIONS = {
+    "solver-core-imports-certify": ("solver/core/bad.py", "import solver.certify\n", "Inside solver"),
+    "solver-locus-imports-spiral": ("solver/locus/bad.py", "import solver.spiral\n", "Inside solver"),
+    "solver-gross-imports-spiral": ("solver/gross/bad.py", "import solver.spiral\n", "Inside solver"),
+    "service-imports-a-solver-module": ("service/bad.py", "import solver.locus\n", "Outside solver"),
     "api-resource-imports-another": ("service/api/sketch/bad.py", "import service.api.locus\n", "service/api resources"),
     "models-imports-solver": ("models/bad.py", "import solver\n", "Layers"),
     "solver-imports-service": ("solver/bad.py", "import service\n", "Layers"),
@@ -165,9 +179,15 @@ def test_contracts_catch_violations(tmp_path: Path, case: str) -> None:
     rel, source, contract_name = _VIOLATIONS[case]
     cfg = _importlinter_config()
     packages = list(cfg["root_packages"])
-    for contract in cfg["contracts"]:
-        if contract["type"] == "independence":  # its modules must exist
+    for contract in cfg["contracts"]:  # the modules contracts name must exist
+        if contract["type"] == "independence":
             packages += [m.replace(".", "/") for m in contract["modules"]]
+        elif contract["type"] == "protected":
+            packages += [m.replace(".", "/") for m in contract["protected_modules"]]
+        elif contract.get("containers"):
+            for container in contract["containers"]:
+                for layer in contract["layers"]:
+                    packages += [f"{container}/{name.strip()}".replace(".", "/") for name in layer.split("|")]
     for pkg in packages:
         (tmp_path / pkg).mkdir(parents=True, exist_ok=True)
         for parent in [tmp_path / pkg, *(tmp_path / pkg).parents]:

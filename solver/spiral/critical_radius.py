@@ -291,6 +291,13 @@ class CriticalRadiusTable:
     message: str
     margin: float = 0.0
 
+    @property
+    def status(self) -> str:
+        """"complete", "time_limited" (the budget stopped it) or "partial" (points not usable)."""
+        if self.complete:
+            return "complete"
+        return "time_limited" if self.time_limited else "partial"
+
 
 def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=None, r_max: float | None = None,
                           budget: Budget = UNLIMITED, tol: SolverTolerances = SOLVER_DEFAULT,

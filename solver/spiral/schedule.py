@@ -110,6 +110,16 @@ class SpiralSchedule:
     total_time_s: float
     message: str
 
+    @property
+    def status(self) -> str:
+        """The solver's status ("OPTIMAL", "FEASIBLE", "INFEASIBLE", "TIME_LIMIT", ...)."""
+        return self.solver_status
+
+    @property
+    def complete(self) -> bool:
+        """An optimal schedule was found (and certified by the potentials)."""
+        return self.solver_status == "OPTIMAL" and not self.stopped_early
+
 
 def _solve_min_cost_flow(graph, costs):
     from ortools.graph.python import min_cost_flow

@@ -28,7 +28,7 @@ def test_body_not_utf8_is_422(client):
 
 
 def test_other_model_errors_are_422(client, monkeypatch):
-    import solver.locus.locus as cor
+    import solver.locus.cor_locus as cor
 
     def fail(*args, **kwargs):
         raise BoundaryNotConverged("outer COR boundary (3.35) did not converge")
@@ -41,7 +41,7 @@ def test_other_model_errors_are_422(client, monkeypatch):
 
 
 def test_float_arithmetic_errors_are_422(client, monkeypatch):
-    import solver.locus.locus as cor
+    import solver.locus.cor_locus as cor
 
     def overflow(*args, **kwargs):
         raise OverflowError("math range error")
@@ -54,7 +54,7 @@ def test_float_arithmetic_errors_are_422(client, monkeypatch):
 
 
 def test_unexpected_errors_are_500_without_traceback(client, monkeypatch):
-    import solver.locus.locus as cor
+    import solver.locus.cor_locus as cor
 
     def boom(*args, **kwargs):
         raise RuntimeError("secret internals")
@@ -78,7 +78,7 @@ def _replace_locus(monkeypatch, error: Exception) -> None:
     def fail(*args, **kwargs):
         raise error
 
-    monkeypatch.setattr(routes, "locus", fail)
+    monkeypatch.setattr(routes, "locus_of", fail)
 
 
 def test_solver_errors_are_422(client, monkeypatch):

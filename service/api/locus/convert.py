@@ -1,9 +1,9 @@
 """Schema <-> problem <-> schema for ``POST /v1/cor/locus`` and ``POST /v1/cor/membership``
 (no mechanics here).
 
-:func:`locus_problem` turns a validated request into a :class:`solver.locus.locus.LocusProblem`
+:func:`locus_problem` turns a validated request into a :class:`solver.locus.cor_locus.LocusProblem`
 (the scene by :func:`service.common.scene.prepare_push`); :func:`locus_response` turns the
-:class:`solver.locus.locus.LocusResult` back into the response schema, with plain lists
+:class:`solver.locus.cor_locus.LocusResult` back into the response schema, with plain lists
 of floats and no NaN/inf. The same for membership with
 :class:`solver.locus.membership.MembershipProblem`.
 """
@@ -31,9 +31,7 @@ from service.api.locus.schemas import (
 )
 from service.common.numbers import finite, finite_list, point_or_none
 from service.common.scene import PreparedPush, disk_or_footprint, prepare_push
-from solver.locus.certified_locus import CertifiedDiskBoundary
-from solver.locus.locus import LocusProblem, LocusResult
-from solver.locus.membership import MembershipProblem, MembershipResult
+from solver import CertifiedDiskBoundary, LocusProblem, LocusResult, MembershipProblem, MembershipResult
 
 
 def locus_problem(req: CorLocusRequest, all_outputs: bool = False) -> tuple[PreparedPush, LocusProblem]:

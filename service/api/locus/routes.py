@@ -2,7 +2,7 @@
 ``POST /v1/cor/membership`` (can r be its COR? with a certificate).
 
 Each route: request -> problem (:mod:`service.api.locus.convert`) -> one solver call
-(:func:`solver.locus.locus.locus`, :func:`solver.locus.membership.decide_membership`)
+(:func:`solver.locus.cor_locus.cor_locus`, :func:`solver.locus.membership.decide_membership`)
 -> response or picture. Plain ``def``: FastAPI runs them in its thread pool, so a long
 certificate does not block the event loop.
 """
@@ -29,9 +29,8 @@ from service.common.fields import ResponseFormat
 from service.common.inputs import located
 from service.common.responses import INVALID_INPUT, SVG_MEDIA_TYPE, json_or_svg
 from service.errors import FieldError
-from solver.core.budget import Budget
-from solver.locus.locus import locus
-from solver.locus.membership import decide_membership
+from solver import Budget, decide_membership
+from solver import cor_locus as locus_of
 
 router = APIRouter(tags=["cor"])
 
@@ -68,7 +67,7 @@ def cor_locus(
         raise FieldError(("format",), "the SVG picture shows the analytic locus only; use format json "
                          "with method certified", where="query")
     prep, problem = locus_problem(req, all_outputs=svg)
-    result = locus(problem, budget)
+    result = locus_of(problem, budget)
     body = locus_response(prep, result, req.time_limit_s, budget.elapsed() * 1e3)  # also the NaN/inf guard
     if svg:
         return Response(content=render_locus_svg(prep, result.analytic), media_type=SVG_MEDIA_TYPE)

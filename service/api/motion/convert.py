@@ -48,12 +48,16 @@ from service.limits import (
     SAMPLING_MIN_SIZE_REL,
     SUPPORT_IN_DISK_REL,
 )
-from solver.motion.forward import BatchResult, ForwardResult
-from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure
-from solver.motion.statistics import (
+from solver import (
+    BatchResult,
+    ForwardResult,
     HistogramQuery,
+    Impact,
+    MotionProblem,
+    MotionResult,
     TripodStatistics,
     TripodStatisticsProblem,
+    UniformPressure,
 )
 
 PRESSURE_FIELDS = {"subdivisions": ("pressure", "resolution"), "rings": ("pressure", "resolution")}

@@ -26,9 +26,7 @@ from service.api.motion.schemas import (
 )
 from service.common.inputs import located
 from service.common.responses import INVALID_INPUT
-from solver.core.budget import Budget
-from solver.motion.solve import solve_motion
-from solver.motion.statistics import tripod_statistics
+from solver import Budget, solve_motion, tripod_statistics
 
 router = APIRouter(tags=["cor"])
 

@@ -10,7 +10,7 @@ from service.common.inputs import located
 from service.common.numbers import finite
 from service.errors import NonFiniteResult
 from service.limits import AGREEMENT_REL
-from solver.motion.particle import ParticleProblem, ParticleSolution
+from solver import ParticleProblem, ParticleSolution
 
 
 def particle_problem(req: ParticleRequest) -> ParticleProblem:

@@ -13,8 +13,7 @@ from service.api.particle.convert import (
 )
 from service.api.particle.schemas import ParticleRequest, ParticleResponse
 from service.common.responses import INVALID_INPUT
-from solver.core.budget import Budget
-from solver.motion.particle import particle
+from solver import Budget, particle
 
 router = APIRouter(tags=["mpp"])
 

@@ -52,15 +52,18 @@ from service.common.inputs import exactly_one, footprint_of
 from service.common.numbers import finite, finite_list, finite_or_none
 from service.errors import FieldError
 from service.limits import GROSS_MIN_LENGTH
-from solver.gross.align import (
+from solver import (
     AlignProblem,
     AlignResult,
     AlignStage,
-    Slip,
     below_line_of_motion,
+    Bound,
+    DiskEncounterProblem,
+    DiskEncounterResult,
+    QuasiStaticQuery,
+    SKETCH_COST,
+    Slip,
 )
-from solver.gross.bounds import SKETCH_COST, Bound, QuasiStaticQuery
-from solver.gross.disk_encounter import DiskEncounterProblem, DiskEncounterResult
 
 REFERENCE = (
     "M. A. Peshkin, Robotic Manipulation Strategies (1990), section 6.8 (characteristic speed "

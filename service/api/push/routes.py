@@ -37,9 +37,7 @@ from service.api.push.schemas import (
 from service.common.inputs import located
 from service.common.responses import INVALID_INPUT, TIME_LIMIT
 from service.errors import time_limited
-from solver.core.budget import Budget
-from solver.gross.align import align
-from solver.gross.disk_encounter import disk_encounter
+from solver import align, Budget, disk_encounter
 
 router = APIRouter(tags=["push"])
 

@@ -51,7 +51,7 @@ from service.limits import (
     QS_MIN_MU_S,
     SKETCH_MAX_N_POINTS,
 )
-from solver.gross.bounds import SKETCH_COST
+from solver import SKETCH_COST
 
 LengthUnit = Literal["m", "cm", "mm", "um", "in", "ft"]
 assert set(LengthUnit.__args__) == set(METRES_PER_UNIT), "LengthUnit must list models.gross.quasistatic.METRES_PER_UNIT"  # type: ignore[attr-defined]

@@ -25,9 +25,7 @@ from service.common.numbers import finite, finite_list
 from service.common.scene import PreparedPush, prepare_push
 from service.errors import FieldError
 from service.limits import SKETCH_MIN_LENGTH
-from solver.locus.certified_sketch import CertifiedSketch
-from solver.locus.sketch import SketchProblem, SketchResult
-from solver.locus.sticking_locus import LocusEnd
+from solver import CertifiedSketch, LocusEnd, SketchProblem, SketchResult
 
 IMPLICATION_TEXT = {
     "must_slip_up": "the part must slip up relative to the pusher",

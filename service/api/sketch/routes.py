@@ -16,8 +16,7 @@ from service.api.sketch.render import render_sketch_svg
 from service.api.sketch.schemas import CorSketchRequest, CorSketchResponse
 from service.common.fields import ResponseFormat
 from service.common.responses import INVALID_INPUT, SVG_MEDIA_TYPE, json_or_svg
-from solver.core.budget import Budget
-from solver.locus.sketch import sketch
+from solver import Budget, sketch
 
 router = APIRouter()
 

@@ -45,13 +45,16 @@ from service.limits import (
     SPIRAL_SWEEP_MARGIN_REL,
     SPIRAL_SWEEP_POINTS,
 )
-from solver.spiral.critical_radius import (
+from solver import (
     CriticalRadii,
     CriticalRadiusProblem,
     CriticalRadiusTable,
+    PathQuery,
+    SimulationQuery,
+    SpiralPlan,
+    SpiralProblem,
+    SpiralSchedule,
 )
-from solver.spiral.plan import PathQuery, SimulationQuery, SpiralPlan, SpiralProblem
-from solver.spiral.schedule import SpiralSchedule
 
 SERVICE_SPIRAL_TOL = replace(SPIRAL_DEFAULT, max_revolutions=SPIRAL_MAX_REVOLUTIONS)
 """The spiral tolerances of the service: the recursion stops at SPIRAL_MAX_REVOLUTIONS."""

@@ -41,9 +41,7 @@ from service.common.responses import (
     json_or_svg,
 )
 from service.errors import time_limited
-from solver.core.budget import Budget
-from solver.spiral.critical_radius import critical_radii
-from solver.spiral.plan import plan_spiral
+from solver import Budget, critical_radii, plan_spiral
 
 router = APIRouter(tags=["spiral"])
 

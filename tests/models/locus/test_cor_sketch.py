@@ -18,37 +18,7 @@ from models.scene import PushScene
 from models.support import random_balanced_tripods
 from solver.motion.forward import BatchResult, solve_forward_batch
 from tests.scenes import SEED, distance_to_polyline, point_in_polygon
-
-# (letter, mirrored, (contact x, contact y, edge angle in degrees, mu_c)); disk a = 1 at the
-# origin, push along +x. Found by a seeded search over scenes; each is robust to moving the
-# contact by 0.01.
-SKETCH_SCENES = [
-    ("a", False, (1.07, -1.4, 131, 0.1)),
-    ("a", True, (0.41, -0.69, 7, 0.05)),
-    ("b", False, (-0.04, 1.17, 168, 0.22)),
-    ("b", True, (-0.29, -0.9, 16, 0.54)),
-    ("c", False, (0.21, -0.53, 107, 0.2)),
-    ("c", True, (0.02, 0.95, 39, 0.07)),
-    ("d", False, (1.13, -1.32, 61, 0.09)),
-    ("d", True, (1.19, 1.38, 109, 0.41)),
-    ("e", False, (-0.18, 1.36, 90, 0.29)),
-    ("e", True, (-0.41, -0.25, 97, 0.08)),
-    ("f", False, (-0.15, 0.89, 42, 0.06)),
-    ("f", True, (0.13, 1.31, 147, 0.05)),
-    ("g", False, (-0.6, 0.52, 36, 2.37)),
-    ("g", True, (0.94, 1.24, 109, 0.99)),
-    ("h", False, (-0.33, 1.17, 41, 0.64)),
-    ("h", True, (-0.4, -1.18, 113, 2.23)),
-    ("i", False, (-0.28, 1.23, 8, 1.45)),
-    ("i", True, (0.56, 0.45, 124, 0.25)),
-]
-
-CONFIGS = {
-    "a": ("P", "P"), "b": ("P", "S"), "c": ("S", "S"), "d": ("P", "O"), "e": ("S", "O"),
-    "f": ("O", "O"), "g": ("P", "W"), "h": ("S", "W"), "i": ("O", "W"),
-}
-SHORT = {"pure_slipping": "P", "same_sided_split": "S", "opposite_sided_split": "O", "wrapped": "W"}
-
+from tests.scenes import CONFIGS, SHORT, SKETCH_SCENES
 
 def scene_of(params) -> PushScene:
     x, y, edge, _ = params

@@ -25,7 +25,7 @@ from models.scene import PushScene
 from models.support import random_balanced_tripods
 from service.limits import SKETCH_MAX_N_POINTS, SKETCH_MIN_LENGTH
 from solver.motion.forward import BatchResult, solve_forward_batch
-from tests.models.locus.test_cor_sketch import CONFIGS, SHORT, SKETCH_SCENES
+from tests.scenes import CONFIGS, SHORT, SKETCH_SCENES
 
 URL = "/v1/cor/sketch"
 EXAMPLE = {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": math.pi / 2, "mu_c": 0.3}

@@ -87,7 +87,7 @@ class LocusResult:
         return "; ".join((head, *self.notes))
 
 
-def locus(problem: LocusProblem, budget: Budget = UNLIMITED) -> LocusResult:
+def cor_locus(problem: LocusProblem, budget: Budget = UNLIMITED) -> LocusResult:
     """The COR locus of ``problem`` (module docstring); the certificates stop once
     ``budget`` has expired (at least one point or ray is always examined)."""
     t0 = time.perf_counter()
