@@ -91,8 +91,6 @@ from models.arrays import Real
 from models.errors import InvalidInput
 from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 
-
-
 # --------------------------------------------------------------------------------------
 # Checks
 

@@ -20,7 +20,7 @@ REPO_ROOT = Path(__file__).resolve().parents[1]
 if str(REPO_ROOT) not in sys.path:
     sys.path.insert(0, str(REPO_ROOT))
 
-import yaml  # noqa: E402
+import yaml
 
 DEFAULT_OUTPUT = REPO_ROOT / "openapi.yaml"
 

@@ -10,7 +10,7 @@ from fastapi.testclient import TestClient
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from service.app import app  # noqa: E402
+from service.app import app
 
 # The book's five-sided part (figure 3-3 style): pushed at a corner by a fence at 70 degrees.
 REQUEST = {

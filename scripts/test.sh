@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Run the test suite.
 #
-#   bash scripts/test.sh                      # whole suite (benchmarks skipped)
+#   bash scripts/test.sh                      # whole suite (benchmarks skipped): what CI runs
+#   bash scripts/test.sh --fast               # everyday tier: no tests marked slow, 2 workers
 #   bash scripts/test.sh tests/models -k disk # extra args go to pytest
 #   bash scripts/test.sh --run-benchmarks     # include benchmark-marked tests
 #
@@ -29,4 +30,8 @@ if [[ "$(cat "$dev_stamp" 2>/dev/null || true)" != "$want_dev" ]]; then
     cat requirements.txt | sha256sum | cut -d' ' -f1 >"$runtime_stamp"
 fi
 
+if [[ "${1:-}" == "--fast" ]]; then
+    shift
+    exec "$VENV/bin/python" -m pytest -q -m "not slow" -n 2 "$@"
+fi
 exec "$VENV/bin/python" -m pytest -q "$@"

@@ -36,6 +36,10 @@ def pytest_configure(config: pytest.Config) -> None:
         "benchmark: slow performance benchmark; skipped unless --run-benchmarks "
         "or RUN_BENCHMARKS=1",
     )
+    config.addinivalue_line(
+        "markers",
+        "slow: more than about half a second; left out of the fast tier (bash scripts/test.sh --fast)",
+    )
 
 
 def benchmarks_enabled(config: pytest.Config) -> bool:

@@ -98,6 +98,7 @@ def _script(order: tuple[str, ...]) -> str:
 ORDERS = [("cvxpy", "ortools", "casadi"), ("casadi", "ortools", "cvxpy")]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("order", ORDERS, ids=["->".join(o) for o in ORDERS])
 def test_solver_stack_coexists(order: tuple[str, ...]) -> None:
     proc = subprocess.run(

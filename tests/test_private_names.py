@@ -57,6 +57,7 @@ def test_the_scan_finds_both_kinds_of_use(tmp_path, monkeypatch):
     assert len(uses) == 2 and "import _hidden" in uses[0] and "st._geo" in uses[1]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("package", PROJECT)
 def test_no_private_name_is_used_across_modules(package):
     offenders = [use for path in sorted((REPO_ROOT / package).rglob("*.py")) for use in private_uses(path)]

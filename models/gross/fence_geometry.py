@@ -79,9 +79,9 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from models.gross import gross_motion as gm
 from models.errors import InvalidInput, ModelError
 from models.footprint import Footprint
+from models.gross import gross_motion as gm
 from models.tolerances import DEFAULT, Tolerances
 
 Sense = Literal["cw", "ccw", "none"]

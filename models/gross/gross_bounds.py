@@ -24,19 +24,19 @@ from __future__ import annotations
 
 import math
 import time
-from functools import partial
 from dataclasses import dataclass
+from functools import partial
 from typing import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from models.arrays import Real
+from models.errors import InvalidInput
 from models.gross import gross_motion as gm
 from models.locus.cor_disk import disk_cor_locus
 from models.locus.cor_sketch import CorSketch, cor_sketch
-from models.errors import InvalidInput
 from models.scene import PushScene
-from models.arrays import Real
 
 
 @dataclass(frozen=True)

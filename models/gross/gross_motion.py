@@ -56,8 +56,8 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from models.errors import InvalidInput
 from models.arrays import Real
+from models.errors import InvalidInput
 
 HALF_PI = 0.5 * math.pi
 

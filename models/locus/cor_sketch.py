@@ -64,8 +64,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from models.locus.cor_disk import DiskCorLocus, disk_cor_locus
 from models.errors import InvalidInput
+from models.locus.cor_disk import DiskCorLocus, disk_cor_locus
 from models.mpp import mason_sense, perp
 from models.scene import PushScene
 

@@ -32,17 +32,17 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import nnls
 
-from models.locus.cor_disk import disk_cor_locus
 from models.errors import InvalidInput
 from models.footprint import Footprint
+from models.locus.cor_disk import disk_cor_locus
 from models.mpp import membership_columns
 from models.scene import PushScene
 from models.support import Support, uniform_polygon_support
 from solver.certify.witness import heaviest_points
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.motion.forward import solve_forward
 from solver.locus.membership import MembershipResult, membership, outline_of
+from solver.motion.forward import solve_forward
 
 STRICT_WITNESS_RESIDUAL = 1e-12
 """Largest L1 residual of an inside witness in a certified bracket (polished witnesses

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from models.footprint import Footprint
 from models.locus.cor_sketch import (
     CorSketch,
     ElementaryLocus,
@@ -47,7 +48,6 @@ from models.locus.cor_sketch import (
     force_scene,
     sketch_sense,
 )
-from models.footprint import Footprint
 from models.scene import PushScene
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances

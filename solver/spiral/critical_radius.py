@@ -37,17 +37,16 @@ Findings (tests/solver/test_spiral.py, docs/benchmarks.md "Spiral localization (
 from __future__ import annotations
 
 import math
-import time
 import threading
+import time
 from collections import OrderedDict
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from models.locus.cor_sketch import sticking_locus_sweep
 from models.errors import InvalidInput
 from models.gross.gross_bounds import encounter_scene
-from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
+from models.locus.cor_sketch import sticking_locus_sweep
 from models.spiral import (
     CriticalEnvelope,
     critical_envelope,
@@ -55,6 +54,7 @@ from models.spiral import (
     limiting_radius,
     tip_line_critical_radius,
 )
+from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.locus.sticking_locus import sticking_locus

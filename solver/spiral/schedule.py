@@ -14,7 +14,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from models.errors import InvalidInput
-from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 from models.spiral import (
     SpiralRecursion,
     arc_costs,
@@ -25,6 +24,7 @@ from models.spiral import (
     shortest_path_potentials,
     spiral_path_length,
 )
+from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import SolverError
 from solver.spiral.critical_radius import envelope_of

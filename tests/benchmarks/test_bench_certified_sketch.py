@@ -16,8 +16,8 @@ import time
 import numpy as np
 import pytest
 
-from models.locus.cor_sketch import cor_sketch
 from models.footprint import Footprint
+from models.locus.cor_sketch import cor_sketch
 from models.scene import PushScene
 from solver.locus.certified_sketch import certified_sketch
 from tests.benchmarks._docs import write_section

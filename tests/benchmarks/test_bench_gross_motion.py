@@ -11,8 +11,8 @@ import time
 import pytest
 
 from models.gross import gross_motion as gm
-from models.locus.cor_sketch import cor_sketch
 from models.gross.gross_bounds import encounter_bounds_exact, fence_push_bound_exact
+from models.locus.cor_sketch import cor_sketch
 from models.scene import PushScene
 from tests.benchmarks._docs import write_section
 

@@ -17,10 +17,10 @@ import time
 import numpy as np
 import pytest
 
-from models.locus import cor_disk as cd
 from models.footprint import Footprint
+from models.locus import cor_disk as cd
 from solver.core.tolerances import SOLVER_DEFAULT
-from solver.locus.certified_locus import outward_normals, certified_disk_boundary, certified_polygon_boundary
+from solver.locus.certified_locus import certified_disk_boundary, certified_polygon_boundary, outward_normals
 from solver.locus.membership import membership
 from tests.benchmarks._docs import write_section
 from tests.scenes import scene_for_mu

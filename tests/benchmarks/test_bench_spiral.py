@@ -18,9 +18,9 @@ import time
 import numpy as np
 import pytest
 
-from models.tolerances import SpiralTolerances
-
 from models.spiral import fastest_spiral, limiting_radius, power_law_fit, spiral_polyline, tip_line_envelope
+from models.tolerances import SpiralTolerances
+from solver.core.budget import Budget
 from solver.spiral.critical_radius import (
     BetaGrid,
     beta_grid,
@@ -32,7 +32,6 @@ from solver.spiral.critical_radius import (
 )
 from solver.spiral.schedule import spiral_schedule
 from tests.benchmarks._docs import write_section
-from solver.core.budget import Budget
 
 pytestmark = pytest.mark.benchmark
 

@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from models.locus import cor_disk as cd
 from models import inertia as mi
 from models.errors import InvalidInput
 from models.footprint import Footprint
+from models.locus import cor_disk as cd
 from models.scene import PushScene
 from tests.scenes import SEED, point_in_polygon, scene_for_mu
 

@@ -12,10 +12,9 @@ import math
 import numpy as np
 import pytest
 
-from models.locus.cor_sketch import tip_line_estimate
 from models.errors import InvalidInput
 from models.gross.gross_bounds import encounter_scene
-from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
+from models.locus.cor_sketch import tip_line_estimate
 from models.spiral import (
     arc_costs,
     collision_parameter,
@@ -38,6 +37,7 @@ from models.spiral import (
     tip_line_next_radius,
     tip_line_spiral,
 )
+from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 from tests.scenes import SEED
 
 HALF_PI = 0.5 * math.pi
@@ -189,6 +189,7 @@ def _bisection_next(env, y, max_step=None):
     return hi
 
 
+@pytest.mark.slow
 def test_exact_step_equals_bisection_and_g_is_nondecreasing():
     """The closed-form step of (4.26) is the least safe radius: it equals a bisection on
     g(x) = x + d*(x) (nondecreasing, checked) to rounding, and it is itself safe."""

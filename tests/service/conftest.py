@@ -5,7 +5,6 @@ from __future__ import annotations
 import warnings
 
 import pytest
-
 from starlette.exceptions import StarletteDeprecationWarning
 
 with warnings.catch_warnings():

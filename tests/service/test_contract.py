@@ -68,6 +68,7 @@ def test_every_operation_is_covered() -> None:
                    "spiral_critical_radius", "spiral_schedule"}
 
 
+@pytest.mark.slow
 @schema.parametrize()
 @pytest.mark.filterwarnings("ignore::RuntimeWarning")  # numpy overflow inside models on extreme sizes
 @hypothesis.settings(

@@ -7,20 +7,21 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 import yaml
 
 from service.app import app
 from service.limits import (
+    MAX_ABS_ANGLE,
+    MAX_ABS_COORDINATE,
     MAX_BATCH,
+    MAX_DISK_RADIUS,
     MAX_MU_C,
+    MAX_N_POINTS,
+    MAX_POLYGON_VERTICES,
     MAX_SUPPORT_POINTS,
     MAX_TIME_LIMIT_S,
     MAX_WEIGHT,
-    MAX_ABS_ANGLE,
-    MAX_ABS_COORDINATE,
-    MAX_DISK_RADIUS,
-    MAX_N_POINTS,
-    MAX_POLYGON_VERTICES,
     MIN_N_POINTS,
     MIN_POLYGON_VERTICES,
 )
@@ -37,6 +38,7 @@ def _load_script():
     return module
 
 
+@pytest.mark.slow
 def test_openapi_yaml_is_up_to_date():
     gen = _load_script()
     assert DOCUMENT.exists(), "openapi.yaml is missing: run python scripts/gen_openapi.py"
@@ -46,11 +48,13 @@ def test_openapi_yaml_is_up_to_date():
     assert yaml.safe_load(DOCUMENT.read_text(encoding="utf-8")) == app.openapi()
 
 
+@pytest.mark.slow
 def test_generation_is_deterministic():
     gen = _load_script()
     assert gen.render() == gen.render()
 
 
+@pytest.mark.slow
 def test_check_mode(tmp_path):
     ok = subprocess.run([sys.executable, str(SCRIPT), "--check"], capture_output=True, text=True, cwd=REPO_ROOT)
     assert ok.returncode == 0, ok.stderr

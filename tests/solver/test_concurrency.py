@@ -164,6 +164,7 @@ def concurrent_in_child(case: str) -> list[object]:
     return [row if isinstance(row, str) else np.array([float.fromhex(x) for x in row]) for row in rows]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", list(CASES))
 def test_concurrent_solves_equal_serial_solves(case):
     """N_THREADS solves at once, each equal (bitwise) to the same solve done serially."""

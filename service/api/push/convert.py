@@ -53,16 +53,16 @@ from service.common.numbers import finite, finite_list, finite_or_none
 from service.errors import FieldError
 from service.limits import GROSS_MIN_LENGTH
 from solver import (
+    SKETCH_COST,
     AlignProblem,
     AlignResult,
     AlignStage,
-    below_line_of_motion,
     Bound,
     DiskEncounterProblem,
     DiskEncounterResult,
     QuasiStaticQuery,
-    SKETCH_COST,
     Slip,
+    below_line_of_motion,
 )
 
 REFERENCE = (

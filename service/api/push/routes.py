@@ -37,7 +37,7 @@ from service.api.push.schemas import (
 from service.common.inputs import located
 from service.common.responses import INVALID_INPUT, TIME_LIMIT
 from service.errors import time_limited
-from solver import align, Budget, disk_encounter
+from solver import Budget, align, disk_encounter
 
 router = APIRouter(tags=["push"])
 

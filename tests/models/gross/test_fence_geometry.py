@@ -11,8 +11,9 @@ import math
 import numpy as np
 import pytest
 
-from models.gross import gross_motion as gm
 from models.errors import InvalidInput
+from models.footprint import Footprint
+from models.gross import gross_motion as gm
 from models.gross.fence_geometry import (
     convex_hull_indices,
     encounter_beta_from_offset,
@@ -21,7 +22,6 @@ from models.gross.fence_geometry import (
     frictionless_push_bounds,
     require_friction_frame,
 )
-from models.footprint import Footprint
 
 D = math.radians
 SQUARE = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]

@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from models.gross import gross_motion as gm
 from models.errors import InvalidInput
+from models.gross import gross_motion as gm
 from models.gross.gross_bounds import encounter_bounds_exact, fence_push_bound_exact
 from models.support import random_balanced_tripods
 from solver.sim.push import simulate_disk_encounter_batch, simulate_fence_alignment_batch
@@ -22,6 +22,7 @@ BOOK = dict(a=1.0, c=0.5746, alpha=math.radians(70.0), beta_initial=math.radians
             beta_final=math.radians(80.0))
 
 
+@pytest.mark.slow
 def test_small_friction_gives_the_frictionless_closed_form():
     """mu_c -> 0: the slowest COR is the tip (3.37) and the bound is (3.41)."""
     b = fence_push_bound_exact(mu_c=1e-7, n_nodes=8, n_points=512, **BOOK)
@@ -29,6 +30,7 @@ def test_small_friction_gives_the_frictionless_closed_form():
     assert abs(b.value - ref) < 1e-3 * ref
 
 
+@pytest.mark.slow
 def test_book_example_exact_bound_is_slightly_above_the_closed_form():
     """4.3: the book's tip-line construction neglects the dip of the sticking locus below
     the tip line; the exact bound is above it, but within a percent."""
@@ -39,6 +41,7 @@ def test_book_example_exact_bound_is_slightly_above_the_closed_form():
     assert {"sticking"} <= set(b.sources)
 
 
+@pytest.mark.slow
 def test_no_simulated_fence_push_beats_the_exact_bounds():
     """Random tripods and diametral dipods pushed by the fence with friction (mu_c = 1,
     where the book's closed form is beaten by ~1 %): every push lies between the exact
@@ -60,6 +63,7 @@ def test_no_simulated_fence_push_beats_the_exact_bounds():
     assert longest.book_value is None or longest.value > longest.book_value
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("beta_deg", [30.0, 60.0])
 def test_disk_encounter_exact_bounds_hold_the_simulations(beta_deg):
     """4.4: length and rotation of the encounter for random supports lie within the exact
@@ -86,6 +90,7 @@ def test_bad_ranges_are_refused():
         fence_push_bound_exact(mu_c=0.25, n_nodes=2, **BOOK)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("beta_deg", [1e-4, 0.5, 5.0])
 def test_small_collision_parameter_is_integrated_accurately(beta_deg):
     """4.4 near beta_i -> 0 the rates grow like 1/sin(beta) ((4.15)); the exact greatest
@@ -107,12 +112,13 @@ def test_head_on_push_is_refused_on_beta_initial():
     assert e.value.field == "beta_initial"
 
 
+@pytest.mark.slow
 def test_fence_slip_bounds_hold_every_simulated_support():
     """How far the pusher slips along the fence: the slip rate of every simulated support's
     COR (forward solves) lies between the sketch's extremes at that beta; the rate formula
     equals the scene's own slip per push times dx/dbeta; sticking CORs do not slip."""
-    from models.locus.cor_sketch import cor_sketch
     from models.gross.gross_bounds import extreme_over_sketch, fence_slip_bounds_exact, fence_slip_rate
+    from models.locus.cor_sketch import cor_sketch
     from models.scene import PushScene
 
     geo = dict(a=1.0, c=0.9, alpha=math.radians(60.0), beta_initial=math.radians(35.0), beta_final=math.radians(75.0))
@@ -150,6 +156,7 @@ def _simpson(values: np.ndarray, x: np.ndarray) -> np.ndarray:
     return h / 3.0 * (w @ values)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mu_c", [0.0, 0.3])
 def test_fence_slip_over_the_whole_turn_stays_within_the_exact_bounds(mu_c):
     """Issue 4 / 4.3: the total slip of the fence along the part while it turns from
@@ -181,6 +188,7 @@ def test_fence_slip_over_the_whole_turn_stays_within_the_exact_bounds(mu_c):
         assert abs(b["push_min"].value - shortest) <= max(b["push_min"].quadrature_error, 1e-9)
 
 
+@pytest.mark.slow
 def test_fence_bounds_share_sketches_and_match_the_single_bounds():
     """One sketch per node serves all four bounds: the values equal the bounds computed
     alone (fence_push_bound_exact, fence_slip_bounds_exact) and an unknown key is refused."""

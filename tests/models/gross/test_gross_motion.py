@@ -13,9 +13,9 @@ import math
 import numpy as np
 import pytest
 
+from models.errors import InvalidInput
 from models.gross import gross_motion as gm
 from models.locus.cor_disk import disk_cor_locus
-from models.errors import InvalidInput
 from models.scene import PushScene
 
 D = math.radians
@@ -434,7 +434,7 @@ def test_4_16_near_pi_over_2_and_frictionless_length_is_half():
     for bi in (D(10), D(45)):
         assert gm.encounter_length_frictionless(bi, a) == pytest.approx(0.5 * gm.encounter_length_max(bi, a), rel=1e-13)
         # With mu_c = 0 the CM moves along the normal, theta = beta: a COR far along -n_perp.
-        far = lambda b: 1e8 * np.array([-np.sin(b), -np.cos(b)]).T  # noqa: E731
+        far = lambda b: 1e8 * np.array([-np.sin(b), -np.cos(b)]).T
         q = gm.integrate_encounter_length(far, a, bi, vectorized=True)
         assert q.value == pytest.approx(gm.encounter_length_frictionless(bi, a), rel=1e-7)
 
@@ -463,7 +463,7 @@ def test_4_18_and_the_rotation_rate():
     a = 1.0
     for bi in (D(10), D(45), D(80)):
         assert gm.rotation_max(bi) == pytest.approx(math.pi / 2 - bi)
-        on_line = lambda b: np.array([-a * math.cos(b), -3.0])  # noqa: E731
+        on_line = lambda b: np.array([-a * math.cos(b), -3.0])
         q = gm.integrate_rotation(on_line, a, bi)
         assert q.value == pytest.approx(math.pi / 2 - bi, rel=1e-12)
         qb = gm.integrate_rotation(on_line, a, bi, book_printed=True)

@@ -11,9 +11,9 @@ import math
 import numpy as np
 import pytest
 
-from models.gross import quasistatic as qs
 from models.errors import InvalidInput
 from models.footprint import Footprint
+from models.gross import quasistatic as qs
 from models.inertia import polygon_radius_of_gyration
 from tests.scenes import SEED, point_in_polygon
 
@@ -171,6 +171,7 @@ def test_a_spinning_disk_turns_by_the_angle_of_6_3():
     assert qs.angular_error_at(v, mu, g, disk) == pytest.approx(turned, rel=2e-4)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("shape", ["rectangle", "l_shape", "u_shape"])
 def test_a_spinning_polygon_turns_by_the_generalised_6_3(shape):
     """theta(v) = v^2 rho^2 / (2 mu g rbar a^2) against the integrated spin of the grid body.
@@ -234,6 +235,7 @@ def test_mean_distance_closed_forms():
     assert qs.polygon_mean_distance(ngon, (0.0, 0.0)) == pytest.approx(2.0 / 3.0, rel=1e-6)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("about", [(0.2, 0.3), (1.0, 1.0), (1.0, 0.5), (2.0, 2.0), (-1.0, 4.0), (3.0, 0.0)])
 def test_mean_distance_against_a_grid(about):
     """Inside, on an edge, at a reflex vertex, outside (also beyond an edge's line)."""

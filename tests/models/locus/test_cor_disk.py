@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from models.locus import cor_disk as cd
 from models.errors import InvalidInput
+from models.locus import cor_disk as cd
 from models.scene import PushScene
 from models.tolerances import DEFAULT, HIGH_ACCURACY
 from tests.scenes import ALL_MU, MU_ON_DISK, MU_OUTER_INNER, MU_WITH_ARC, circle_radius, scene_for_mu

@@ -10,8 +10,8 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from models.locus import cor_disk as cd
 from models.errors import InvalidInput
+from models.locus import cor_disk as cd
 from models.support import Support
 from solver.motion.forward import solve_forward
 from tests.scenes import (
@@ -183,6 +183,7 @@ def lp_member(r: np.ndarray, mu: float) -> bool:
     return prob.status == cp.OPTIMAL
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mu", [0.3, 0.72, 0.9, 1.5])
 def test_brute_force_membership_agrees_with_the_boundary(mu):
     """Points 4% inside the analytic boundary are CORs of some sampled support; points 4%

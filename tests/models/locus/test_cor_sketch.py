@@ -10,15 +10,15 @@ import math
 import numpy as np
 import pytest
 
+from models.errors import InvalidInput
 from models.locus import cor_disk as cd
 from models.locus.cor_sketch import IMPLIED_MODES, cor_sketch, force_scene, tip_line_estimate
-from models.errors import InvalidInput
 from models.mpp import perp
 from models.scene import PushScene
 from models.support import random_balanced_tripods
 from solver.motion.forward import BatchResult, solve_forward_batch
-from tests.scenes import SEED, distance_to_polyline, point_in_polygon
-from tests.scenes import CONFIGS, SHORT, SKETCH_SCENES
+from tests.scenes import CONFIGS, SEED, SHORT, SKETCH_SCENES, distance_to_polyline, point_in_polygon
+
 
 def scene_of(params) -> PushScene:
     x, y, edge, _ = params
@@ -32,6 +32,7 @@ def forward(scene, mu_c, n=1500, seed=SEED) -> BatchResult:
     return br
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("letter, mirrored, params", SKETCH_SCENES)
 def test_each_of_the_nine_sketches_is_produced_and_confirmed(letter, mirrored, params):
     """4.1.6: the sketch's letter, its configurations, what it implies, and forward solves:
@@ -93,6 +94,7 @@ def test_sticking_locus_far_end_when_the_cone_holds_the_line_through_the_cm():
     assert sk.sticking.t_low * (1 - 1e-3) <= t.min() and t.max() <= sk.sticking.t_high * (1 + 1e-3)
 
 
+@pytest.mark.slow
 def test_small_friction_collapses_onto_the_frictionless_locus():
     """mu_c -> 0: both elementary loci tend to {COR}_alpha and the sticking locus to the
     frictionless locus cut by the sticking line (4.1)."""
@@ -167,6 +169,7 @@ def test_invalid_friction_is_refused():
         assert e.value.field == "mu_c"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("letter, mirrored, params", SKETCH_SCENES[::2])
 def test_extreme_cor_bounds_every_forward_solved_cor(letter, mirrored, params):
     """4.2: the slowest/fastest COR of a gross motion is the sketch's extreme in some

@@ -61,6 +61,7 @@ def _dense_minimum(fn, pieces):
     return float(fn.evaluate(pieces, np.concatenate([dense_p, endp]), np.concatenate([dense_t, ends]))[0].min())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", BNB_CASES)
 def test_branch_and_bound_is_sound_and_effective(case):
     """The 1-D pricing bound over the outline (Lipschitz and second-order bounds of

@@ -61,6 +61,7 @@ def test_stage_totals_are_the_sums_of_the_stages_3_41():
     assert res.slip.direction == slip_direction(al, 0.0)
 
 
+@pytest.mark.slow
 def test_friction_stage_is_the_composite_of_4_3_and_the_exact_sketch():
     res = align(problem(SQUARE, mu_c=0.3))
     (s,) = res.stages
@@ -77,6 +78,7 @@ def test_friction_stage_is_the_composite_of_4_3_and_the_exact_sketch():
     assert res.predicted_time_s == SKETCH_COST.bounds_s(1, 4, 16)
 
 
+@pytest.mark.slow
 def test_methods_leave_out_what_they_do_not_compute():
     closed = align(problem(SQUARE, mu_c=0.3, method="closed_form"))
     assert closed.longest.exact is None and closed.slip is None and closed.predicted_time_s == 0.0
@@ -87,6 +89,7 @@ def test_methods_leave_out_what_they_do_not_compute():
     assert info.value.field == "method"
 
 
+@pytest.mark.slow
 def test_refused_before_any_work_when_predicted_over_the_budget():
     clock = TickingClock()
     budget = Budget.of(1.0, clock=clock)

@@ -23,6 +23,7 @@ from tests.budgets import TickingClock, checks_budget
 FAST = dict(n_nodes=4, n_points=16)
 
 
+@pytest.mark.slow
 def test_closed_forms_4_16_4_18_and_the_exact_bounds():
     res = disk_encounter(DiskEncounterProblem(1.0, 0.5, beta_initial=0.7, **FAST))
     assert isinstance(res, Outcome) and res.complete and res.status == "done"

@@ -205,7 +205,7 @@ def inside_some_interval(loc, s, slack):
 def transformed(scene: PushScene, scale=1.0, turn=0.0, shift=(0.0, 0.0), mirror=False):
     rot = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
     m = np.diag([1.0, -1.0]) if mirror else np.eye(2)
-    t = lambda x: rot @ (m @ np.asarray(x)) * scale + np.asarray(shift)  # noqa: E731
+    t = lambda x: rot @ (m @ np.asarray(x)) * scale + np.asarray(shift)
     sgn = -1.0 if mirror else 1.0
     return PushScene.create(
         scene.disk_radius * scale, t(scene.contact_point), sgn * scene.edge_angle + turn,

@@ -10,27 +10,34 @@ import math
 import numpy as np
 import pytest
 
-from models.locus import cor_disk as cd
 from models.errors import InvalidInput
 from models.footprint import Footprint
+from models.locus import cor_disk as cd
 from models.scene import PushScene
 from models.support import random_balanced_tripods
+from solver.core.budget import Budget
 from solver.core.tolerances import SOLVER_DEFAULT
 from solver.locus.certified_locus import (
     STRICT_WITNESS_RESIDUAL,
-    outward_normals,
-    ray_exit,
     certified_disk_boundary,
     certified_polygon_boundary,
     certify_brackets,
+    outward_normals,
     polygon_trace,
+    ray_exit,
     trace_ray,
 )
+from solver.locus.membership import membership
 from solver.motion.forward import solve_forward_batch
 from tests.scenes import SEED, point_in_polygon, scene_for_mu
-from solver.locus.membership import membership
-from tests.solver.locus.membership_checks import FRAME, SQUARE, check_dual, disk_samples, equations_residual, polygon_samples
-from solver.core.budget import Budget
+from tests.solver.locus.membership_checks import (
+    FRAME,
+    SQUARE,
+    check_dual,
+    disk_samples,
+    equations_residual,
+    polygon_samples,
+)
 
 TOL = SOLVER_DEFAULT
 
@@ -49,6 +56,7 @@ def recompute_error(sc, res, length) -> float:
 # --- the disk: chapter 3's analytic boundary ---------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mu", [0.05, 0.5, 0.9, 1.5])
 def test_certified_disk_boundary_matches_the_analytic_one(mu):
     """(3.30), (3.35) and the perimeter arcs (models/cor_disk.py): at every boundary point
@@ -120,6 +128,7 @@ def square_trace():
     return sc, certified_polygon_boundary(sc, SQUARE, n_rays=32)
 
 
+@pytest.mark.slow
 def test_square_trace_is_certified_and_star_shaped(square_trace):
     sc, tr = square_trace
     assert tr.centre_result.status == "inside"
@@ -133,6 +142,7 @@ def test_square_trace_is_certified_and_star_shaped(square_trace):
         assert ray.inner.witness_residual <= STRICT_WITNESS_RESIDUAL
 
 
+@pytest.mark.slow
 def test_square_locus_lies_between_its_inscribed_and_circumscribed_disks(square_trace):
     """7.5: a footprint inside another with the same CM has a locus inside the other's. The
     square holds its inscribed disk (radius 1/2) and sits in its circumscribed one, so along
@@ -149,6 +159,7 @@ def test_square_locus_lies_between_its_inscribed_and_circumscribed_disks(square_
     assert np.min(t_out / outer) < 0.75
 
 
+@pytest.mark.slow
 def test_random_tripod_cors_fall_inside_the_traced_square_locus(square_trace):
     """3.3.3 / figure 3-6: CORs of random tripods on the square (forward Newton solves) lie
     inside the traced boundary; one that falls outside the traced polygon (a chord cutting
@@ -164,6 +175,7 @@ def test_random_tripod_cors_fall_inside_the_traced_square_locus(square_trace):
     assert_inside_own_rays(sc, SQUARE, outside_polygon, tr)
 
 
+@pytest.mark.slow
 def test_regular_polygon_locus_is_squeezed_between_two_disks():
     """7.5 on a 24-gon: it contains the disk of radius cos(pi/24) and lies in the unit disk
     (same CM), so its traced locus lies between those two disks' analytic loci along every
@@ -182,6 +194,7 @@ def test_regular_polygon_locus_is_squeezed_between_two_disks():
     assert np.all(t_out >= inner * (1 - 1e-5))
 
 
+@pytest.mark.slow
 def test_u_shape_whose_centre_of_mass_is_not_a_cor():
     """A U whose CM lies in its notch, off the footprint: no point mass can sit at the CM,
     and the CM is certified not a COR (dual checked on a dense grid of the U, 3.8). The trace

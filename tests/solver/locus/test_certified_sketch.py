@@ -14,14 +14,14 @@ import math
 import numpy as np
 import pytest
 
-from models.locus.cor_sketch import cor_sketch
 from models.footprint import Footprint
+from models.locus.cor_sketch import cor_sketch
 from models.scene import PushScene
 from models.support import random_balanced_tripods
-from solver.motion.forward import BatchResult, solve_forward_batch
-from solver.locus.certified_sketch import certified_sketch
-from tests.scenes import SEED, distance_to_polyline, point_in_polygon
 from solver.core.budget import Budget
+from solver.locus.certified_sketch import certified_sketch
+from solver.motion.forward import BatchResult, solve_forward_batch
+from tests.scenes import SEED, distance_to_polyline, point_in_polygon
 
 RECT = Footprint.create([[-1.5, -0.4], [1.5, -0.4], [1.5, 0.4], [-1.5, 0.4]])
 N_RAYS = 16
@@ -45,6 +45,7 @@ def sketched(request):
     return case, sc, certified_sketch(sc, case["mu_c"], RECT, n_rays=N_RAYS), cor_sketch(sc, case["mu_c"], n_points=1024)
 
 
+@pytest.mark.slow
 def test_every_piece_is_certified_and_inside_the_circumscribing_disks_sketch(sketched):
     """7.5: every pressure distribution on the rectangle is one on its circumscribing disk,
     so the rectangle's sticking segment lies within the disk's and each traced locus
@@ -68,6 +69,7 @@ def test_every_piece_is_certified_and_inside_the_circumscribing_disks_sketch(ske
             np.max(np.linalg.norm(pts - sc.center_of_mass, axis=1)))
 
 
+@pytest.mark.slow
 def test_forward_solves_on_the_rectangle_obey_its_sketch(sketched):
     """Random tripods on the rectangle (3.3.3, seeded): the mode each forward solve reports
     is one the polygon's sketch allows, and a sticking COR lies on the sticking line inside
@@ -90,6 +92,7 @@ def test_forward_solves_on_the_rectangle_obey_its_sketch(sketched):
     assert t.min() >= st.t_low - tol and t.max() <= st.t_high + tol
 
 
+@pytest.mark.slow
 def test_the_rectangle_must_stick_where_its_disk_would_let_it_slip():
     """The polygon's own sketch is sharper than the circumscribing disk's: the disk's
     sketch (mirrored i) allows slipping up, the rectangle's (g) only sticking, and 400
@@ -106,6 +109,7 @@ def test_the_rectangle_must_stick_where_its_disk_would_let_it_slip():
     assert (res.mode == BatchResult.MODES.index("sticking")).all()
 
 
+@pytest.mark.slow
 def test_a_many_sided_polygon_approaches_the_disk():
     """A regular 48-gon inscribed in the unit circle, pushed as the disk scene of figure
     4-12 (4.4): the same letter as the disk, and sticking ends within a few chord heights
@@ -141,6 +145,7 @@ def test_a_push_through_the_cm_inside_the_cone_has_no_loci():
     assert ps.sketch.sticking is None and ps.sticking is None
 
 
+@pytest.mark.slow
 def test_a_disk_sketch_with_exact_sticking_ends_agrees_with_the_sweep():
     """No footprint: the analytic disk loci and the exact sticking ends; the loci, letter
     and modes are those of models.locus.cor_sketch, and the ends agree with the book's sweep
@@ -156,6 +161,7 @@ def test_a_disk_sketch_with_exact_sticking_ends_agrees_with_the_sweep():
     assert cs.sketch.sticking.phi_low is None and sweep.sticking.phi_low is not None
 
 
+@pytest.mark.slow
 def test_the_letter_does_not_depend_on_the_number_of_rays():
     """Whether a traced locus crosses the sticking line decides its configuration (4.1.5):
     with only 8 uniform rays the chord polygon of {COR}_(alpha-nu) misses the line, and

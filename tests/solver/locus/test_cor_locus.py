@@ -33,6 +33,7 @@ def test_analytic_is_the_closed_forms_3_30_to_3_37():
     assert only_tip.analytic.tip is not None and only_tip.analytic.boundary is None
 
 
+@pytest.mark.slow
 def test_certified_disk_is_the_bracketed_analytic_boundary():
     res = cor_locus(LocusProblem(SCENE, method="certified", n_certified=8))
     want = certified_disk_boundary(SCENE, n_points=8)

@@ -12,19 +12,28 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from models.locus import cor_disk as cd
 from models.errors import InvalidInput
+from models.locus import cor_disk as cd
 from models.mpp import lever, membership_columns
 from models.scene import PushScene
 from models.support import Support, random_balanced_tripods
-from solver.core.errors import SolverError
-from solver.motion.forward import solve_forward
-from solver.locus.membership import MembershipProblem, decide_membership, membership
-from tests.scenes import SEED, point_in_polygon, scene_for_mu
-from solver.locus import membership as mm
 from solver.certify.colgen import decide
 from solver.core.budget import UNLIMITED, Budget
-from tests.solver.locus.membership_checks import FRAME, L_SHAPE, SQUARE, TOL, check_dual, check_witness, disk_samples, polygon_samples
+from solver.core.errors import SolverError
+from solver.locus import membership as mm
+from solver.locus.membership import MembershipProblem, decide_membership, membership
+from solver.motion.forward import solve_forward
+from tests.scenes import SEED, point_in_polygon, scene_for_mu
+from tests.solver.locus.membership_checks import (
+    FRAME,
+    L_SHAPE,
+    SQUARE,
+    TOL,
+    check_dual,
+    check_witness,
+    disk_samples,
+    polygon_samples,
+)
 
 # --- the reduction behind the pricing problem ----------------------------------------------
 
@@ -218,7 +227,7 @@ def _transformed(sc: PushScene, scale=1.0, angle=0.0, mirror=False, shift=(0.0, 
     """The scene mapped by x -> R (M x) * scale + shift (M the mirror y -> -y)."""
     m = np.diag([1.0, -1.0]) if mirror else np.eye(2)
     rot = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
-    f = lambda p: scale * (rot @ (m @ np.asarray(p, float))) + shift  # noqa: E731
+    f = lambda p: scale * (rot @ (m @ np.asarray(p, float))) + shift
     sign = -1.0 if mirror else 1.0
     new = PushScene.create(sc.disk_radius * scale, f(sc.contact_point), sign * sc.edge_angle + angle,
                            sign * sc.push_direction + angle, f(sc.center_of_mass))

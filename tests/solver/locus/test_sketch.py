@@ -18,6 +18,7 @@ from tests.scenes import scene_for_mu
 SCENE = scene_for_mu(0.3)
 
 
+@pytest.mark.slow
 def test_analytic_is_the_sketch_of_4_1():
     res = sketch(SketchProblem(SCENE, 0.3, n_points=64))
     want = cor_sketch(SCENE, 0.3, n_points=64)

@@ -18,11 +18,21 @@ from models.mpp import perp
 from models.scene import PushScene
 from models.support import random_balanced_tripods
 from solver.locus import sticking as st
-from solver.motion.forward import solve_forward_batch
 from solver.locus.sticking import sticking_feasibility, sticking_point
 from solver.locus.sticking_locus import sticking_locus
+from solver.motion.forward import solve_forward_batch
 from tests.scenes import SEED
-from tests.solver.locus.sticking_checks import TOL, U_SHAPE, check_witness, disk_grid, grid_lp, near_scene, polygon_grid, positions, u_scene
+from tests.solver.locus.sticking_checks import (
+    TOL,
+    U_SHAPE,
+    check_witness,
+    disk_grid,
+    grid_lp,
+    near_scene,
+    polygon_grid,
+    positions,
+    u_scene,
+)
 
 # --- the derivation (4.1.2, 4.1.4, ch. 2) --------------------------------------------------
 
@@ -116,6 +126,7 @@ def test_columns_are_affine_along_rays_from_r():
 # --- footprints, the reduction to the outline --------------------------------------------
 
 
+@pytest.mark.slow
 def test_dense_2d_grid_never_beats_the_outline():
     """The boundary reduction by brute force: where an LP over a dense 2-D grid of the disk
     (interior and outline points, plus a point mass at r when r is in the disk) is feasible,
@@ -138,6 +149,7 @@ def test_dense_2d_grid_never_beats_the_outline():
             assert res_full > 0.0
 
 
+@pytest.mark.slow
 def test_certified_duals_hold_on_a_dense_2d_grid():
     """An outside certificate's dual functional phi = y . G - lambda . H (reported on the
     unscaled world-aligned columns) stays above its certified lower bound on a dense 2-D grid

@@ -14,24 +14,40 @@ import math
 import numpy as np
 import pytest
 
-from models.locus import cor_disk as cd
 from models.errors import InvalidInput
+from models.locus import cor_disk as cd
 from models.mpp import perp
 from models.scene import PushScene
 from models.support import random_balanced_tripods
-from solver.motion.forward import solve_forward_batch
+from solver.core.budget import Budget
+from solver.locus import sticking_locus as stl
 from solver.locus.membership import membership
 from solver.locus.sticking import sticking_feasibility, sticking_point
 from solver.locus.sticking_locus import sticking_locus, sticking_search_range
-from tests.scenes import SEED, point_in_polygon, scene_for_mu
-from solver.core.budget import Budget
+from solver.motion.forward import solve_forward_batch
 from tests.budgets import checks_budget
-from solver.locus import sticking_locus as stl
-from tests.solver.locus.sticking_checks import L_SHAPE, NEAR_SCENES, SQUARE, TOL, U_SHAPE, check_witness, grid_lp, inside_some_interval, near_scene, polygon_grid, positions, sweep_union, transformed, u_scene
+from tests.scenes import SEED, point_in_polygon, scene_for_mu
+from tests.solver.locus.sticking_checks import (
+    L_SHAPE,
+    NEAR_SCENES,
+    SQUARE,
+    TOL,
+    U_SHAPE,
+    check_witness,
+    grid_lp,
+    inside_some_interval,
+    near_scene,
+    polygon_grid,
+    positions,
+    sweep_union,
+    transformed,
+    u_scene,
+)
 
 # --- the derivation (4.1.2, 4.1.4, ch. 2) --------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(NEAR_SCENES))
 def test_ends_agree_with_a_brute_force_sweep_of_force_angles(name):
     """Book 4.1.4: the sticking locus is the union over |phi| <= nu of {COR}_phi intersected
@@ -53,6 +69,7 @@ def test_ends_agree_with_a_brute_force_sweep_of_force_angles(name):
     assert hi.feasible_position - 2e-3 <= s_hi <= hi.feasible_position + 1e-4
 
 
+@pytest.mark.slow
 def test_witness_force_angle_is_a_frictionless_cor_of_the_turned_edge():
     """Book 4.1.4 and the sign convention of the sweep: a witness with force angle phi makes
     its COR a frictionless COR (membership) of the scene whose edge is turned by +phi."""
@@ -66,6 +83,7 @@ def test_witness_force_angle_is_a_frictionless_cor_of_the_turned_edge():
             assert membership(turned, res.cor, verify_witness=False).status == "inside"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mu_c", [0.5, 1e6])
 def test_every_sticking_forward_cor_lies_in_the_locus(mu_c):
     """Book 7.7 / figure 7-2 as a check: random tripods solved forward with pusher friction
@@ -85,6 +103,7 @@ def test_every_sticking_forward_cor_lies_in_the_locus(mu_c):
         assert s.min() - loc.lower.position < 1.0 and loc.upper.position - s.max() < 1.0
 
 
+@pytest.mark.slow
 def test_mu_c_to_zero_is_frictionless_membership_on_the_line():
     """mu_c -> 0: the cone collapses onto n and sticking feasibility is frictionless
     membership (3.3) at the same point of the sticking line; the locus ends converge."""
@@ -109,6 +128,7 @@ def test_mu_c_to_zero_is_frictionless_membership_on_the_line():
         assert loc_small.upper.position >= loc0.upper.position - 2e-6
 
 
+@pytest.mark.slow
 def test_mu_c_huge_and_infinite():
     """mu_c huge: only F . n >= 0 is left; mu_c = inf gives the same locus as 1e9, which
     contains the locus at mu_c = 0.5 (the cone only grows)."""
@@ -124,6 +144,7 @@ def test_mu_c_huge_and_infinite():
     check_witness(sc, loc_inf.lower.feasible, 1e300)
 
 
+@pytest.mark.slow
 def test_invariance_under_scale_rotation_translation_and_mirror():
     """3.3.12: the locus is invariant under similarities; a mirror image maps s to -s
     (the book's up and down are exchanged, 4.1.6)."""
@@ -140,6 +161,7 @@ def test_invariance_under_scale_rotation_translation_and_mirror():
             assert abs(other.tip_line.error * (-1 if kw.get("mirror") else 1) - f * base.tip_line.error) < 2e-6 * f
 
 
+@pytest.mark.slow
 def test_polygon_loci_lie_inside_their_disks_and_hold_the_tripods():
     """7.5: a footprint's sticking locus lies inside its circumscribing disk's; sticking
     CORs of random tripods on the footprint lie in it."""
@@ -160,6 +182,7 @@ def test_polygon_loci_lie_inside_their_disks_and_hold_the_tripods():
     assert all(inside_some_interval(sq, x, 1e-9) for x in positions(sc, b.cor[stick]))
 
 
+@pytest.mark.slow
 def test_a_u_shape_has_a_sticking_locus_of_two_intervals():
     """A non-convex footprint: the scan finds two intervals, each end certified, the gap
     certified outside in its middle and the 2-D grid LP agrees that the gap is infeasible."""
@@ -179,6 +202,7 @@ def test_a_u_shape_has_a_sticking_locus_of_two_intervals():
     assert grid_lp(sc, r, mu_c, pts, in_f) > 1e-6
 
 
+@pytest.mark.slow
 def test_l_shape_locus_and_footprint_with_another_cm():
     sc = PushScene.create(L_SHAPE.circumradius, [0.5, 0.0], 0.0, math.pi / 2 + 0.3, L_SHAPE.center_of_mass)
     loc = sticking_locus(sc, 0.6, footprint=L_SHAPE, scan_points=48, seed_tripods=64, seed=SEED)
@@ -191,6 +215,7 @@ def test_l_shape_locus_and_footprint_with_another_cm():
         sticking_feasibility(other, sticking_point(other, -1.0), 0.6, footprint=L_SHAPE)
 
 
+@pytest.mark.slow
 def test_a_far_sticking_locus():
     """A cone holding a line of force close to the CM puts the locus ~65-185 L away (the
     book's tip distance a^2/|alpha . c| grows without bound): ends bracketed ("wide" when
@@ -229,6 +254,7 @@ def test_the_search_range_is_an_outer_bound():
             assert res.status == "outside" and res.certificate_kind == "dual"
 
 
+@pytest.mark.slow
 def test_a_translation_along_the_push_sticks_and_is_reported():
     """CM on the push line through c and p in the cone: a pure translation sticks (COR at
     infinity); the finite sticking locus is empty here (every {COR}_phi reaches the line
@@ -240,6 +266,7 @@ def test_a_translation_along_the_push_sticks_and_is_reported():
     assert not sticking_locus(sc, 0.1, scan_points=16, seed_tripods=0).translation_sticks
 
 
+@pytest.mark.slow
 def test_book_6_3_sticking_locus_experiment():
     """Book 6.3 (figure 6-1): a brass disk of radius 1.25 in pushed by a fence at
     alpha = 70 degrees, mu_c about 0.5. "The COR should not fall below the tip line, which
@@ -276,6 +303,7 @@ def test_book_6_3_sticking_locus_experiment():
     assert all(inside_some_interval(loc, x, 1e-9) for x in positions(sc, b.cor[stick]))
 
 
+@pytest.mark.slow
 def test_tip_line_error_against_the_exact_lower_end():
     """3.3.11.1 / 4.1.4: the tip line's crossing approximates the lower end; each {COR}_phi
     dips slightly below the tip line, so for a scene of sketch type g/h the exact end lies
@@ -299,6 +327,7 @@ def test_time_limit_stops_the_locus():
     assert res.status == "undecided"
 
 
+@pytest.mark.slow
 def test_wrongly_graded_scan_probes_do_not_split_or_shorten_the_locus(monkeypatch):
     """Grid pricing ("outside" without a certificate) can be wrong: a probe graded outside
     (or undecided) in the middle of the locus splits the scan's run; the certified brackets
@@ -322,6 +351,7 @@ def test_wrongly_graded_scan_probes_do_not_split_or_shorten_the_locus(monkeypatc
     assert abs(loc.lower.position - lo) < 1e-6 and abs(loc.upper.position - hi) < 1e-6
 
 
+@pytest.mark.slow
 def test_agrees_with_the_cor_sketch_force_angle_sweep():
     """models/cor_sketch.py computes the sticking locus of a disk by the book's construction
     (a sweep of force angles over the analytic loci, refined by golden section): the ends
@@ -351,6 +381,7 @@ def test_agrees_with_the_cor_sketch_force_angle_sweep():
             assert loc.lower.infeasible_position - 1e-8 <= s_fine <= loc.lower.feasible_position + 1e-8
 
 
+@pytest.mark.slow
 def test_the_tip_line_misses_the_end_when_the_cone_is_narrow():
     """4.1.4's "unstated assumption": the tip line approximates the lower end only when the
     tips of {COR}_(alpha -+ nu) lie on either side of the sticking line. For a narrow cone

@@ -11,16 +11,16 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from models.locus import cor_disk as cd
 from models import mpp
 from models.errors import InvalidInput
+from models.locus import cor_disk as cd
 from models.scene import PushScene
 from models.support import Support, random_balanced_tripods, uniform_disk_support
 from solver.core.errors import BackendNotFound, NotConverged, SolverError
 from solver.core.outcome import Outcome
 from solver.core.tolerances import SolverTolerances
 from solver.motion.forward import METHODS, solve_forward, solve_forward_batch
-from tests.scenes import SEED, point_in_polygon, distance_to_polyline, scene_for_mu
+from tests.scenes import SEED, distance_to_polyline, point_in_polygon, scene_for_mu
 
 MUS = (0.05, 0.3, 0.9, 1.5)
 
@@ -146,6 +146,7 @@ def test_translation_is_a_normal_answer():
         assert np.allclose(r.velocity_cm, [1.0, 0.0], atol=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mu", (0.05, 0.3, 0.72, 0.9, 1.5))
 def test_random_tripod_cors_lie_in_the_analytic_locus(mu):
     """Figure 3-5 by the batched solver: every tripod COR is inside the analytic boundary

@@ -9,9 +9,9 @@ import pytest
 
 from models import particle as mp
 from models.errors import InvalidInput
-from solver.motion import particle as sp
 from solver.core.errors import NotConverged, SolverError
 from solver.core.outcome import Outcome
+from solver.motion import particle as sp
 
 
 @pytest.mark.parametrize("v_x,mg,eta", [(1.0, 1.0, 2.0), (0.2, 3.0, 4.0), (5.0, 0.1, 0.11)])
@@ -42,7 +42,7 @@ def test_numeric_minimiser_equals_the_closed_form(n, v_x, mg, eta):
     assert sol.relative_disagreement > 1e-3
     assert sol.power_mpp < sol.power_newton
     # the disagreement is the one predicted by (2.29) vs (2.32): g_n(mpp) (n+1) = g_n(newton)
-    g = lambda u: float(mp.balance_function(u, v_x, n))  # noqa: E731
+    g = lambda u: float(mp.balance_function(u, v_x, n))
     assert (n + 1.0) * g(sol.mpp_v_y_numeric) == pytest.approx(g(sol.newton_v_y), rel=1e-9)
 
 

@@ -9,18 +9,17 @@ import math
 import numpy as np
 import pytest
 
-from models.locus import cor_disk as cd
 from models.errors import InvalidInput
-from models.footprint import Footprint
-from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.motion import tripod_search as ts
+from models.footprint import Footprint, triangle_areas, triangulate
+from models.locus import cor_disk as cd
+from models.support import Support
 from solver.core.errors import NotConverged, SolverError
 from solver.core.outcome import Outcome
-from tests.budgets import checks_budget
-from models.support import Support
+from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
+from solver.motion import tripod_search as ts
 from solver.motion.forward import solve_forward
+from tests.budgets import checks_budget
 from tests.scenes import SEED, distance_to_polyline, point_in_polygon, scene_for_mu
-from models.footprint import triangle_areas, triangulate
 
 SQUARE = [[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]]
 L_SHAPE = [[0, 0], [3, 0], [3, 1], [1, 1], [1, 2.5], [0, 2.5]]
@@ -104,6 +103,7 @@ def polygon_scene(vertices, mu, edge_angle=1.3):
     return fp, sc
 
 
+@pytest.mark.slow
 def test_square_stays_inside_the_circumscribing_disk_locus():
     """The square's supports are supports of its circumscribing disk, so its extremes lie in
     the disk's locus. Along the axis the best tripod is the diagonal dipod, whose COR lies
@@ -202,6 +202,7 @@ def test_results_are_outcomes():
         assert isinstance(s, Outcome) and s.complete and s.message.startswith(f"start {s.index}: {s.status}")
 
 
+@pytest.mark.slow
 def test_unverifiable_search_raises():
     """With checks that nothing can pass, the search refuses to answer."""
     impossible = SolverTolerances(kkt=-1.0)

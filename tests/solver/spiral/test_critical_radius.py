@@ -13,23 +13,23 @@ import math
 import numpy as np
 import pytest
 
-from models.locus.cor_sketch import cor_sketch
 from models.errors import InvalidInput
 from models.gross.gross_bounds import encounter_scene
+from models.locus.cor_sketch import cor_sketch
 from models.mpp import perp
 from models.spiral import critical_envelope, tip_line_critical_radius
+from solver.core.budget import Budget
 from solver.spiral.critical_radius import (
     CriticalRadiusProblem,
     critical_beta,
     critical_distance,
+    critical_radii,
     critical_radius,
     critical_radius_table,
-    critical_radii,
     kink_beta,
     limiting_radius_check,
 )
 from solver.spiral.schedule import spiral_schedule
-from solver.core.budget import Budget
 from tests.budgets import checks_budget
 
 HALF_PI = 0.5 * math.pi
@@ -44,6 +44,7 @@ HALF_PI = 0.5 * math.pi
 # ------------------------------------------------------------------ r*(beta)
 
 
+@pytest.mark.slow
 def test_exact_and_sweep_agree(exact_025, sweep_025):
     """The certified lower end of the sticking locus and the book's force-angle sweep
     (4.1.4) agree to ~1e-5 a; every exact point is certified with a bracket <= 1e-6 a."""
@@ -53,6 +54,7 @@ def test_exact_and_sweep_agree(exact_025, sweep_025):
     assert np.max(np.abs(exact_025.midpoints - sweep_025.radii)) < 1e-4
 
 
+@pytest.mark.slow
 def test_r_star_decreases_with_beta(exact_025, dense_sweep_025):
     """r*(beta) falls monotonically to b_inf (figure 4-19): no increase along either table,
     so point values bound their cells and the envelope loses nothing."""
@@ -61,6 +63,7 @@ def test_r_star_decreases_with_beta(exact_025, dense_sweep_025):
     assert np.allclose(exact_025.envelope.envelope, exact_025.radii)
 
 
+@pytest.mark.slow
 def test_limiting_radius_matches_4_25():
     """(4.25): r*(pi/2 - 1e-6), exact, is a(1 + mu_c) for mu_c <= 1 and 2a for mu_c >= 1,
     to ~2e-6 a (r* - b_inf is ~1.3 (pi/2 - beta) a for mu_c < 1), from above (the safe
@@ -73,6 +76,7 @@ def test_limiting_radius_matches_4_25():
         assert 0.0 <= c.difference < 3e-6, (mu, c.difference)
 
 
+@pytest.mark.slow
 def test_tip_line_error(exact_025):
     """The book's tip-line approximation (4.1.4, 4.4.1.1): 2a/sin(beta), so 2a at grazing
     for every mu_c: for mu_c = 0.25 it overstates b_inf by 0.75 a (safe but slow), and at
@@ -86,6 +90,7 @@ def test_tip_line_error(exact_025):
     assert r1.certified and r1.tip_line_radius < r1.radius - 0.05
 
 
+@pytest.mark.slow
 def test_scale_invariance():
     """Results are linear in a (the sticking solver works in units of a)."""
     ref = critical_radius(1.0, 1.0, 0.5, "exact")
@@ -97,6 +102,7 @@ def test_scale_invariance():
             assert r.distance_from_grazing / a == pytest.approx(base.distance_from_grazing, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_critical_case_every_cor_pushes_the_disk_in(exact_025):
     """4.5.2: with PC directly below the contact at distance r = r*(beta) (the safe exact
     value), every COR of the sketch (sticking segment, down- and up-slipping polygons, 2048
@@ -133,6 +139,7 @@ def test_critical_case_every_cor_pushes_the_disk_in(exact_025):
                 assert worst < 0.0, (mu, beta, worst)
 
 
+@pytest.mark.slow
 def test_kink_of_figure_4_19():
     """4.5.3: 1/r*(beta) has a slope discontinuity where the sticking locus's lower end
     crosses the disk's rim (r* = 2a sin beta); for mu_c = 0.25 near beta = 1.149, where
@@ -147,6 +154,7 @@ def test_kink_of_figure_4_19():
     assert kink_beta(1.0, 2.0, iterations=1) is None
 
 
+@pytest.mark.slow
 def test_inverse_beta_and_distance(exact_025):
     """beta*(r) and d*(r) (4.5.3, 4.24) of the exact table: the smallest tabulated beta
     whose tail is below r, and a(1 - sin beta*)."""
@@ -166,6 +174,7 @@ def test_inverse_beta_and_distance(exact_025):
 
 
 
+@pytest.mark.slow
 def test_time_limits_say_where_they_stopped():
     """A table stopped by its time limit keeps the points it finished, from grazing down,
     and says where it stopped; a schedule whose deadline passes before the solve says so."""
@@ -182,6 +191,7 @@ def test_time_limits_say_where_they_stopped():
 
 
 
+@pytest.mark.slow
 def test_cached_tables_scale_with_a_and_carry_their_margin():
     """4.5.3: r* is a length per a, so one table at a = 1 serves every disk (the service's
     cache): the scaled table equals the one computed for that a; the margin moves the
@@ -209,6 +219,7 @@ def test_cached_tables_scale_with_a_and_carry_their_margin():
         critical_radius_table(1.0, 0.7, "tip_line", r_max=10.0, margin_rel=-1.0)
 
 
+@pytest.mark.slow
 def test_critical_radii_in_one_call_4_13_4_24_4_25():
     """At given betas: the table computed for the problem (not cached), the tip line 2a/sin
     beta (4.13) beside it, b_inf numerically against (4.25), and the inverse beta*(r), d*(r)

@@ -42,6 +42,7 @@ def test_plan_of_the_tip_line_4_26():
     assert plan.polyline is None and plan.simulation is None and plan.from_cache is False
 
 
+@pytest.mark.slow
 def test_path_and_simulation_on_request():
     plan = plan_spiral(dataclasses.replace(TIP, path=PathQuery(points_per_revolution=16),
                                            simulate=SimulationQuery(n_supports=1, seed=3, kind="dipod")))

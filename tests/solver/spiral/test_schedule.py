@@ -12,15 +12,16 @@ import numpy as np
 import pytest
 
 from models.errors import InvalidInput
-from models.tolerances import SpiralTolerances
 from models.spiral import fastest_spiral, power_law_fit
+from models.tolerances import SpiralTolerances
+from solver.core.budget import Budget
 from solver.spiral.critical_radius import critical_radius, critical_radius_table
 from solver.spiral.schedule import spiral_schedule
-from solver.core.budget import Budget
 
 HALF_PI = 0.5 * math.pi
 
 
+@pytest.mark.slow
 def test_or_tools_optimum_equals_the_recursion_up_to_the_grid(dense_sweep_025):
     """Without robot limits greedy is optimal (models/spiral.py), so OR-Tools' optimum on
     a uniform grid of spacing h equals the greedy on that grid, for revolutions and for
@@ -51,6 +52,7 @@ def test_or_tools_optimum_equals_the_recursion_up_to_the_grid(dense_sweep_025):
     assert by_length.revolutions == sched.revolutions
 
 
+@pytest.mark.slow
 def test_robot_limits(dense_sweep_025):
     """A maximum step keeps greedy optimal; a minimum step can strand greedy short of the
     target, and the shortest path still finds a safe schedule with every step >= it."""
@@ -69,6 +71,7 @@ def test_robot_limits(dense_sweep_025):
     assert hit.revolutions >= hit.recursion.revolutions  # the recursion ignores the minimum step
 
 
+@pytest.mark.slow
 def test_cp_sat_backend_agrees(dense_sweep_025):
     env = dense_sweep_025.envelope
     mcf = spiral_schedule(env, 10.0, 2.5, resolution=3)

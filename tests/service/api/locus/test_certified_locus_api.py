@@ -31,6 +31,7 @@ def post(client, body, params=None):
     return r.json()
 
 
+@pytest.mark.slow
 def test_certified_disk_is_the_solver_answer(client):
     got = post(client, {**DISK, "method": "certified", "n_certified": 8})
     assert got["method"] == "certified" and got["locus_of"] == "disk"
@@ -55,6 +56,7 @@ def test_certified_disk_is_the_solver_answer(client):
     assert got["tip"] == analytic["tip"]
 
 
+@pytest.mark.slow
 def test_certified_polygon_is_the_solver_answer(client):
     got = post(client, {**POLY, "method": "certified", "n_certified": 6, "outputs": []})
     assert got["locus_of"] == "circumscribing_disk"
@@ -97,6 +99,7 @@ def test_footprint_analytic_keeps_the_workpiece_behaviour(client):
     assert post(client, DISK)["locus_of"] == "disk"
 
 
+@pytest.mark.slow
 def test_workpiece_with_method_certified_traces_the_polygon(client):
     got = post(client, {"workpiece": RECT, "contact_point": [-1.0, -0.3], "edge_angle": HALF_PI,
                         "method": "certified", "n_certified": 4, "outputs": []})

@@ -354,6 +354,7 @@ def test_invalid_input_is_422_naming_the_field(client, case):
         assert d["msg"] and d["type"] and "Traceback" not in d["msg"]
 
 
+@pytest.mark.slow
 def test_newton_batch_size_limit(client):
     r = client.post(URL, json={**PUSH, "supports": [{"points": [[0, 0]], "weights": [1]}] * (MAX_BATCH + 1)})
     assert r.status_code == 422

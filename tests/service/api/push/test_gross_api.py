@@ -19,14 +19,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from models.footprint import Footprint
 from models.gross import fence_geometry as fg
 from models.gross import gross_bounds as gb
 from models.gross import gross_motion as gm
 from models.gross import quasistatic as qs
-from models.footprint import Footprint
 from service.api.push import convert as push_convert
+from service.api.push import routes as push_routes
 from service.limits import GROSS_MAX_N_NODES, MAX_TIME_LIMIT_S, SKETCH_MAX_N_POINTS
 from solver.gross.bounds import SKETCH_COST, SketchCost
+from tests.budgets import ChecksBudgets
 
 ALIGN = "/v1/push/align"
 ENCOUNTER = "/v1/push/disk-encounter"
@@ -66,6 +68,7 @@ def book_footprint():
 # --- POST /v1/push/align -----------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_align_answer_is_the_models(client):
     body = {**SQUARE_30, "mu_c": 0.25, **FAST}
     r, got = post(client, ALIGN, body)
@@ -110,6 +113,7 @@ def test_align_answer_is_the_models(client):
     assert got["predicted_time_s"] == SKETCH_COST.bounds_s(1, 4, 16) and got["elapsed_ms"] > 0
 
 
+@pytest.mark.slow
 def test_book_example_4_3(client):
     """Lines 1855-1923: alpha = 70 deg, c = 0.5746 a, beta 45 -> 80 deg, mu_c = 0.25: the
     book's composite closed form is 1.63903 a; the exact sketch's longest push ~1.6451 a
@@ -158,6 +162,7 @@ def test_frictionless_fence_is_3_41_and_exact(client):
     assert c == pytest.approx(s["contact_distance"])
 
 
+@pytest.mark.slow
 def test_methods(client):
     _, both = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.5, **FAST})
     _, closed = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.5, "method": "closed_form", **FAST})
@@ -179,6 +184,7 @@ def test_mirror_image_is_reflected_onto_the_book_case(client):
     assert cw["slip"] is None  # closed forms only: the book has none for the slip
 
 
+@pytest.mark.slow
 def test_slip_of_a_mirror_image_is_the_reflected_slip(client):
     """The counter-clockwise case is the book's reflected across the line of motion: the
     same slip magnitudes, along the reflected fence direction; a world rotation of the
@@ -230,6 +236,7 @@ def test_contact_below_the_line_of_motion(client):
     assert (loc, type_) == (["body", "orientation"], "value_error") and "(4.7)" in msg
 
 
+@pytest.mark.slow
 def test_already_flush_and_a_chain_of_stages(client):
     r, got = post(client, ALIGN, {"footprint": SQUARE, "fence_angle": D(90), "mu_c": 0.3, **FAST})
     assert r.status_code == 200, r.text
@@ -320,6 +327,7 @@ def test_time_budget(client, monkeypatch):
     r, got = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.3, "n_nodes": 16, "time_limit_s": 1.0})
     assert r.status_code == 422 and "predicted" in detail(got)[2]
     monkeypatch.setattr(push_convert, "SKETCH_COST", SketchCost(fixed_s=0.0, per_point_s=0.0))
+    monkeypatch.setattr(push_routes, "Budget", ChecksBudgets(2))  # 0.01 s spent in two checks, on any machine
     r, got = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.3, **FAST, "time_limit_s": 0.01})
     assert r.status_code == 504
     loc, type_, msg = detail(got)
@@ -328,6 +336,7 @@ def test_time_budget(client, monkeypatch):
     assert got["reached"] in msg and got["time_limit_s"] == 0.01 and got["elapsed_s"] > 0.01
     assert [s["contact_vertex_index"] for s in got["partial"]["stages"]] == []  # stage 1 was not finished
     # the deadline is checked between the sketches of one bound, too
+    monkeypatch.setattr(push_routes, "Budget", ChecksBudgets(0))
     r, got = post(client, ENCOUNTER, {"disk_radius": 1.0, "beta_initial": 0.7, "mu_c": 0.5, **FAST,
                                       "time_limit_s": 1e-9})
     loc, _, msg = detail(got)
@@ -339,6 +348,7 @@ def test_time_budget(client, monkeypatch):
     assert done["length_greatest"]["exact"] is None and done["rotation_least"]["exact"] is None
 
 
+@pytest.mark.slow
 def test_align_numbers_stay_finite_at_the_limits(client):
     big = [[x * 1e9 for x in p] for p in SQUARE]
     tiny = [[x * 1e-99 for x in p] for p in SQUARE]
@@ -357,6 +367,7 @@ def test_align_numbers_stay_finite_at_the_limits(client):
 # --- POST /v1/push/disk-encounter ----------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_encounter_answer_is_the_models(client):
     body = {"disk_radius": 2.0, "beta_initial": D(40), "mu_c": 0.4, **FAST}
     r, got = post(client, ENCOUNTER, body)
@@ -384,6 +395,7 @@ def test_encounter_answer_is_the_models(client):
     assert got["predicted_time_s"] == SKETCH_COST.bounds_s(1, 4, 16)
 
 
+@pytest.mark.slow
 def test_encounter_book_numbers_and_the_offset(client):
     """(4.16) at beta = 45 deg is a ln((1 + cos)/(1 - cos)) = 1.7627 a; the exact greatest
     length is below it at mu_c = 0.5 (sketch i from 45 deg: the tip line overestimates);
@@ -414,6 +426,7 @@ def test_encounter_quasi_static_is_that_of_the_disk(client):
     assert got["quasi_static"]["angular"]["characteristic_speed"] == want.angular.characteristic_speed
 
 
+@pytest.mark.slow
 def test_encounter_warns_about_a_poor_quadrature(client):
     r, got = post(client, ENCOUNTER, {"disk_radius": 1.0, "beta_initial": 1e-6, "mu_c": 0.5, **FAST})
     assert r.status_code == 200, r.text

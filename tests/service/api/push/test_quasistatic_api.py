@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from models.gross import quasistatic as qs
 from models.footprint import Footprint
+from models.gross import quasistatic as qs
 from service.limits import (
     MAX_DISK_RADIUS,
     QS_MAX_ANGULAR_ERROR,

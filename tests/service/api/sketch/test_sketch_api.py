@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from models.locus.cor_sketch import IMPLIED_MODES, cor_sketch
 from models.footprint import Footprint
+from models.locus.cor_sketch import IMPLIED_MODES, cor_sketch
 from models.scene import PushScene
 from models.support import random_balanced_tripods
 from service.limits import SKETCH_MAX_N_POINTS, SKETCH_MIN_LENGTH
@@ -95,6 +95,7 @@ def expected(sk, scene) -> dict:
 # ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n_points", [64, 512])
 def test_json_is_the_model(client, n_points):
     r, got = post(client, {**EXAMPLE, "n_points": n_points})
@@ -110,6 +111,7 @@ def test_json_is_the_model(client, n_points):
     assert got["message"].startswith("sketch d of figure 4-6, mirrored")
 
 
+@pytest.mark.slow
 def test_defaults_and_other_push_directions(client):
     """push_direction, center_of_mass reach the model; the default n_points is the model's."""
     body = {**EXAMPLE, "center_of_mass": [2.0, -1.0], "contact_point": [1.4, -1.2], "push_direction": 0.2,
@@ -121,6 +123,7 @@ def test_defaults_and_other_push_directions(client):
     assert {k: got[k] for k in want} == want and got["n_points"] == 512
 
 
+@pytest.mark.slow
 def test_polygon_is_sketched_as_its_circumscribing_disk(client):
     r, got = post(client, {"footprint": L_SHAPE, "contact_point": [0, 0.5], "edge_angle": math.pi / 2, "mu_c": 0.4})
     assert r.status_code == 200, r.text
@@ -139,6 +142,7 @@ def test_polygon_is_sketched_as_its_circumscribing_disk(client):
 # ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("letter, mirrored, params", SKETCH_SCENES[::2], ids=lambda v: str(v))
 def test_sketch_letters(client, letter, mirrored, params):
     r, got = post(client, {**body_of(params), "n_points": 256})
@@ -192,6 +196,7 @@ def test_contact_at_the_cm_is_a_translation(client):
     assert got["tip_line_estimate"] is None
 
 
+@pytest.mark.slow
 def test_line_of_force_through_the_cm_alone_still_rotates(client):
     """The edge normal through the CM (a frictionless translation) pushed obliquely: with
     friction the push line decides, the part turns and the sketch is g (must stick)."""
@@ -206,6 +211,7 @@ def test_line_of_force_through_the_cm_alone_still_rotates(client):
 # ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("body, ids", [
     (body_of((-0.15, 0.89, 42, 0.06)),  # f: both slipping loci, sticking locus in view
      {"disk", "center-of-mass", "contact", "push-arrow", "friction-cone", "sticking-line", "edge-normal-line",
@@ -231,6 +237,7 @@ def test_svg_is_xml_with_the_sketch(client, body, ids):
     assert f"COR sketch {letter}" in r.text  # the title, in the SVG's metadata
 
 
+@pytest.mark.slow
 def test_svg_at_extreme_scales(client):
     """Drawn relative to the CM and in powers of ten: tiny parts far from the origin."""
     for a, cm in ((1e-9, [1e6, -1e6]), (1e9, [0.0, 0.0]), (SKETCH_MIN_LENGTH, [0.0, 0.0])):
@@ -325,6 +332,7 @@ def test_docs_example_is_this_answer(client):
     assert r.status_code == 200 and got["sketch"] == "d" and got["mirrored"] is True
 
 
+@pytest.mark.slow
 def test_no_letter_when_the_loci_match_none_of_the_nine(client):
     """(P, W) with a wide cone whose edge points back against the push: nothing can stick,
     so the loci are not sketch g's; the answer says so and keeps the model's modes."""
@@ -347,6 +355,7 @@ MUST_STICK = {"footprint": RECT, "contact_point": [-1.5, 0.18766172], "edge_angl
               "push_direction": -0.4635935760943159, "mu_c": 0.3, "n_rays": 8}
 
 
+@pytest.mark.slow
 def test_certified_sketch_of_a_polygon_is_the_polygons_own(client):
     """The rectangle must stick (sketch g) where its circumscribing disk allows slipping up
     (mirrored i); the answer is the solver's, with its certification report."""
@@ -381,6 +390,7 @@ def test_certified_sketch_of_a_polygon_is_the_polygons_own(client):
     ET.fromstring(r.text)
 
 
+@pytest.mark.slow
 def test_certified_sketch_of_a_disk_has_exact_sticking_ends(client):
     r, got = post(client, {**EXAMPLE, "method": "certified"})
     _, sweep = post(client, EXAMPLE)

