@@ -31,6 +31,15 @@ from solver.motion.particle import ParticleProblem, ParticleSolution, particle
 from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure, solve_motion
 from solver.motion.statistics import HistogramQuery, TripodStatistics, TripodStatisticsProblem, tripod_statistics
 from solver.motion.tripod_search import ExtremeCorResult, extreme_cor_search
+from solver.sim.push import (
+    BatchSimulation,
+    PushSimulation,
+    simulate_disk_encounter,
+    simulate_disk_encounter_batch,
+    simulate_fence_alignment,
+    simulate_fence_alignment_batch,
+)
+from solver.sim.spiral import SpiralBatch, SpiralRun, simulate_spiral, simulate_spiral_batch, spiral_check
 from solver.spiral.critical_radius import (
     CriticalRadii,
     CriticalRadiusProblem,
@@ -118,6 +127,17 @@ __all__ = [
     "TripodStatistics",
     "TripodStatisticsProblem",
     "tripod_statistics",
+    "BatchSimulation",
+    "PushSimulation",
+    "simulate_disk_encounter",
+    "simulate_disk_encounter_batch",
+    "simulate_fence_alignment",
+    "simulate_fence_alignment_batch",
+    "SpiralBatch",
+    "SpiralRun",
+    "simulate_spiral",
+    "simulate_spiral_batch",
+    "spiral_check",
     "ExtremeCorResult",
     "extreme_cor_search",
     "CriticalRadii",

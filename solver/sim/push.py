@@ -34,57 +34,37 @@ Each problem has two simulators:
 
 The batch versions are reformulations of the same motion (valid while beta increases,
 i.e. the part turns clockwise, which Mason's rule guarantees here); the tests check that
-both agree and that both converge in their step.
+both agree and that both converge in their step. The single-support simulators step on the
+simulation core (:mod:`solver.sim.stepper`, :mod:`solver.sim.kinematics`,
+:mod:`solver.sim.contacts`).
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from models.errors import InvalidInput
 from models.gross.gross_bounds import encounter_scene, fence_scene
-from models.mpp import perp
-from models.scene import PushScene
-from models.support import Support
-from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.core.errors import SolverError
-from solver.motion.forward import BatchResult, solve_forward, solve_forward_batch
+from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
+from solver.motion.forward import BatchResult, solve_forward_batch
+from solver.sim.contacts import at_distance, onto_line
+from solver.sim.kinematics import rotate_batch, rotation
+from solver.sim.stepper import MotionOracle, march, midpoint_step
 
 HALF_PI = 0.5 * math.pi
 
+ENDING_BETA_GAP = 1e-9
+"""A disk whose collision parameter at a step's midpoint is within this of pi/2 is leaving
+the pusher: the step keeps its start's twist (an Euler step locates the end)."""
 
-def _rot(theta: float) -> np.ndarray:
-    c, s = math.cos(theta), math.sin(theta)
-    return np.array([[c, -s], [s, c]])
-
-
-def _rotate_batch(points: np.ndarray, theta) -> np.ndarray:
-    """Rotate points (B, k, 2) by angles theta (B,) or a scalar, CCW positive."""
-    th = np.broadcast_to(np.asarray(theta, dtype=float), points.shape[:1])
-    c, s = np.cos(th)[:, None], np.sin(th)[:, None]
-    x, y = points[..., 0], points[..., 1]
-    return np.stack([c * x - s * y, s * x + c * y], axis=-1)
-
-
-def _advance(cm: np.ndarray, theta: float, twist, h: float):
-    """Move the pose (cm, theta) by the rigid motion of ``twist`` held for a push h.
-
-    ``twist`` = (v, omega, cm_eval): the CM velocity and rotation per unit push found with
-    the CM at cm_eval. The motion is a rotation by omega h about the world point
-    cm_eval + J v / omega (the COR; not about a point relative to the moved pose: for the
-    midpoint twist that would shift the COR by O(h) and make the scheme first order), or
-    the translation v h when omega h is tiny."""
-    v, omega, cm_eval = twist
-    turn = omega * h
-    if abs(turn) <= 1e-14:
-        return cm + v * h, theta + turn
-    cor = cm_eval + perp(v) / omega
-    return cor + _rot(turn) @ (cm - cor), theta + turn
+END_BETA_GAP = 1e-12
+"""The encounter ends when beta reaches pi/2 - END_BETA_GAP (the end is then placed at
+pi/2 by interpolation)."""
 
 
 @dataclass(frozen=True)
@@ -106,6 +86,20 @@ class PushSimulation:
     not_optimal: int
     solve_time_s: float
 
+    @property
+    def status(self) -> str:
+        """"completed": a simulation that did not reach its end event raises instead."""
+        return "completed"
+
+    @property
+    def complete(self) -> bool:
+        return True
+
+    @property
+    def message(self) -> str:
+        return (f"pushed {self.push:.6g} in {self.steps} steps of {self.step:.3g}; {self.not_optimal} of "
+                f"{sum(self.modes.values())} forward solves not optimal")
+
 
 @dataclass(frozen=True)
 class BatchSimulation:
@@ -126,6 +120,20 @@ class BatchSimulation:
     max_kkt: float
     solve_time_s: float
     evaluations: int = field(default=0)
+
+    @property
+    def status(self) -> str:
+        return "converged" if self.converged else "not_converged"
+
+    @property
+    def complete(self) -> bool:
+        """Every forward solve converged."""
+        return self.converged
+
+    @property
+    def message(self) -> str:
+        return (f"{self.push.size} supports over {self.beta_nodes.size} beta nodes ({self.evaluations} batched "
+                f"solves); {'all' if self.converged else 'not all'} converged, max KKT {self.max_kkt:.2g}")
 
 
 def _check_batch(points, weights):
@@ -183,7 +191,7 @@ def simulate_fence_alignment_batch(
     t0 = time.perf_counter()
     for j, beta in enumerate(betas):
         scene = fence_scene(a, c, alpha, float(beta))
-        res: BatchResult = solve_forward_batch(scene, _rotate_batch(w, -(beta - beta_initial)), p, mu_c, tol)
+        res: BatchResult = solve_forward_batch(scene, rotate_batch(w, -(beta - beta_initial)), p, mu_c, tol)
         if np.any(res.omega >= 0.0):
             raise SolverError(f"a support did not turn clockwise at beta = {beta:.6g} (Mason's rule says it must)")
         rate[j] = -1.0 / res.omega
@@ -240,57 +248,32 @@ def simulate_fence_alignment(
     n_hat = np.array([math.sin(alpha), -math.cos(alpha)])
     vertex_body = c * np.array([-math.cos(beta_initial), math.sin(beta_initial)])
     h = float(step) * a
+    oracle = MotionOracle(body, wts, a, mu_c, method, tol)
 
-    def beta_of(cm, theta):
-        d = -(_rot(theta) @ vertex_body)  # vertex -> CM
+    def beta_of(x, cm, theta):
+        d = -(rotation(theta) @ vertex_body)  # vertex -> CM
         return math.atan2(-d[1], d[0])
 
-    def project(cm, theta, x):
-        vertex = cm + _rot(theta) @ vertex_body
-        return cm + (x * math.sin(alpha) - n_hat @ vertex) * n_hat
+    def constrain(cm, theta, x):
+        return onto_line(cm, cm + rotation(theta) @ vertex_body, n_hat, x * math.sin(alpha))
 
-    stats = {"modes": Counter(), "kkt": 0.0, "bad": 0}
-
-    def twist(cm, theta):
-        vertex = cm + _rot(theta) @ vertex_body
-        scene = PushScene.create(a, vertex, alpha, 0.0, cm)
-        sup = Support.create(cm + body @ _rot(theta).T, wts, cm, tol)
-        res = solve_forward(scene, sup, mu_c, method=method, tol=tol)
-        stats["modes"][res.mode] += 1
-        stats["kkt"] = max(stats["kkt"], res.kkt_residual)
-        stats["bad"] += res.status != "optimal"
-        if res.omega >= 0.0:
+    def twist(x, cm, theta, start=None):
+        tw = oracle.twist(cm, theta, cm + rotation(theta) @ vertex_body, alpha, 0.0)
+        if tw.omega >= 0.0:
             raise SolverError("the part did not turn clockwise (Mason's rule says it must)")
-        return res.velocity_cm, res.omega, cm
+        return tw
 
-    cm = -vertex_body.copy()  # vertex at the origin
-    theta = 0.0
-    x = 0.0
-    beta = beta_of(cm, theta)
-    xs, bs = [x], [beta]
+    def step_once(x, cm, theta):
+        return midpoint_step(cm, theta, x, h, twist(x, cm, theta), twist, constrain)
+
     t0 = time.perf_counter()
-    for k in range(1, max_steps + 1):
-        tw1 = twist(cm, theta)
-        cm_h, th_h = _advance(cm, theta, tw1, 0.5 * h)
-        cm_h = project(cm_h, th_h, x + 0.5 * h)
-        tw2 = twist(cm_h, th_h)
-        cm_n, th_n = _advance(cm, theta, tw2, h)
-        cm_n = project(cm_n, th_n, x + h)
-        beta_n = beta_of(cm_n, th_n)
-        if beta_n >= beta_final:
-            frac = (beta_final - beta) / (beta_n - beta)
-            push = x + frac * h
-            xs.append(push)
-            bs.append(beta_final)
-            return PushSimulation(
-                push=push, rotation=beta_final - beta_initial, steps=k, step=h,
-                beta=np.array(bs), x=np.array(xs), modes=dict(stats["modes"]),
-                max_kkt=stats["kkt"], not_optimal=stats["bad"], solve_time_s=time.perf_counter() - t0,
-            )
-        cm, theta, x, beta = cm_n, th_n, x + h, beta_n
-        xs.append(x)
-        bs.append(beta)
-    raise SolverError(f"the edge did not come flush within {max_steps} steps")
+    run = march(-vertex_body.copy(), 0.0, h, step_once, beta_of, beta_final, max_steps,  # vertex at the origin
+                "the edge did not come flush")
+    c = oracle.counts
+    return PushSimulation(
+        push=run.u_end, rotation=beta_final - beta_initial, steps=run.steps, step=h, beta=run.monitor, x=run.u,
+        modes=dict(c.modes), max_kkt=c.max_kkt, not_optimal=c.not_optimal, solve_time_s=time.perf_counter() - t0,
+    )
 
 
 # ---------------------------------------------------------------------------------------
@@ -337,7 +320,7 @@ def simulate_disk_encounter_batch(
 
     def rhs(beta, xi, record=False):
         scene = encounter_scene(a, beta)
-        res = solve_forward_batch(scene, _rotate_batch(w, -xi), p, mu_c, tol)
+        res = solve_forward_batch(scene, rotate_batch(w, -xi), p, mu_c, tol)
         vy = res.velocity_cm[:, 1]
         if np.any(vy >= 0.0):
             raise SolverError(f"a disk did not move away from the path at beta = {beta:.6g}")
@@ -405,56 +388,35 @@ def simulate_disk_encounter(
     body = np.asarray(points, dtype=float).reshape(-1, 2)
     wts = np.asarray(weights, dtype=float).reshape(-1)
     h = float(step) * a
-    stats = {"modes": Counter(), "kkt": 0.0, "bad": 0}
+    oracle = MotionOracle(body, wts, a, mu_c, method, tol)
 
-    def beta_of(cm, x):
-        d = np.array([x, 0.0]) - cm  # CM -> pusher = a (-cos beta, sin beta)
+    def pusher(x):
+        return np.array([x, 0.0])
+
+    def beta_of(x, cm, theta):
+        d = pusher(x) - cm  # CM -> pusher = a (-cos beta, sin beta)
         return math.atan2(d[1], -d[0])
 
-    def project(cm, x):
-        pusher = np.array([x, 0.0])
-        d = cm - pusher
-        return pusher + a * d / np.linalg.norm(d)
+    def constrain(cm, theta, x):
+        return at_distance(cm, pusher(x), a)
 
-    def twist(cm, theta, x):
-        pusher = np.array([x, 0.0])
-        d = pusher - cm
-        scene = PushScene.create(a, pusher, math.atan2(d[1], d[0]) + HALF_PI, 0.0, cm)
-        sup = Support.create(cm + body @ _rot(theta).T, wts, cm, tol)
-        res = solve_forward(scene, sup, mu_c, method=method, tol=tol)
-        stats["modes"][res.mode] += 1
-        stats["kkt"] = max(stats["kkt"], res.kkt_residual)
-        stats["bad"] += res.status != "optimal"
-        return res.velocity_cm, res.omega, cm
+    def twist(x, cm, theta, start=None):
+        if start is not None and beta_of(x, cm, theta) >= HALF_PI - ENDING_BETA_GAP:
+            return start  # contact is being lost within the step: an Euler step locates it
+        d = pusher(x) - cm
+        return oracle.twist(cm, theta, pusher(x), math.atan2(d[1], d[0]) + HALF_PI, 0.0)
 
-    cm = a * np.array([math.cos(beta_initial), -math.sin(beta_initial)])
-    theta = 0.0
-    x = 0.0
-    beta = beta_of(cm, x)
-    xs, bs = [x], [beta]
+    def step_once(x, cm, theta):
+        return midpoint_step(cm, theta, x, h, twist(x, cm, theta), twist, constrain)
+
     t0 = time.perf_counter()
-    for k in range(1, max_steps + 1):
-        tw1 = twist(cm, theta, x)
-        cm_h, th_h = _advance(cm, theta, tw1, 0.5 * h)
-        cm_h = project(cm_h, x + 0.5 * h)
-        if beta_of(cm_h, x + 0.5 * h) < HALF_PI - 1e-9:
-            tw2 = twist(cm_h, th_h, x + 0.5 * h)
-        else:  # contact is being lost within the step: an Euler step is enough to locate it
-            tw2 = tw1
-        cm_n, th_n = _advance(cm, theta, tw2, h)
-        cm_n = project(cm_n, x + h)
-        beta_n = beta_of(cm_n, x + h)
-        if beta_n >= HALF_PI - 1e-12:
-            frac = (HALF_PI - beta) / (beta_n - beta)
-            push = x + frac * h
-            xs.append(push)
-            bs.append(HALF_PI)
-            return PushSimulation(
-                push=push, rotation=-(theta + frac * (th_n - theta)), steps=k, step=h,
-                beta=np.array(bs), x=np.array(xs), modes=dict(stats["modes"]),
-                max_kkt=stats["kkt"], not_optimal=stats["bad"], solve_time_s=time.perf_counter() - t0,
-            )
-        cm, theta, x, beta = cm_n, th_n, x + h, beta_n
-        xs.append(x)
-        bs.append(beta)
-    raise SolverError(f"the disk was not pushed aside within {max_steps} steps")
+    cm0 = a * np.array([math.cos(beta_initial), -math.sin(beta_initial)])
+    run = march(cm0, 0.0, h, step_once, beta_of, HALF_PI, max_steps, "the disk was not pushed aside",
+                reached_at=HALF_PI - END_BETA_GAP)
+    theta, theta_n = run.before[1], run.after[1]
+    c = oracle.counts
+    return PushSimulation(
+        push=run.u_end, rotation=-(theta + run.fraction * (theta_n - theta)), steps=run.steps, step=h,
+        beta=run.monitor, x=run.u, modes=dict(c.modes), max_kkt=c.max_kkt, not_optimal=c.not_optimal,
+        solve_time_s=time.perf_counter() - t0,
+    )

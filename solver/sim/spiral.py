@@ -35,7 +35,7 @@ no sampling interval straddles one.
   there, the push direction is the path's tangent (not the line of centres), and the
   forward solver (solver/forward.py, 4.1: sticking or slipping with pusher friction mu_c)
   gives the twist per unit push. The pose is advanced by a midpoint (RK2) step in u of the
-  rigid motion about the COR (solver/push_simulation._advance), and after every (half)
+  rigid motion about the COR (:func:`solver.sim.kinematics.advance`), and after every (half)
   step the contact is re-imposed: the CM is put back at distance a from P(u) along the
   line of centres (as simulate_disk_encounter does, 4.4).
 * *End of contact*: the pusher pushes while n . p > 0 (n the unit vector from the pusher
@@ -85,18 +85,17 @@ from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq
 
 from models.errors import InvalidInput
 from models.mpp import perp
-from models.scene import PushScene
-from models.support import Support, random_balanced_tripods
+from models.support import random_balanced_tripods
 from solver.core.budget import UNLIMITED, Budget
+from solver.core.errors import SolverError, TimeLimitReached
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.core.errors import SolverError
-from solver.motion.forward import solve_forward
-from solver.sim.push import _advance, _rot
 from solver.locus.sticking_locus import sticking_locus
+from solver.sim.contacts import at_distance, first_dip, gap_to_disk, regula_falsi
+from solver.sim.kinematics import Twist, advance
+from solver.sim.stepper import MotionOracle
 
 TWO_PI = 2.0 * math.pi
 HALF_PI = 0.5 * math.pi
@@ -433,6 +432,22 @@ class SpiralRun:
     def n_contacts(self) -> int:
         return len(self.contacts)
 
+    @property
+    def complete(self) -> bool:
+        """The run went where it was asked: to the end of the path, or to the escape it
+        stops at (not cut by the time limit, the step cap or a solver error)."""
+        return self.status in ("completed", "escaped", "in_contact_at_end")
+
+    @property
+    def solve_time_s(self) -> float:
+        return self.wall_time_s
+
+    @property
+    def message(self) -> str:
+        text = (f"{self.status} at {100 * self.path_fraction:.3g} % of the path; {self.n_contacts} contacts, "
+                f"{self.forward_solves} forward solves; final extent {self.final_extent:.6g}")
+        return text + (f" ({self.error})" if self.error else "")
+
 
 @dataclass(frozen=True)
 class SpiralBatch:
@@ -464,85 +479,33 @@ class SpiralBatch:
     supports_per_second: float
     seed: int | None = None
 
+    @property
+    def status(self) -> str:
+        """"all_inside", "escaped" (a disk was pushed out), or "incomplete" (runs cut short
+        or not run)."""
+        if self.all_inside:
+            return "all_inside"
+        return "escaped" if self.escaped else "incomplete"
+
+    @property
+    def complete(self) -> bool:
+        """Every run ran to its end (none "not_run", none cut by the time limit)."""
+        return len(self.runs) == self.n and all(r.complete for r in self.runs)
+
+    @property
+    def solve_time_s(self) -> float:
+        return self.wall_time_s
+
+    @property
+    def message(self) -> str:
+        ran = len(self.runs)
+        text = f"{ran} of {self.n} runs ran ({self.statuses}); {self.escaped} escaped"
+        return text if ran == self.n else text + f"; {self.n - ran} not run"
+
 
 # ---------------------------------------------------------------------------------------
 # Contact search (free flight)
 # ---------------------------------------------------------------------------------------
-
-
-def _gap(path: _Path, cm: np.ndarray, a: float, u):
-    d = path.position(u) - cm
-    return np.hypot(d[..., 0], d[..., 1]) - a
-
-
-def _sample_grid(path: _Path, u0: float, u1: float, ds: float) -> np.ndarray:
-    """Points from u0 to u1 about ds apart in travel, with every breakpoint inside."""
-    bp = path.breakpoints
-    inner = bp[(bp > u0) & (bp < u1)]
-    knots = np.concatenate([[u0], inner, [u1]])
-    parts = []
-    for lo, hi in zip(knots[:-1], knots[1:]):
-        speed = float(path.speed_bound(lo, hi))
-        n = max(1, int(math.ceil((hi - lo) * speed / ds)))
-        parts.append(np.linspace(lo, hi, n + 1)[:-1])
-    parts.append([u1])
-    return np.concatenate(parts)
-
-
-def _next_contact(path: _Path, cm: np.ndarray, a: float, u0: float, s: SpiralSimSettings):
-    """First u >= u0 where the pusher enters the disk deeper than the graze depth, refined
-    to where it crosses the circle |P - CM| = a; None if it never does. Also returns the
-    number of intervals refined down to root_tol without a decision (they can hold a dip
-    at most root_tol a deeper than the graze depth)."""
-    delta = s.graze_depth * a
-    chunk = 256 * s.sample * a
-    touches = 0
-    bisections = 0
-    lo = u0
-    while lo < path.u_end:
-        # Chunks of about 256 samples, cut at breakpoints so intervals stay in one piece.
-        speed = float(path.speed_bound(lo, lo))
-        hi = min(path.u_end, lo + chunk / max(speed, 1e-300))
-        grid = _sample_grid(path, lo, hi, s.sample * a)
-        f = _gap(path, cm, a, grid)
-        if f[0] < -delta:
-            return lo, touches
-        stack = [(grid[i], grid[i + 1], f[i], f[i + 1]) for i in range(grid.size - 2, -1, -1)]
-        while stack:
-            ua, ub, fa, fb = stack.pop()
-            if fb < -delta:
-                return _refine_start(path, cm, a, ua, ub, fa, s), touches
-            w = ub - ua
-            sp = float(path.speed_bound(ua, ub))
-            # Lipschitz bound (|f'| <= speed): no dip below -delta here.
-            if 0.5 * (fa + fb - sp * w) >= -delta:
-                continue
-            if sp * w <= 0.25 * a and min(fa, fb) >= -delta:
-                # Then |P - CM| >= a/2 on the interval and |f''| <= speed^2 / (a/2) + |P''|.
-                m2 = 2.0 * sp * sp / a + float(path.accel_bound(ua, ub))
-                if min(fa, fb) - 0.125 * m2 * w * w >= -delta:
-                    continue
-            if sp * w <= s.root_tol * a:
-                touches += 1
-                continue
-            bisections += 1
-            if bisections > s.max_bisections:
-                raise SolverError("the contact search did not settle (bisection cap reached)")
-            um = 0.5 * (ua + ub)
-            fm = float(_gap(path, cm, a, um))
-            stack.append((um, ub, fm, fb))
-            stack.append((ua, um, fa, fm))
-        lo = hi
-    return None, touches
-
-
-def _refine_start(path, cm, a, ua, ub, fa, s: SpiralSimSettings) -> float:
-    """The crossing of |P - CM| = a in [ua, ub] (f(ua) >= -graze depth > f(ub)), by Brent's
-    method; if already f(ua) < 0 (inside a touch), the crossing of f = -graze depth. (A
-    meeting at ua itself with no push is a touch, which the caller steps past.)"""
-    sp = float(path.speed_bound(ua, ub))
-    level = 0.0 if fa >= 0.0 else -s.graze_depth * a
-    return float(brentq(lambda u: float(_gap(path, cm, a, u)) - level, ua, ub, xtol=s.root_tol * a / max(sp, 1e-300)))
 
 
 # ---------------------------------------------------------------------------------------
@@ -571,38 +534,9 @@ def _check_inputs(path, points, weights, a, mu_c, start_cm, s: SpiralSimSettings
     cm = np.asarray(start_cm, dtype=float).reshape(2)
     if not np.all(np.isfinite(cm)):
         raise InvalidInput("start_cm", "must be finite")
-    if float(_gap(path, cm, a, 0.0)) <= 0.0:
+    if float(gap_to_disk(path, cm, a, 0.0)) <= 0.0:
         raise InvalidInput("start_cm", "the pusher starts on or inside the disk")
     return body, wts, cm
-
-
-def _locate_end(rk2, u, cm, theta, tw1, g0, h, g1, s: SpiralSimSettings):
-    """The step length at which n . p reaches 0 (the disk tangent to the path, contact
-    lost): Illinois regula falsi on fresh RK2 steps from the step's start, until
-    |n . p| <= end_cos or end_iter trials; returns (length, CM, theta) of the last trial."""
-    if g1 >= 0.0:  # 0 <= n . p <= grazing_cos at the full step: the contact ends there
-        c_n, th_n, _ = rk2(u, cm, theta, tw1, h)
-        return h, c_n, th_n
-    lo, g_lo, hi, g_hi = 0.0, g0, h, g1
-    kept = 0
-    out = None
-    for _ in range(s.end_iter):
-        hh = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)
-        c_t, th_t, g_t = rk2(u, cm, theta, tw1, hh)
-        out = (hh, c_t, th_t)
-        if abs(g_t) <= s.end_cos:
-            break
-        if g_t < 0.0:
-            hi, g_hi = hh, g_t
-            if kept == -1:
-                g_lo *= 0.5
-            kept = -1
-        else:
-            lo, g_lo = hh, g_t
-            if kept == 1:
-                g_hi *= 0.5
-            kept = 1
-    return out
 
 
 def simulate_spiral(
@@ -633,7 +567,8 @@ def simulate_spiral(
     promise = path.final_radius if promised_radius is None else float(promised_radius)
     centre = path.centre
     t0 = time.perf_counter()
-    st = {"solves": 0, "bad": 0, "modes": Counter(), "kkt": 0.0, "force_angle": 0.0, "steps": 0}
+    oracle = MotionOracle(body, wts, a, mu_c, method, tol, budget)
+    n_steps_total = 0
 
     traj_u, traj_cm, traj_th, traj_b = [0.0], [cm.copy()], [theta], [math.nan]
 
@@ -654,41 +589,45 @@ def simulate_spiral(
         n_in = path.inward_normal(u, ph)
         return pp, ph, sp, n, float(n @ ph), math.atan2(float(n @ n_in), float(n @ ph))
 
-    def twist(u, c, th):
+    def twist(u, c, th) -> Twist:
         pp, ph, sp, n, _, _ = frame(u, c)
-        if budget.expired():
-            raise _Stop("time_limit")
         try:
-            scene = PushScene.create(a, pp, math.atan2(-n[1], -n[0]) + HALF_PI, math.atan2(ph[1], ph[0]), c)
-            sup = Support.create(c + body @ _rot(th).T, wts, c, tol)
-            res = solve_forward(scene, sup, mu_c, method=method, tol=tol)
+            tw = oracle.twist(c, th, pp, math.atan2(-n[1], -n[0]) + HALF_PI, math.atan2(ph[1], ph[0]))
+        except TimeLimitReached as exc:
+            raise _Stop("time_limit") from exc
         except (SolverError, InvalidInput) as exc:
             raise _Stop("solver_error", f"forward solve at u = {u:.9g}: {exc}") from exc
-        st["solves"] += 1
-        st["modes"][res.mode] += 1
-        st["kkt"] = max(st["kkt"], res.kkt_residual)
-        st["bad"] += res.status != "optimal"
-        fn = float(res.contact_force @ scene.normal)
-        ft = float(res.contact_force @ scene.alpha_hat)
-        st["force_angle"] = max(st["force_angle"], math.atan2(abs(ft), fn))
         # The twist per unit push along p; per unit u it is scaled by the path's speed.
-        return res.velocity_cm * sp, res.omega * sp, c.copy()
+        return tw.scaled(sp)
 
     def project(c, u):
-        pp = path.position(u)
-        d = c - pp
-        return pp + a * d / float(np.hypot(d[0], d[1]))
+        return at_distance(c, path.position(u), a)
 
     def rk2(u, c, th, tw1, h):
         """One midpoint step of length h in u from (c, th) with tw1 the twist at its start;
         returns the new pose and n . p there (with the tangent of the step's own piece)."""
-        c_h, th_h = _advance(c, th, tw1, 0.5 * h)
+        c_h, th_h = advance(c, th, tw1, 0.5 * h)
         c_h = project(c_h, u + 0.5 * h)
         g_h = frame(u + 0.5 * h, c_h)[4]
         tw2 = twist(u + 0.5 * h, c_h, th_h) if g_h > s.grazing_cos else tw1
-        c_n, th_n = _advance(c, th, tw2, h)
+        c_n, th_n = advance(c, th, tw2, h)
         c_n = project(c_n, u + h)
         return c_n, th_n, frame(u + h, c_n, left=True)[4]
+
+    def locate_end(u, c, th, tw1, g0, h, g1):
+        """The step length at which n . p reaches 0 (the disk tangent to the path, contact
+        lost): regula falsi on fresh RK2 steps from the step's start, until
+        |n . p| <= end_cos or end_iter trials; (length, CM, theta) of the last trial."""
+        if g1 >= 0.0:  # 0 <= n . p <= grazing_cos at the full step: the contact ends there
+            c_n, th_n, _ = rk2(u, c, th, tw1, h)
+            return h, c_n, th_n
+
+        def trial(hh):
+            c_t, th_t, g_t = rk2(u, c, th, tw1, hh)
+            return g_t, (c_t, th_t)
+
+        hh, (c_t, th_t) = regula_falsi(trial, 0.0, g0, h, g1, s.end_cos, s.end_iter)
+        return hh, c_t, th_t
 
     contacts: list[ContactRecord] = []
     current = None  # the contact in progress, for a run stopped inside it
@@ -700,7 +639,7 @@ def simulate_spiral(
     try:
         while True:
             # ---- free flight
-            hit, tz = _next_contact(path, cm, a, u, s)
+            hit, tz = first_dip(path, cm, a, u, s.sample, s.graze_depth, s.root_tol, s.max_bisections)
             touches += tz
             if hit is None:
                 u = path.u_end
@@ -728,18 +667,18 @@ def simulate_spiral(
                 if u >= path.u_end:
                     status = "in_contact_at_end"
                     break
-                if st["steps"] >= s.max_steps:
+                if n_steps_total >= s.max_steps:
                     raise _Stop("step_limit")
                 sp = frame(u, cm)[2]
                 h = min(s.step * a / sp, path.piece_end(u) - u)
                 tw1 = twist(u, cm, theta)
                 c_n, th_n, g_n = rk2(u, cm, theta, tw1, h)
                 if g_n <= s.grazing_cos:
-                    h, c_n, th_n = _locate_end(rk2, u, cm, theta, tw1, g, h, g_n, s)
+                    h, c_n, th_n = locate_end(u, cm, theta, tw1, g, h, g_n)
                     ended = True
                 cm, theta, u = c_n, th_n, u + h
                 n_steps += 1
-                st["steps"] += 1
+                n_steps_total += 1
                 _, _, _, _, g, beta = frame(u, cm, left=True)
                 record(u, cm, theta, beta)
                 beta_min = min(beta_min, beta)
@@ -794,10 +733,11 @@ def simulate_spiral(
         final_cm=tc[-1].copy(), final_theta=float(tt[-1]), final_radius=final_radius,
         final_extent=extent, contacts=tuple(contacts), touches=touches,
         trajectory_u=tu, trajectory_cm=tc, trajectory_theta=tt, trajectory_beta=tb, revolution_cm_radius=rev,
-        max_protrusion=float(np.max(rad + a - pr)), max_force_angle=st["force_angle"],
+        max_protrusion=float(np.max(rad + a - pr)), max_force_angle=oracle.counts.max_force_angle,
         u_reached=float(tu[-1]), path_fraction=float(tu[-1] / path.u_end) if path.u_end > 0 else 1.0,
-        steps=st["steps"], forward_solves=st["solves"], not_optimal=st["bad"],
-        modes=dict(st["modes"]), max_kkt=st["kkt"], wall_time_s=time.perf_counter() - t0, error=error,
+        steps=n_steps_total, forward_solves=oracle.counts.solves, not_optimal=oracle.counts.not_optimal,
+        modes=dict(oracle.counts.modes), max_kkt=oracle.counts.max_kkt, wall_time_s=time.perf_counter() - t0,
+        error=error,
     )
 
 

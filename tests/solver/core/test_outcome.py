@@ -16,7 +16,8 @@ from models.scene import PushScene
 from models.support import Support
 from solver.core.outcome import OUTCOME_FIELDS, Outcome
 
-RESULT_SUFFIXES = ("Result", "Solution", "Locus", "Boundary", "Sketch", "Table", "Schedule", "Plan", "Statistics", "Radii")
+RESULT_SUFFIXES = ("Result", "Solution", "Locus", "Boundary", "Sketch", "Table", "Schedule", "Plan", "Statistics", "Radii",
+                   "Simulation", "Run", "Batch")
 
 
 def _declares(cls: type, name: str) -> bool:

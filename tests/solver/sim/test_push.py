@@ -174,6 +174,7 @@ def test_fence_rate_is_equation_4_2_of_the_forward_cor(small_supports):
         assert np.allclose(sim.rate[j], gm.fence_rate(b, EX_C, EX_ALPHA, sim.cor[j]), rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_fence_book_example_with_friction(supports):
     """The 4.3 example (alpha = 70 deg, mu_c = 0.25): every support within the composite
     bound (4.8) + corrected (4.6), which is below the frictionless (3.41)."""
@@ -185,6 +186,7 @@ def test_fence_book_example_with_friction(supports):
     assert bound < gm.fence_push_frictionless(A, EX_C, EX_ALPHA, D(45), D(80))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["tripods", "dipods"])
 def test_fence_with_large_friction_exceeds_the_book_bound_inside_the_exact_sketch(supports, dipods, kind):
     """alpha = 60 deg, c = 0.9 a, mu_c = 1: supports stick with CORs below B, the
@@ -213,6 +215,7 @@ def test_fence_with_large_friction_exceeds_the_book_bound_inside_the_exact_sketc
         assert exact > book_rate[j]
 
 
+@pytest.mark.slow
 def test_fence_batch_agrees_with_pose_stepping_which_converges(supports):
     """One support that changes mode on the way, pushed by the 4.3 example's fence:
     the pose-stepping simulation (x steps of 2e-3 a and 4e-3 a) against the beta-stepped
@@ -250,6 +253,7 @@ def disk_runs(small_supports):
             for bi in (20, 60) for mu in (0.25, 1.0, 5.0)}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("bi", [20, 60])
 @pytest.mark.parametrize("mu", [0.25, 1.0, 5.0])
 def test_disk_rotation_within_4_18_and_rates_match_4_12(disk_runs, bi, mu):
@@ -280,6 +284,7 @@ def test_disk_length_within_4_16_for_moderate_friction(disk_runs, bi):
         assert np.all(sim.push <= gm.encounter_length_max(D(bi), A))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("bi", [20, 60])
 def test_disk_with_large_friction_exceeds_4_16_inside_the_exact_sketch(dipods, bi):
     """mu_c = 5: sticking CORs below the tip line make dx/dbeta exceed 2a/sin beta by up
@@ -304,6 +309,7 @@ def test_disk_with_large_friction_exceeds_4_16_inside_the_exact_sketch(dipods, b
         assert sim.rotation_rate[j].min() >= gm.rotation_rate(b, ext[:, 0].min(), 0.0, A) * (1 - 5e-4)
 
 
+@pytest.mark.slow
 def test_disk_batch_agrees_with_pose_stepping_which_converges(supports):
     """One support (sticks, then slips down) pushed aside from beta_i = 30 deg with
     mu_c = 0.25: pose stepping with x steps of 4e-3 a and 2e-3 a against the

@@ -96,6 +96,7 @@ def test_polyline_path_follows_its_points_and_counts_revolutions():
     assert ss.polyline_path(mirror(pts)).clockwise
 
 
+@pytest.mark.slow
 def test_planner_polyline_converges_to_the_analytic_spiral(tripods):
     """The pusher polyline of models/spiral.spiral_polyline (same radii, clockwise from the
     top) pushes the disk as the analytic path does, to O(chord deviation)."""
@@ -119,19 +120,6 @@ def test_planner_polyline_converges_to_the_analytic_spiral(tripods):
 # --- contact search ---------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("depth", [1e-3, 5e-9])
-def test_contact_search_finds_shallow_dips_at_any_sampling(depth):
-    """The pusher runs along y = 0 past a disk whose top is ``depth`` above the line; the
-    sampling step (5 a) is far wider than the dip (2 sqrt(2 a depth) ~ 1e-4 a)."""
-    path = ss.polyline_path([[-20.0, 0.0], [20.0, 0.0]], centre=(0.0, -1e6))
-    cm = np.array([0.37, -(A - depth)])
-    s = ss.SpiralSimSettings(sample=5.0)
-    u, _ = ss._next_contact(path, cm, A, 0.0, s)
-    expect = 20.0 + 0.37 - math.sqrt(A * A - (A - depth) ** 2)
-    assert u == pytest.approx(expect, abs=1e-9)
-    # Shallower than the graze depth: a touch, not a contact.
-    shallow = np.array([0.37, -(A - 0.5 * s.graze_depth * A)])
-    assert ss._next_contact(path, shallow, A, 0.0, s)[0] is None
 
 
 # --- a straight path is the encounter of 4.4 --------------------------------------------
@@ -143,6 +131,7 @@ def tripods():
     return ss.random_supports(rng, 8, A, "tripod")
 
 
+@pytest.mark.slow
 def test_straight_path_reproduces_the_disk_encounter(tripods):
     pts, wts = tripods
     bi = math.radians(30.0)
@@ -196,6 +185,7 @@ def test_circle_far_above_b_inf_pushes_every_disk_in():
         assert np.allclose(run.revolution_cm_radius, r_circle - A, atol=1e-7)
 
 
+@pytest.mark.slow
 def test_gentle_spiral_pushes_in_at_every_contact():
     path = ss.spiral_path(np.linspace(4.0, 3.0, 6))
     batch = ss.spiral_check(path, A, MU, 3, seed=SEED + 2, kind="rim", settings=FAST, start_inner_radius=2.5)
@@ -212,6 +202,7 @@ def test_gentle_spiral_pushes_in_at_every_contact():
         assert np.all(np.diff(rev[first:]) < 0.0)
 
 
+@pytest.mark.slow
 def test_too_fast_spiral_pushes_disks_out():
     """Delta b = 0.9 a at b = 1.6 a (mu_c = 0.25: b_inf = 1.25 a, and the critical d* there
     is a small fraction of a): some disks are left outside the path."""
@@ -334,6 +325,7 @@ def hit_witness(witness, r_contact, shrink):
     return run, first
 
 
+@pytest.mark.slow
 def test_witness_of_the_critical_radius_agrees_with_r_star(witness):
     """On circles (4.5.2, figure 4-18): 1 % tighter than r*(beta) the worst COR lies right of
     the critical line and beta falls (pushed out); 0.2 % looser, beta never falls (at worst
@@ -345,6 +337,7 @@ def test_witness_of_the_critical_radius_agrees_with_r_star(witness):
     assert loose.beta_min == pytest.approx(loose.beta_initial, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_a_shrinking_spiral_loses_the_worst_disk_at_the_critical_radius(witness):
     """The book's recursion (4.26) sets the pusher's radius to r*(beta) at the collision and
     says that at worst the disk is chased (4.5.5). On a spiral the pusher keeps moving in
@@ -384,6 +377,7 @@ def planned():
     return rec, ss.spiral_path(rec.radii), r_star_bound
 
 
+@pytest.mark.slow
 def test_planned_schedule_herds_random_supports_into_the_promise(planned):
     """16 random supports of four kinds, random orientations, CMs uniform inside b_1 - a:
     none is pushed out, all end inside b_N, beta never falls during a contact, and the

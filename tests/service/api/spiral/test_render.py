@@ -152,6 +152,7 @@ def test_schedule_scale_invariant(centre):
     assert "n^-1.5" in svgs[1e-6] and "n^-1.5" in svgs[1e6]
 
 
+@pytest.mark.slow
 def test_schedule_far_centre_drawn_relative_to_it():
     c = np.array([1e9, -1e9])
     svg = schedule(scale=1e-3, centre=c, path_n=2000)
@@ -159,6 +160,7 @@ def test_schedule_far_centre_drawn_relative_to_it():
     assert "pusher-path" in gids(svg)
 
 
+@pytest.mark.slow
 def test_schedule_large_polyline_is_decimated():
     """A 100,000-point path is drawn with at most MAX_PATH_POINTS points (the rendering's
     cost is bounded by that, not timed: the suite runs on busy machines too)."""
