@@ -14,11 +14,12 @@ HOST_CA_BUNDLE ?= $(wildcard /etc/ssl/certs/ca-certificates.crt)
 CA_BUILD_FLAGS = $(if $(HOST_CA_BUNDLE),-v $(HOST_CA_BUNDLE):/run/host-ca-bundle.crt:ro --build-arg PIP_CERT=/run/host-ca-bundle.crt)
 PORT          ?= 8000
 
-.PHONY: help venv serve test openapi bench docker-local-base docker-local docker-run-local
+.PHONY: help venv serve test test-fast openapi bench docker-local-base docker-local docker-run-local
 
 help:
 	@echo "make serve             run the service (bash scripts/serve.sh)"
-	@echo "make test              run the test suite (bash scripts/test.sh)"
+	@echo "make test              run the whole test suite (bash scripts/test.sh; what CI runs)"
+	@echo "make test-fast         the everyday tier: tests not marked slow, two workers"
 	@echo "make openapi           write the OpenAPI document (scripts/gen_openapi.py)"
 	@echo "make bench             run the benchmarks (tests/benchmarks)"
 	@echo "make docker-local-base debootstrap a Debian base image into podman ($(LOCAL_BASE))"
@@ -30,6 +31,9 @@ serve:
 
 test:
 	bash scripts/test.sh
+
+test-fast:
+	bash scripts/test.sh --fast
 
 # Create/refresh .venv with the dev requirements (instant when up to date).
 venv:
