@@ -47,7 +47,8 @@ a piece with the derivative bounds V, A, R1, R2, U1, U2 of :class:`Pieces`:
   minimiser.
 
 The largest of these, less a rounding allowance of ``ROUNDING_ALLOWANCE`` times the
-magnitudes involved, is the bound.
+magnitudes involved (those of the near form for its zeroth-order bound, of the far form for
+its own and, when there is one, for the bounds built on the values f0, f1), is the bound.
 """
 
 from __future__ import annotations
@@ -188,7 +189,7 @@ class RayFunctional:
             allow_n = eps * (abs(self.a) + qd + bn * w_max + 2.0 * abs(beta) * wc + 2.0 * qn)
             lb0_n = np.minimum(self.a + w0 @ self.b, self.a + w1 @ self.b) - bn * sag - cn * dm
             lbs.append(lb0_n - allow_n)
-            allow = np.maximum(allow, allow_n)
+            allow = allow_n  # the values f0, f1 carry the far form's rounding
             gradients.append((k_n, m_n))
         for k, m in gradients:
             with np.errstate(invalid="ignore", over="ignore"):

@@ -77,9 +77,13 @@ class RestrictedMaster:
             self.ph.value = np.zeros((self.n_ineq, 3)) if ph is None else ph
         try:
             ignore_inaccurate_solution_warning()
-            # warm_start=False: a fresh Clarabel solve, so that the answer does not depend on
-            # the queries this thread solved before (cvxpy otherwise updates the previous
-            # solver's data in place, which changes the last digits)
+            # warm_start=False: a fresh Clarabel solver for every solve, so that an answer
+            # does not depend on the queries this thread solved before (with warm_start,
+            # cvxpy updates the previous solver's data in place and Clarabel keeps the
+            # first data's equilibration, which changes the last digits of later answers and
+            # can flip a borderline decision). It costs about 10 % per query; turning the
+            # equilibration off instead is as fast and reproducible but leaves some far and
+            # borderline candidates undecided.
             self.problem.solve(
                 solver=cp.CLARABEL, warm_start=False,
                 tol_gap_abs=tol.conic_gap, tol_gap_rel=tol.conic_gap, tol_feas=tol.conic_gap,
