@@ -81,6 +81,19 @@ def triangle_areas(tris: np.ndarray) -> np.ndarray:
     return np.asarray(0.5 * np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]))
 
 
+def inside_polygon(vertices: np.ndarray, points: ArrayLike) -> np.ndarray:
+    """Even-odd test of points (m, 2) against a simple polygon (k, 2): a boolean per point.
+    A point exactly on an edge may land on either side."""
+    pts = np.atleast_2d(np.asarray(points, dtype=float))
+    a = np.asarray(vertices, dtype=float)
+    b = np.roll(a, -1, axis=0)
+    x, y = pts[:, 0:1], pts[:, 1:2]
+    cond = (a[:, 1] > y) != (b[:, 1] > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xc = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    return np.asarray(np.sum(cond & (x < xc), axis=1) % 2 == 1)
+
+
 def _segments_cross(vertices: np.ndarray, rel: float) -> bool:
     """True when two non-adjacent edges of the closed polygon touch or cross (O(n^2),
     vectorised); ``rel`` is the relative slack of "touch"."""

@@ -11,7 +11,7 @@ fixes the side): an impulse J n at the contact c (CM frame) gives the CM the vel
 J n / M and the body the rotation rate J (c x n) / (M rho^2). The COR of that motion,
 r = z x v / omega (3.1.4), is r = rho^2 (z x n) / (c x n) = -rho^2 alpha_hat / (alpha_hat . c)
 since c x n = -(alpha_hat . c) with alpha_hat = z x n (models/scene.py). In the locus frame
-(x along alpha' = sign(m) alpha_hat, models/cor_disk.py) that is the point
+(x along alpha' = sign(m) alpha_hat, models/locus/cor_disk.py) that is the point
 (-rho^2 / |alpha . c|, 0): the same side and axis as the tip of the quasi-static locus,
 (-a^2 / |alpha . c|, 0) by (3.37). So (7.1) with rho = a (a thin ring, all mass on the
 bounding circle) is the tip, and every other body inside the disk has rho < a, so its

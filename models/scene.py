@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from models.errors import InvalidInput
+from models.mpp import perp
 from models.tolerances import DEFAULT, Tolerances
 
 Sense = str  # "cw" | "ccw" | "none"
@@ -47,11 +48,6 @@ def _finite_scalar(name: str, value: float) -> float:
 def unit(angle: float) -> np.ndarray:
     """The unit vector at ``angle`` (rad, CCW from +x): the book's arrow notation (3.1.10)."""
     return np.array([math.cos(angle), math.sin(angle)])
-
-
-def perp(v: np.ndarray) -> np.ndarray:
-    """z x v: ``v`` turned 90 degrees counter-clockwise."""
-    return np.array([-v[1], v[0]])
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ guarantee at collision parameter beta. (For every COR left of the contact, x < 0
 frame of models/gross_bounds.encounter_scene, moving PC further down only moves the
 critical line further from the COR, so the condition is monotone in r.)
 
-This module is pure: it takes a table of (beta_k, r*_k) (solver/spiral.py computes them
+This module is pure: it takes a table of (beta_k, r*_k) (solver/spiral/critical_radius.py computes them
 exactly, by the book's sweep, or by the tip line) and turns it into the critical distance
 from grazing d*(b) (4.5.3), the recursion (4.26), the pusher path and the power-law fit of
 figure 4-21. Every formula names its book equation or section.
@@ -67,7 +67,7 @@ g_n <= o_n) the first N - 1 revolutions compare termwise, and greedy's final cir
 2 pi g_N <= 2 pi o_N is covered by the other's remaining length, which is at least
 pi (o_N + o_{N+1}) + 2 pi o_M >= 2 pi o_N when M > N (steps are < a <= b_inf <= o_M).
 A *minimum* step breaks the argument (the feasible set from a smaller radius is not a
-superset) and needs the shortest-path solve of solver/spiral.py.
+superset) and needs the shortest-path solve of solver/spiral/schedule.py.
 
 The path (a definition, not in the book)
 ----------------------------------------
@@ -555,7 +555,7 @@ def power_law_fit(radii: ArrayLike, b_inf: float, n_min: int = 1, n_max: int | N
 
 
 # --------------------------------------------------------------------------------------
-# Schedules on a grid of radii (the graph that solver/spiral.py hands to OR-Tools)
+# Schedules on a grid of radii (the graph that solver/spiral/schedule.py hands to OR-Tools)
 
 
 @dataclass(frozen=True)

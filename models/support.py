@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from models.errors import InvalidInput
-from models.footprint import Footprint, area_centroid, triangulate
+from models.footprint import Footprint, area_centroid, inside_polygon, triangulate
 from models.tolerances import SUPPORT_DEFAULT, CentroidTolerance
 
 
@@ -175,7 +175,7 @@ def random_balanced_tripods(
             lo = footprint.vertices.min(axis=0)
             hi = footprint.vertices.max(axis=0)
             cand = rng.uniform(lo, hi, size=(4 * m, 2))
-            cand = cand[_inside_polygon(footprint.vertices, cand)]
+            cand = cand[inside_polygon(footprint.vertices, cand)]
             k = (len(cand) // 3) * 3
             w = cand[:k].reshape(-1, 3, 2)
         rel = w - cm
@@ -194,17 +194,3 @@ def random_balanced_tripods(
             f"found in {max_draws} rounds of draws",
         )
     return np.concatenate(pts_out)[:n], np.concatenate(wts_out)[:n]
-
-
-def _inside_polygon(vertices: np.ndarray, pts: np.ndarray) -> np.ndarray:
-    """Even-odd test of points (m, 2) against a simple polygon."""
-    x, y = pts[:, 0], pts[:, 1]
-    inside = np.zeros(len(pts), dtype=bool)
-    vx, vy = vertices[:, 0], vertices[:, 1]
-    for i in range(len(vertices)):
-        x1, y1, x2, y2 = vx[i - 1], vy[i - 1], vx[i], vy[i]
-        cond = (y1 > y) != (y2 > y)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            xc = x1 + (y - y1) * (x2 - x1) / (y2 - y1)
-        inside ^= cond & (x < xc)
-    return inside

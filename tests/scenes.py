@@ -10,7 +10,7 @@ from models.scene import PushScene
 
 SEED = 20261122
 
-# mu = |alpha . c| / a for each regime of the boundary (models/cor_disk.py docstring):
+# mu = |alpha . c| / a for each regime of the boundary (models/locus/cor_disk.py docstring):
 # outer+inner, outer+arc+inner, arc+inner (contact outside the disk).
 MU_OUTER_INNER = (1e-3, 0.05, 0.3, 0.6, 0.7)
 MU_WITH_ARC = (0.72, 0.9, 0.99)

@@ -2,8 +2,8 @@
 
 Book 4.2: to bound a quantity x while beta runs from beta_initial to beta_final, take in
 every COR sketch the COR that makes dx/dbeta largest (or smallest) and integrate. The book
-approximates that COR by tips and by the tip line (closed forms in models/gross_motion.py);
-here it is taken from the sketch itself (models/cor_sketch.py): the slipping loci (the
+approximates that COR by tips and by the tip line (closed forms in models/gross/gross_motion.py);
+here it is taken from the sketch itself (models/locus/cor_sketch.py): the slipping loci (the
 analytic {COR}_{alpha+-nu} cut by their consistency half-planes) and the sticking segment.
 
 Every rate used here is linear or linear-fractional in the COR (the fence's (4.2) is
@@ -17,7 +17,7 @@ n_points^-2; the benchmark reports it).
 The integral over beta uses Gauss-Legendre nodes (no end points: the disk's beta = pi/2 is
 a grazing push) at ``n_nodes`` and at half as many; their difference is reported as the
 quadrature error estimate. The disk encounter integrates in u = ln tan(beta/2), where its
-rates, which grow like 1/sin(beta) near beta = 0, become bounded. Frames are those of models/gross_motion.py.
+rates, which grow like 1/sin(beta) near beta = 0, become bounded. Frames are those of models/gross/gross_motion.py.
 """
 
 from __future__ import annotations
@@ -117,7 +117,7 @@ def _integrate(f_node: Callable[[float], Extreme], lo: float, hi: float,
 
 
 def fence_scene(a: float, c: float, alpha: float, beta: float) -> PushScene:
-    """The fence push at angle beta (fence frame of models/gross_motion.py): CM at the
+    """The fence push at angle beta (fence frame of models/gross/gross_motion.py): CM at the
     origin, the vertex at c (-cos beta, sin beta), the fence face at angle alpha, pushing
     along +x."""
     contact = c * np.array([-math.cos(beta), math.sin(beta)])

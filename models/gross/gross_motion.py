@@ -6,7 +6,7 @@ beta_final, write an *equation of motion* dx = g(r, beta) dbeta for a COR r, pic
 COR sketch the COR that makes dx/dbeta largest (or smallest) and integrate. This module
 holds the closed forms the book derives that way, each re-derived (the OCR garbles
 several, and some look wrong in the book itself; every finding is in the docstring of its
-function and pinned by tests/models/test_gross_motion.py), and a small adaptive
+function and pinned by tests/models/gross/test_gross_motion.py), and a small adaptive
 Gauss-Kronrod quadrature (numpy only) that integrates the same equations of motion for
 any COR callback.
 
@@ -15,7 +15,7 @@ alpha_hat . c, not (alpha +- nu)_hat . c, and a factor cos nu on the log); (4.3)
 rule is reversed in the text; the 4.3 example's slipping stretch uses the '+' tip, not
 the printed '-'; (4.15) is 2a dbeta / sin beta; (4.18) is pi/2 - beta_initial; (4.19)
 holds only for sticking, and the rotation rate is -a cos beta / x_COR, not (4.22). The
-tip-line approximations are not upper bounds: tests/solver/test_push_simulation.py finds
+tip-line approximations are not upper bounds: tests/solver/sim/test_push.py finds
 supports whose CORs dip below the tip line and exceed (4.16) and the composite bound of
 4.3 by 1-3 % when mu_c is large.
 
@@ -747,7 +747,7 @@ def rotation_rate(beta: Real, x_cor: Real, y_cor: Real, a: Real) -> Real:
     The book's (4.19) dx = l sin xi dxi takes the pusher's advance to be the horizontal
     travel of the disk's material point at the contact, true only when it sticks; its
     (4.22) (:func:`rotation_rate_book_printed`) agrees with this one only on the sticking
-    line (checked against the forward solver in tests/solver/test_push_simulation.py).
+    line (checked against the forward solver in tests/solver/sim/test_push.py).
     """
     beta = np.asarray(beta, dtype=float)
     return -a * np.cos(beta) / np.asarray(x_cor, dtype=float)

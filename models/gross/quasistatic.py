@@ -13,7 +13,7 @@ rho its polar radius of gyration about the CM (models/inertia.py), and
 rbar = (1/A) integral |x - CM| dA its mean distance from the CM. Uniform density and
 uniform pressure (the book's assumption in (6.2)), so the CM is the area centroid.
 
-Re-derivations (each checked in tests/models/test_quasistatic.py against a numerical
+Re-derivations (each checked in tests/models/gross/test_quasistatic.py against a numerical
 integration of the sliding rigid body, and against the book's own numbers):
 
 6.8.1, angular error, (6.1)-(6.3). After the interaction the part spins at omega = v/a
@@ -64,7 +64,7 @@ These are order-of-magnitude estimates, as the book says ("only an approximate u
 bound"): they treat spin and slide separately. Sliding friction couples them: a part that
 both spins and slides shares its friction between the two and coasts farther in each
 (a disk released with omega = v/a slides 1.27 times X(v) and turns 1.93 times theta(v),
-measured in tests/models/test_quasistatic.py), so near a characteristic speed the
+measured in tests/models/gross/test_quasistatic.py), so near a characteristic speed the
 permissible error can be exceeded.
 
 Units: any consistent length unit L and seconds. g must be given in L/s^2;

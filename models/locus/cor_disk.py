@@ -8,7 +8,7 @@ its position is rho (-cos eta, sin eta), so eta = 0 points at the tip (epsilon =
 and eta = pi at the r_min end (epsilon = alpha).
 
 The book's boundary has three kinds of pieces (all re-derived and checked numerically in
-tests/models/test_cor_disk.py against a direct solution of the membership problem):
+tests/models/locus/test_cor_disk.py against a direct solution of the membership problem):
 
 * inner: r < a, equation (3.30), from r_min (3.31) at eta = pi out to the disk at
   eta_a (3.32);

@@ -48,10 +48,10 @@ equal configurations the CM's zone decides, see :func:`cor_sketch`); the sketch 
 letter of its canonical image and whether it is mirrored. The modes a sketch allows are also computed directly from which of its
 three loci are non-empty.
 
-The elementary loci are the exact analytic disk loci of models/cor_disk.py. The sticking
+The elementary loci are the exact analytic disk loci of models/locus/cor_disk.py. The sticking
 locus is found here by the book's own construction -- a sweep of phi over the cone, each
 {COR}_phi intersected with the sticking line, refined at the extremes by golden-section
-search -- which is exact up to the boundary polygons' resolution; solver/sticking.py
+search -- which is exact up to the boundary polygons' resolution; solver/locus/sticking.py
 solves the same question as a convex feasibility problem in the pressure distribution.
 """
 
@@ -125,7 +125,7 @@ class StickingLocus:
     """The sticking locus: the segment of the sticking line between positions ``t_low`` and
     ``t_high`` (signed distances from c along J p), with its end points (world) and the
     force angles phi (relative to n, CCW) that produce each end (None when the ends come
-    from the exact feasibility problem of solver/sticking.py, which has no single angle)."""
+    from the exact feasibility problem of solver/locus/sticking.py, which has no single angle)."""
 
     t_low: float
     t_high: float
@@ -419,7 +419,7 @@ def assemble_sketch(
 ) -> CorSketch:
     """The sketch (4.1.3-4.1.6) from its two elementary loci (:func:`classify_locus`) and
     its sticking locus, however they were computed (analytic disk loci and the sweep here;
-    certified polygon loci and the exact sticking locus in solver/certified_sketch.py):
+    certified polygon loci and the exact sticking locus in solver/locus/certified_sketch.py):
     the slipping loci, the tip-line estimate, the letter of figure 4-6 and the modes."""
     nu = math.atan(mu_c)
     down = _slipping_piece(scene, plus, 1.0)

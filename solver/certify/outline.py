@@ -22,7 +22,7 @@ from typing import Protocol
 import numpy as np
 
 from models.errors import InvalidInput
-from models.footprint import Footprint
+from models.footprint import Footprint, inside_polygon
 from solver.core.tolerances import SolverTolerances
 
 ON_BOUNDARY_REL = 1e-9
@@ -106,12 +106,7 @@ class Outline:
             return True
         if self.vertices is None:
             return float(np.hypot(r[0], r[1])) <= 1.0
-        a = self.vertices
-        b = np.roll(a, -1, axis=0)
-        cond = (a[:, 1] > r[1]) != (b[:, 1] > r[1])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            xint = a[:, 0] + (r[1] - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
-        return bool(np.sum(cond & (r[0] < xint)) % 2 == 1)
+        return bool(inside_polygon(self.vertices, r)[0])
 
     def reach(self, point: np.ndarray) -> float:
         """max |w - point| over the footprint (/ L)."""

@@ -13,14 +13,14 @@ polygon's own, each certified by the minimum-power engine:
 * the slipping loci: the traced loci cut by the same consistency half-planes as the disk's
   (4.1.3, :func:`models.locus.cor_sketch.assemble_sketch`);
 * the sticking locus: both ends exact and certified on the footprint
-  (:func:`solver.locus.sticking.sticking_locus` with the footprint: a convex feasibility problem
+  (:func:`solver.locus.sticking_locus.sticking_locus` with the footprint: a convex feasibility problem
   in the pressure distribution, 4.1.4);
 * the elementary configurations (4.1.5) and the letter of figure 4-6 (4.1.6) as for the
   disk; the "tip" of a traced locus is its boundary point farthest from the CM (the disk
   locus's tip is that point).
 
 Without a footprint (a disk-bounded part) the elementary loci are the analytic disk loci
-(3.30, 3.35; confirmed point by point by certificates in tests/solver/test_certified_locus.py)
+(3.30, 3.35; confirmed point by point by certificates in tests/solver/locus/test_certified_locus.py)
 and only the sticking locus differs from :func:`models.locus.cor_sketch.cor_sketch`: its ends are
 the exact certified ones instead of the book's force-angle sweep.
 

@@ -76,7 +76,7 @@ dual whose branch-and-bound bound over the outline separates (outside, certified
 ``certify=False``, grid pricing only: an "outside" then has ``certificate_kind`` "none" and
 ``lower_bound_method`` "grid" and is no certificate.
 
-Findings (tests/solver/test_sticking.py, docs/benchmarks.md)
+Findings (tests/solver/locus/test_sticking.py, docs/benchmarks.md)
 -----------------------------------------------------------
 * The book's 6.3 experiment (disk, fence at 70 degrees, mu_c = 0.5, contact on the rim so
   the fence normal passes through the CM): the tip line meets the sticking line at

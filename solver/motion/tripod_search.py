@@ -25,7 +25,7 @@ P_1..3 and the COR r; its constraints are
   smooth away from the supports, so |w_i - r| >= the margin too: a COR on a support point
   is only approached, to within the margin.
 
-Everything runs in the dimensionless locus frame of models/cor_disk.py: lengths over the
+Everything runs in the dimensionless locus frame of models/locus/cor_disk.py: lengths over the
 disk radius a, x along alpha' = sign(m) alpha_hat, so the only scene parameter is
 mu = |alpha . c| / a, and (3.8) reads with alpha = (1, 0), s = mu - r_x.
 
@@ -43,7 +43,7 @@ minimum-power solve of its tripod (solver.motion.forward.solve_forward, exact Ne
 
 The best optimum verified either way is returned, its kind of check in
 ``ExtremeCorResult.verification``; a start that failed both is never used. For the disk this is an
-independent numerical check of the analytic locus of models/cor_disk.py (3.3.4-3.3.12).
+independent numerical check of the analytic locus of models/locus/cor_disk.py (3.3.4-3.3.12).
 IPOPT only, never CasADi's HiGHS plugin (shared-library clash, tests/test_highs_hazard.py).
 """
 

@@ -1,7 +1,7 @@
 """Whole pushes simulated with the forward solver, to check the gross-motion bounds of
-models/gross_motion.py (book 4.2-4.4) on known supports.
+models/gross/gross_motion.py (book 4.2-4.4) on known supports.
 
-Two problems, in the frames of models/gross_motion.py (the world frame of the scenes built
+Two problems, in the frames of models/gross/gross_motion.py (the world frame of the scenes built
 here is the book's: the pusher moves along +x):
 
 * **Fence alignment** (3.4, 4.3): a fence with face angle alpha advances along +x and

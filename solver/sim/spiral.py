@@ -33,7 +33,7 @@ no sampling interval straddles one.
   dip is found.
 * *Contact*: the contact point is the pusher point, the pushed edge is the disk's tangent
   there, the push direction is the path's tangent (not the line of centres), and the
-  forward solver (solver/forward.py, 4.1: sticking or slipping with pusher friction mu_c)
+  forward solver (solver/motion/forward.py, 4.1: sticking or slipping with pusher friction mu_c)
   gives the twist per unit push. The pose is advanced by a midpoint (RK2) step in u of the
   rigid motion about the COR (:func:`solver.sim.kinematics.advance`), and after every (half)
   step the contact is re-imposed: the CM is put back at distance a from P(u) along the
@@ -59,10 +59,10 @@ Forward-solver problems are never silent: every solve's status is counted
 message. Modes are the forward solver's, named in the world frame: on a counter-clockwise
 path (the mirror image of the book's drawings) its "slipping_up" is the book's down-slipping.
 
-Findings (tests/solver/test_spiral_simulation.py, docs/benchmarks.md "Spiral simulation (4.5)"):
+Findings (tests/solver/sim/test_spiral.py, docs/benchmarks.md "Spiral simulation (4.5)"):
 
 * The simulation agrees with r*(beta): the witness support of the lowest sticking COR
-  (solver/sticking.py) on a circle 1 % inside r*(beta) is pushed out, 0.2 % outside it is
+  (solver/locus/sticking.py) on a circle 1 % inside r*(beta) is pushed out, 0.2 % outside it is
   chased or pushed in (4.5.2-4.5.3).
 * "At worst, the disk is pushed neither in nor out" (4.5.5) holds on circles only: on a
   spiral the pusher keeps moving in while it chases the disk, and the worst support hit at
@@ -765,7 +765,7 @@ def criterion_margins(run: SpiralRun, path: _Path, r_star) -> np.ndarray:
     sketch lies on the inner side of the critical line and the disk is pushed in, whatever
     its support; a negative margin means that guarantee lapsed during the contact (the
     disk may still have been pushed in: its own COR need not be the worst one). ``r_star``
-    is a vectorised callable of beta (e.g. an interpolation of solver/spiral.py's table);
+    is a vectorised callable of beta (e.g. an interpolation of solver/spiral/critical_radius.py's table);
     the radius is the distance from the path's centre, the book's b (a spiral's osculating
     circle differs from it by O((db/du / b)^2))."""
     out = []
@@ -937,7 +937,7 @@ def spiral_check(
 def worst_case_support(a: float, beta: float, mu_c: float, tol: SolverTolerances = SOLVER_DEFAULT):
     """The support whose COR is the lowest sticking COR at collision parameter ``beta``
     (4.5.2-4.5.3): the witness of the inside end of the certified lower bracket of the
-    sticking locus (solver/sticking.py), its point mass at the COR included. Returns
+    sticking locus (solver/locus/sticking.py), its point mass at the COR included. Returns
     (r* from that inside end, points relative to the CM in the frame of
     models.gross.gross_bounds.encounter_scene, weights)."""
     from models.gross.gross_bounds import encounter_scene

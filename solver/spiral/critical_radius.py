@@ -8,12 +8,12 @@ it are s = (r - c) . J p. The pusher centre PC must lie below the lower end of t
 sticking locus (figure 4-18), so r*(beta) = -s_lower, the distance from the pusher line
 to that end. Three ways to get it (``method``):
 
-* "exact": solver/sticking.py's certified lower end (convex feasibility in the pressure
+* "exact": solver/locus/sticking.py's certified lower end (convex feasibility in the pressure
   distribution, a witness inside and a branch-and-bound dual outside). The safe value is
   the OUTSIDE (infeasible) end of the bracket: PC there is certainly below the locus. The
   midpoint and the bracket width are reported beside it.
 * "sweep": the book's construction (4.1.4), a sweep of the force angle over the cone with
-  the analytic loci (models/cor_sketch.py), exact up to the loci's polygon resolution
+  the analytic loci (models/locus/cor_sketch.py), exact up to the loci's polygon resolution
   (~1e-5 a at 1024 points, from the inscribed polygons: it errs slightly low, not safe).
 * "tip_line": the book's approximation, r* = 2a / sin beta (4.13), independent of mu_c.
 
@@ -24,7 +24,7 @@ with (4.25). (4.5.5) the schedule: models/spiral.py holds the envelope, the recu
 (SimpleMinCostFlow, or CP-SAT with a time limit) and certifies it by shortest-path
 potentials (an LP dual whose bound equals the objective).
 
-Findings (tests/solver/test_spiral.py, docs/benchmarks.md "Spiral localization (4.5)"):
+Findings (tests/solver/spiral/test_critical_radius.py, docs/benchmarks.md "Spiral localization (4.5)"):
 * (4.25) holds: the exact r*(pi/2 - 1e-6) is a(1 + mu_c) for mu_c <= 1 and 2a above,
   within ~1e-6 a.
 * The tip line's grazing limit is 2a for every mu_c: for mu_c < 1 it overstates b_inf by
@@ -74,7 +74,7 @@ KINK_ITERATIONS = 12
 EMPTY_RETRY_SCAN = (384, 1536)
 """Scan probes of the retries when the exact sticking locus comes back empty: for small
 mu_c near grazing the locus is ~2 mu_c a long and the default 96-probe scan of
-solver/sticking.py can miss it (mu_c = 0.01 needs ~400 probes, 0.003 ~2000)."""
+solver/locus/sticking.py can miss it (mu_c = 0.01 needs ~400 probes, 0.003 ~2000)."""
 
 MIN_BETA = 1e-3
 """Smallest collision parameter accepted: r* ~ 2a / beta, so beta = 1e-3 is r* ~ 2000 a."""

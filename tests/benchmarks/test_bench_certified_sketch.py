@@ -1,4 +1,4 @@
-"""Benchmark (not a test): certified COR sketches (solver/certified_sketch.py; book 4.1,
+"""Benchmark (not a test): certified COR sketches (solver/locus/certified_sketch.py; book 4.1,
 3.3.13, 7.5).
 
 Writes its section of docs/benchmarks.md: the time of a polygon's own sketch against the

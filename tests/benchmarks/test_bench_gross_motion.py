@@ -31,7 +31,7 @@ def timed(fn, repeats=3):
 
 def test_gross_motion_bounds():
     lines = [
-        "COR sketch (`models/cor_sketch.py`) of the book-like scene (contact (-0.3, -0.9), disk a = 1,",
+        "COR sketch (`models/locus/cor_sketch.py`) of the book-like scene (contact (-0.3, -0.9), disk a = 1,",
         "edge at 120 deg, push along +x): time against the boundary resolution, and the sticking",
         "locus's far end against a 4096-point reference.",
         "",

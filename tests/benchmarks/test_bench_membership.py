@@ -1,5 +1,5 @@
 """Benchmark (not a test): certified membership "can r be a COR?" and certified loci
-(solver/membership.py, solver/certified_locus.py; book 3.3, 3.3.13, 7.5).
+(solver/locus/membership.py, solver/locus/certified_locus.py; book 3.3, 3.3.13, 7.5).
 
 Writes its section of docs/benchmarks.md: the time of one
 membership query near the analytic disk boundary (inside and outside, median and p95),
@@ -53,7 +53,7 @@ def test_membership_and_certified_loci():
     certified_disk_boundary(scene_for_mu(0.3), n_points=8)
 
     lines = [
-        f"`solver/membership.py`, `solver/certified_locus.py`; {platform.machine()}, Python "
+        f"`solver/locus/membership.py`, `solver/locus/certified_locus.py`; {platform.machine()}, Python "
         f"{platform.python_version()}, one core. Times in ms unless marked.",
         "",
         "One query at 64 points a distance *offset* inside / outside the analytic disk boundary",

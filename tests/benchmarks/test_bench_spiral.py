@@ -1,5 +1,5 @@
 """Benchmark (not a test): spiral localization of a disk (models/spiral.py,
-solver/spiral.py; book 4.5).
+solver/spiral/critical_radius.py; book 4.5).
 
 Writes the section "Spiral localization (4.5)" of docs/benchmarks.md: r*(beta) tables by
 the exact sticking locus, the book's sweep and the tip line (build time, agreement),
@@ -56,10 +56,10 @@ def fmt(x, spec=".4f"):
 
 def test_spiral_benchmark():
     lines = [
-        f"`models/spiral.py`, `solver/spiral.py`; {platform.machine()}, Python {platform.python_version()}, one core. "
+        f"`models/spiral.py`, `solver/spiral/critical_radius.py`; {platform.machine()}, Python {platform.python_version()}, one core. "
         "Disk radius a = 1; r* is the distance from the pusher line to the lower end of the sticking locus "
-        "(4.5.3); exact = the outside end of the certified bracket (solver/sticking.py), sweep = the book's "
-        "force-angle sweep with 1024-point loci (models/cor_sketch.py), tip line = 2a/sin(beta) (4.13).",
+        "(4.5.3); exact = the outside end of the certified bracket (solver/locus/sticking.py), sweep = the book's "
+        "force-angle sweep with 1024-point loci (models/locus/cor_sketch.py), tip line = 2a/sin(beta) (4.13).",
         "",
     ]
 

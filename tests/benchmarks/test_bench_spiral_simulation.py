@@ -1,8 +1,8 @@
 """Benchmark (not a test): a disk herded along the planned spiral, simulated with the
-forward solver (solver/spiral_simulation.py; book 4.4, 4.5).
+forward solver (solver/sim/spiral.py; book 4.4, 4.5).
 
 Writes its section of docs/benchmarks.md: supports simulated per second on a schedule
-planned by the book's recursion (4.26) (models/spiral.py on solver/spiral.py's exact
+planned by the book's recursion (4.26) (models/spiral.py on solver/spiral/critical_radius.py's exact
 critical radius), the worst-case margins found, the step size against the error, the
 worst-case (witness) support against the shrinkage of the spiral during a contact, and a
 schedule made exactly critical in the true collision depth. Run with
@@ -116,7 +116,7 @@ def test_spiral_simulation_benchmark():
     b_n = float(rec.radii[-1])
 
     lines = [
-        f"`solver/spiral_simulation.py`; {platform.machine()}, Python {platform.python_version()}, one core, "
+        f"`solver/sim/spiral.py`; {platform.machine()}, Python {platform.python_version()}, one core, "
         f"seed {SEED}. Disk radius a = 1, mu_c = {MU:g} (b_inf = {A * (1 + MU):g} a, (4.25)).",
         "",
         "Schedule: the recursion (4.26) (`models.spiral.fastest_spiral`) on the exact critical radius",
@@ -150,7 +150,7 @@ def test_spiral_simulation_benchmark():
         "",
         f"With the default settings (step 0.05 a): {slow.supports_per_second:.2f} supports/s "
         f"({slow.forward_solves / slow.n:.0f} forward solves per support, {slow.forward_solves / slow.wall_time_s:.0f} solves/s). "
-        "Every forward solve is one Newton solve of solver/forward.py (no batching across supports:",
+        "Every forward solve is one Newton solve of solver/motion/forward.py (no batching across supports:",
         "each disk has its own contact geometry).",
     ]
 
@@ -179,7 +179,7 @@ def test_spiral_simulation_benchmark():
     lines += [
         "",
         f"The worst support: the witness of the lowest sticking COR at beta = {beta:g} (r* = {r_crit:.5f} a,",
-        "solver/sticking.py), hit at beta by a pusher of radius r at the contact whose radius keeps falling",
+        "solver/locus/sticking.py), hit at beta by a pusher of radius r at the contact whose radius keeps falling",
         "by Delta per revolution (a spiral of one revolution; Delta = 0: 0.3 turns of a circle). *in*: pushed",
         "in; *chased*: beta constant to the end; *falls*: beta fell, contact open at the end; *OUT*: left",
         "outside the path (lost).",

@@ -1,4 +1,4 @@
-"""Benchmark (not a test): the exact sticking locus (solver/sticking.py; book 4.1.4,
+"""Benchmark (not a test): the exact sticking locus (solver/locus/sticking_locus.py; book 4.1.4,
 3.3.11.1, 6.3).
 
 Writes its section of docs/benchmarks.md: the time of one sticking-feasibility query
@@ -72,7 +72,7 @@ def test_sticking_locus_benchmark():
     sticking_locus(warm[1], warm[3], scan_points=16, seed_tripods=0)
 
     lines = [
-        f"`solver/sticking.py`; {platform.machine()}, Python {platform.python_version()}, one core. "
+        f"`solver/locus/sticking.py`, `solver/locus/sticking_locus.py`; {platform.machine()}, Python {platform.python_version()}, one core. "
         "Positions s are along J p from the contact (world units), a = disk radius or circumradius.",
         "",
         "Whole sticking locus (`sticking_locus`, default settings: 96 scan probes, 256 seed tripods,",

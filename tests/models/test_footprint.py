@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from models.errors import InvalidInput
-from models.footprint import Footprint, triangle_areas, triangulate
-from tests.scenes import SEED, point_in_polygon
+from models.footprint import Footprint, inside_polygon, triangle_areas, triangulate
+from tests.scenes import SEED, distance_to_polyline, point_in_polygon
 
 SQUARE = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
 L_SHAPE = [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]
@@ -102,3 +102,27 @@ def test_triangulation_covers_the_polygon_exactly():
         assert np.all(areas > 0.0)
         assert areas.sum() == pytest.approx(fp.area, rel=1e-12)
         assert np.all(point_in_polygon(tris.mean(axis=1), fp.vertices))
+
+
+def test_inside_polygon_agrees_with_the_triangulation():
+    """The even-odd test against an independent one: inside some triangle of the ear-clipped
+    triangulation (barycentric signs); points within 1e-9 of the outline are left out."""
+    rng = np.random.default_rng(SEED)
+    for _ in range(15):
+        n = int(rng.integers(3, 12))
+        th = 2 * math.pi * (np.arange(n) + rng.uniform(0, 0.4, n)) / n
+        r = rng.uniform(0.2, 1.0, n)
+        fp = Footprint.create(np.column_stack([r * np.cos(th), r * np.sin(th)]))
+        pts = rng.uniform(-1.1, 1.1, size=(400, 2))
+        pts = pts[distance_to_polyline(pts, fp.vertices) > 1e-9]
+        tris = triangulate(fp.vertices)
+        a, b, c = (tris[:, k][None] for k in range(3))
+        p = pts[:, None, :]
+
+        def side(u, v, w):
+            return (v[..., 0] - u[..., 0]) * (w[..., 1] - u[..., 1]) - (v[..., 1] - u[..., 1]) * (w[..., 0] - u[..., 0])
+
+        in_tri = (side(a, b, p) >= 0) & (side(b, c, p) >= 0) & (side(c, a, p) >= 0)
+        expected = in_tri.any(axis=1)
+        assert 0 < expected.sum() < len(pts)
+        assert np.array_equal(inside_polygon(fp.vertices, pts), expected)

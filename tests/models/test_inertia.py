@@ -1,6 +1,6 @@
 """Radii of gyration and the impact-limit COR (book 7.4, (7.1)), each checked by an
 independent computation: closed forms of regular polygons, seeded Monte Carlo integration,
-rigid-body impulse mechanics, and the analytic quasi-static locus of models/cor_disk.py."""
+rigid-body impulse mechanics, and the analytic quasi-static locus of models/locus/cor_disk.py."""
 
 from __future__ import annotations
 
@@ -197,7 +197,7 @@ def test_ring_impact_cor_is_the_locus_tip_3_37(mu, placement):
 
 
 def test_ring_impact_cor_for_contact_beyond_the_disk():
-    """|alpha . c| >= a: the locus's farthest point is on the disk (models/cor_disk.py), but
+    """|alpha . c| >= a: the locus's farthest point is on the disk (models/locus/cor_disk.py), but
     (7.1) with rho = a is the book's (3.37) a^2/|alpha . c|, on the same axis."""
     sc = scene_for_mu(1.5)
     loc = cd.disk_cor_locus(sc, outputs=("tip",))

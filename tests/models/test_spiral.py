@@ -385,7 +385,7 @@ def test_greedy_on_a_grid_is_the_shortest_path():
 
 def test_minimum_step_can_defeat_greedy():
     """With a minimum step greedy may get stuck (its last step would be too short) while
-    another schedule reaches the target: why solver/spiral.py solves the shortest path."""
+    another schedule reaches the target: why solver/spiral/schedule.py solves the shortest path."""
     env = synthetic_envelope()
     found = False
     for target in np.linspace(5.0, 8.0, 61):

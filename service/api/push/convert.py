@@ -181,8 +181,8 @@ GROSS_REFERENCE = (
     "M. A. Peshkin, Robotic Manipulation Strategies (1990): 3.4 (aligning a workpiece with a fence, "
     "(3.39)-(3.41)), 4.2 (from instantaneous to gross motion), 4.3 (the fence with contact friction, "
     "(4.2)-(4.8)), 4.4 (a disk pushed aside, (4.9)-(4.24)); 3.1.8 (the circumscribing disk); 6.8 "
-    "(quasi-static speeds). Closed forms re-derived in models/gross_motion.py, exact bounds in "
-    "models/gross_bounds.py, the fence geometry in models/fence_geometry.py"
+    "(quasi-static speeds). Closed forms re-derived in models/gross/gross_motion.py, exact bounds in "
+    "models/gross/gross_bounds.py, the fence geometry in models/gross/fence_geometry.py"
 )
 
 ALIGN_NOTE = (
@@ -192,7 +192,7 @@ ALIGN_NOTE = (
     "their quadrature error and the sampling of the loci, n_points). The "
     "book's closed forms take the tips of {COR}_(alpha+-nu) and the tip line instead of the exact "
     "slowest CORs: they are approximations, not bounds (the exact longest push exceeds them by up to a "
-    "few per cent at large mu_c, models/gross_motion.py). With mu_c = 0 the closed forms are exact (the "
+    "few per cent at large mu_c, models/gross/gross_motion.py). With mu_c = 0 the closed forms are exact (the "
     "tip of {COR}_alpha is the slowest COR and r_min the fastest). A stage ends when its edge is flush; "
     "the part stops when the frictionless line of force through the CM meets that edge."
 )

@@ -53,7 +53,7 @@ CURVE_COLORS = (
     LOCUS_COLORS["disk"],
     "#b8860b",
 )
-"""One colour per curve of figure 4-19 (cycled), the palette of :mod:`service.render`."""
+"""One colour per curve of figure 4-19 (cycled), the palette of :mod:`service.common.svg`."""
 
 COLORS = {
     "path": LOCUS_COLORS["workpiece"],

@@ -46,7 +46,7 @@ REFERENCE = (
     "M. A. Peshkin, Robotic Manipulation Strategies (1990): 4.5 (spiral localization of a disk: "
     "4.5.2 the critical case, 4.5.3 r*(beta) and (4.24), 4.5.4 b_inf (4.25), 4.5.5 the recursion (4.26), "
     "figures 4-19 and 4-21); 4.1.4 (the sticking locus). Re-derived in models/spiral.py and "
-    "solver/spiral.py, simulated in solver/spiral_simulation.py"
+    "solver/spiral/, simulated in solver/sim/spiral.py"
 )
 
 METHOD_DESCRIPTION = (

@@ -1,5 +1,5 @@
 """The fence-alignment geometry of book 3.4/4.3 from a world-frame scene
-(models/fence_geometry.py): hand-computed cases, invariance under translation, rotation
+(models/gross/fence_geometry.py): hand-computed cases, invariance under translation, rotation
 and scale, mirror consistency, the chain of stages past an unstable flush edge, the
 book's pictures (figures 3-1, 3-20, 3-21; the 4.3 example), and the offset of (4.24).
 Book text references are line numbers of /work/shared/seed/000_11c73ac4ccaabe12.txt."""
@@ -116,8 +116,8 @@ def test_figure_3_20_the_contact_need_not_be_on_the_disk_and_beta_is_the_angle_o
 
 
 def book_example_footprint():
-    """A quadrilateral with the geometry of the 4.3 example (models/gross_motion.py,
-    reconstructed; c = 0.5746 a as in tests/solver/test_gross_bounds.py): CM at the origin,
+    """A quadrilateral with the geometry of the 4.3 example (models/gross/gross_motion.py,
+    reconstructed; c = 0.5746 a as in tests/models/gross/test_gross_bounds.py): CM at the origin,
     a = 1, the contact at c with beta = 45 deg, the edge leaving it clockwise at psi = 30
     deg, so that with alpha = 70 deg beta_final = 180 - 70 - 30 = 80 deg."""
     c = 0.5746

@@ -1,6 +1,6 @@
 """Exact bounds on gross motions from the exact COR sketch (book 4.2-4.4), against the
-book's closed forms (models/gross_motion.py) and against simulated pushes of random
-pressure distributions (solver/push_simulation.py): no simulation may beat a bound."""
+book's closed forms (models/gross/gross_motion.py) and against simulated pushes of random
+pressure distributions (solver/sim/push.py): no simulation may beat a bound."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from models.support import random_balanced_tripods
 from solver.sim.push import simulate_disk_encounter_batch, simulate_fence_alignment_batch
 from tests.scenes import SEED
 
-# The book's 4.3 example reconstructed (models/gross_motion.py): alpha = 70 deg, mu_c =
+# The book's 4.3 example reconstructed (models/gross/gross_motion.py): alpha = 70 deg, mu_c =
 # 0.25, c = 0.5746 a, beta from 45 to 80 deg, transition at 69.4 deg.
 BOOK = dict(a=1.0, c=0.5746, alpha=math.radians(70.0), beta_initial=math.radians(45.0),
             beta_final=math.radians(80.0))
@@ -59,7 +59,7 @@ def test_no_simulated_fence_push_beats_the_exact_bounds():
     slack = 2e-3 * longest.value
     assert sim.push.max() <= longest.value + slack
     assert sim.push.min() >= shortest.value - slack
-    # and the book's closed form is beaten here (models/gross_motion.py findings)
+    # and the book's closed form is beaten here (models/gross/gross_motion.py findings)
     assert longest.book_value is None or longest.value > longest.book_value
 
 

@@ -1,4 +1,4 @@
-"""Closed forms of gross motions (book 3.4, 4.3, 4.4) in models/gross_motion.py.
+"""Closed forms of gross motions (book 3.4, 4.3, 4.4) in models/gross/gross_motion.py.
 
 Every closed form is checked against an adaptive quadrature of its own equation of motion,
 and the CORs it relies on (tips, B, the sticking-line side) against models.locus.cor_disk on a

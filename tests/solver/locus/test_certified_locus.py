@@ -1,4 +1,4 @@
-"""Certified loci (solver/certified_locus.py): the analytic disk boundary of chapter 3
+"""Certified loci (solver/locus/certified_locus.py): the analytic disk boundary of chapter 3
 bracketed point by point, and exact polygon loci (7.5, figure 3-6) traced by certified
 brackets, checked against nested disks, forward-solved tripods and a deliberately wrong
 boundary."""
@@ -59,7 +59,7 @@ def recompute_error(sc, res, length) -> float:
 @pytest.mark.slow
 @pytest.mark.parametrize("mu", [0.05, 0.5, 0.9, 1.5])
 def test_certified_disk_boundary_matches_the_analytic_one(mu):
-    """(3.30), (3.35) and the perimeter arcs (models/cor_disk.py): at every boundary point
+    """(3.30), (3.35) and the perimeter arcs (models/locus/cor_disk.py): at every boundary point
     the pair r -+ delta nu (delta = boundary_bracket a / 2) is certified inside / outside, so
     the true boundary passes within delta of the analytic one. 3.3.13 notes that the
     quotient-locus boundaries behind these formulas were only checked empirically; this is

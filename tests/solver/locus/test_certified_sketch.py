@@ -1,4 +1,4 @@
-"""Certified COR sketches (book 4.1 on the exact loci, 3.3.13, 7.5): solver/certified_sketch.py.
+"""Certified COR sketches (book 4.1 on the exact loci, 3.3.13, 7.5): solver/locus/certified_sketch.py.
 
 Checks: every piece lies inside the circumscribing disk's sketch (7.5: the disk's loci
 contain the polygon's); forward solves of random supports on the polygon only take modes

@@ -1,4 +1,4 @@
-"""Certified membership "can r be a COR?" (solver/membership.py) against independent checks:
+"""Certified membership "can r be a COR?" (solver/locus/membership.py) against independent checks:
 the analytic disk locus (3.30)/(3.35), forward minimum-power solves (3.7), the membership
 equations recomputed with models.mpp (3.8)-(3.10), and brute-force dense sampling of the
 dual functional over the 2-D footprint (which also tests the reduction to the outline)."""
@@ -130,7 +130,7 @@ def test_cor_on_its_own_support_point():
 
 
 def test_point_mass_exists_only_inside_the_footprint():
-    """3.3.13 boundary pieces on the disk (perimeter arcs, models/cor_disk.py): for
+    """3.3.13 boundary pieces on the disk (perimeter arcs, models/locus/cor_disk.py): for
     |alpha . c| >= a the tip is on the circle. On the circle r is in F, so a point mass at r
     with the full subgradient disk is allowed and r is inside; 1e-6 a beyond the circle only
     supports near r remain, whose directions cover half the subgradient disk, and r is

@@ -353,7 +353,7 @@ def test_wrongly_graded_scan_probes_do_not_split_or_shorten_the_locus(monkeypatc
 
 @pytest.mark.slow
 def test_agrees_with_the_cor_sketch_force_angle_sweep():
-    """models/cor_sketch.py computes the sticking locus of a disk by the book's construction
+    """models/locus/cor_sketch.py computes the sticking locus of a disk by the book's construction
     (a sweep of force angles over the analytic loci, refined by golden section): the ends
     agree to its boundary resolution (1024-point polygons). Where the sweep reaches beyond a
     certified end (contact_inside: 3.8e-6 a, a chord across a concave stretch of the locus

@@ -1,5 +1,5 @@
 """The multi-start tripod NLP (Mason's theorem 5, book 1.6.3, 3.3.3) as an independent
-check of the analytic disk locus (3.3.4-3.3.12, models/cor_disk.py), and on polygons
+check of the analytic disk locus (3.3.4-3.3.12, models/locus/cor_disk.py), and on polygons
 against the circumscribing disk and against brute-force sampling of tripods."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
-"""Whole pushes simulated with the forward solver (solver/push_simulation.py) against the
-gross-motion closed forms of models/gross_motion.py (book 3.4, 4.3, 4.4).
+"""Whole pushes simulated with the forward solver (solver/sim/push.py) against the
+gross-motion closed forms of models/gross/gross_motion.py (book 3.4, 4.3, 4.4).
 
 Supports: seeded random tripods in the disk (book 3.3.3, models.support), tripods on its
 rim, and a fan of 64 diametral dipods (two half weights at opposite ends of a diameter,
@@ -38,7 +38,7 @@ D = math.radians
 A = 1.0
 EX_ALPHA, EX_MU = D(70.0), 0.25
 T_694 = math.tan(D(69.4))
-# The 4.3 example's c (see tests/models/test_gross_motion.py): reproduces 69.4 degrees.
+# The 4.3 example's c (see tests/models/gross/test_gross_motion.py): reproduces 69.4 degrees.
 EX_C = A * math.sqrt((1.0 + T_694**2) / (T_694 * math.tan(EX_ALPHA + math.atan(EX_MU)) - 1.0))
 
 
@@ -79,7 +79,7 @@ def small_supports(supports):
     return np.concatenate([pts[:50], pts[100:150]]), np.concatenate([wts[:50], wts[100:150]])
 
 
-# --- brute-force exact COR sketch (independent of models/gross_motion.py) ----------------
+# --- brute-force exact COR sketch (independent of models/gross/gross_motion.py) ----------------
 
 
 def _crossings(ring: np.ndarray, x0: float) -> np.ndarray:

@@ -1,5 +1,5 @@
 """A disk herded by a pusher on a spiral, simulated with the forward solver
-(solver/spiral_simulation.py; book 4.4, 4.5).
+(solver/sim/spiral.py; book 4.4, 4.5).
 
 Physical checks, all seeded:
 
@@ -19,11 +19,11 @@ Physical checks, all seeded:
 * symmetry: a clockwise path with mirrored support and start gives the mirrored
   trajectory; turning everything turns the trajectory;
 * the worst case of 4.5.2-4.5.3: the witness support of the lower end of the exact
-  sticking locus (solver/sticking.py) on a circle 1 % tighter than r*(beta) is pushed out
+  sticking locus (solver/locus/sticking.py) on a circle 1 % tighter than r*(beta) is pushed out
   (beta falls), 0.2 % looser it is not: the simulation and r*(beta) agree; on a spiral
   that keeps shrinking during the contact, 0.2 % above r*(beta) at the collision is not
   enough: the worst disk is lost (finding: "at worst chased", 4.5.5, holds for circles);
-* a schedule planned by the book's recursion (4.26) (solver/spiral.py, models/spiral.py)
+* a schedule planned by the book's recursion (4.26) (solver/spiral/critical_radius.py, models/spiral.py)
   herds random supports from random starts inside b_1 into the promised radius.
 """
 
@@ -298,7 +298,7 @@ def test_time_limit_reports_where_it_got():
 
 @pytest.fixture(scope="module")
 def witness():
-    """At beta = 0.8 the lowest sticking COR (solver/sticking.py, certified bracket of
+    """At beta = 0.8 the lowest sticking COR (solver/locus/sticking.py, certified bracket of
     1e-6 a) gives r*(beta) = 2.371 a (4.5.3); its witness support (nearly a rim dipod) is
     the support whose COR is that worst one. Points relative to the CM in the frame of
     encounter_scene: push along +x, the disk below the pusher's line."""

@@ -56,7 +56,7 @@ def detail(got):
 
 
 def book_footprint():
-    """The 4.3 example as a footprint (tests/models/test_fence_geometry.py): a = 1, CM at
+    """The 4.3 example as a footprint (tests/models/gross/test_fence_geometry.py): a = 1, CM at
     the origin, contact at c = 0.5746 with beta = 45 deg, flush edge at psi = 30 deg, so
     alpha = 70 deg gives beta 45 -> 80 deg."""
     c = 0.5746
@@ -244,7 +244,7 @@ def test_already_flush_and_a_chain_of_stages(client):
     assert got["geometry"]["sense"] == "none" and "already flush" in got["message"]
     assert got["longest_push"]["exact"] == 0.0 and got["longest_push"]["closed_form"] == 0.0
     assert got["shortest_push"]["exact"] == 0.0 and got["shortest_push"]["closed_form"] is None  # mu_c > 0
-    # Two stages: the triangle's short base is not stable (tests/models/test_fence_geometry.py).
+    # Two stages: the triangle's short base is not stable (tests/models/gross/test_fence_geometry.py).
     tri = [[0, 0], [1, 0], [5, 1]]
     r, got = post(client, ALIGN, {"footprint": tri, "orientation": D(5), "fence_angle": 0.0,
                                   "push_direction": D(90), "mu_c": 0.2, **FAST})

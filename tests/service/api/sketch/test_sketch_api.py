@@ -2,7 +2,7 @@
 
 The route is thin: its JSON is models.locus.cor_sketch.cor_sketch on the same scene, number for
 number; the nine sketch letters of figure 4-6 come through (scenes of
-tests/solver/test_cor_sketch.py); a push whose line passes through the CM inside the friction
+tests/models/locus/test_cor_sketch.py); a push whose line passes through the CM inside the friction
 cone is answered as a translation (and forward solves agree that the part translates,
 sticking); a polygon is sketched as its circumscribing disk; the SVG is valid XML with the
 book's elements; invalid input is 422 naming the field; the docs example runs.
@@ -347,7 +347,7 @@ def test_no_letter_when_the_loci_match_none_of_the_nine(client):
 
 
 # ---------------------------------------------------------------------------------------
-# method "certified" (solver/certified_sketch.py)
+# method "certified" (solver/locus/certified_sketch.py)
 # ---------------------------------------------------------------------------------------
 
 RECT = [[-1.5, -0.4], [1.5, -0.4], [1.5, 0.4], [-1.5, 0.4]]
