@@ -204,7 +204,7 @@ def decide(
         yb = float(y @ rows.b)
         fn = rows.functional(y, lam)
         pm_val = fn.point_mass_value() if in_f else math.inf
-        gf = fn.evaluate(pieces, gp, gt)[0]
+        gf = fn.values(pieces, gp, gt)
         lp, lt, lf = local_minima(fn, pieces, gt, gf, COLUMNS_PER_ROUND)
         t_cert = yb + tol.certificate_margin
         improving = lf < -tol.pricing_tol

@@ -78,6 +78,10 @@ class DualFunctional(Protocol):
         """(phi (k,), ext (k, 4)) at outline points; ``ext`` columns w_x, w_y, rho, |u - d0|."""
         ...
 
+    def values(self, pieces: Pieces, piece: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """phi (k,) alone (the same numbers as :meth:`evaluate`'s first)."""
+        ...
+
     def lower_bounds(
         self, pieces: Pieces, piece: np.ndarray, t0: np.ndarray, t1: np.ndarray,
         f0: np.ndarray, f1: np.ndarray, e0: np.ndarray, e1: np.ndarray,
@@ -136,16 +140,21 @@ class RayFunctional:
             return far_delta(w, u, rho, self.r, self.anchor)
         return u - self.d0
 
+    def _phi(self, w: np.ndarray, rho: np.ndarray, u: np.ndarray, dl: np.ndarray | None) -> np.ndarray:
+        if self.far:
+            coef = self.beta * (w - self.anchor) - self.q
+            return np.asarray(self.a + w @ self.b + np.einsum("ij,ij->i", coef, self._delta(w, u, rho) if dl is None else dl))
+        a_o, b_o, q_o = self.near_coefficients()
+        return np.asarray(a_o + w @ b_o + self.beta * rho + u @ q_o)
+
     def evaluate(self, pieces: Pieces, piece: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         w, rho, u = pieces.geom(piece, t)
         dl = self._delta(w, u, rho)
-        if self.far:
-            coef = self.beta * (w - self.anchor) - self.q
-            val = self.a + w @ self.b + np.einsum("ij,ij->i", coef, dl)
-        else:
-            a_o, b_o, q_o = self.near_coefficients()
-            val = a_o + w @ b_o + self.beta * rho + u @ q_o
-        return val, np.column_stack([w, rho, np.hypot(dl[:, 0], dl[:, 1])])
+        return self._phi(w, rho, u, dl), np.column_stack([w, rho, np.hypot(dl[:, 0], dl[:, 1])])
+
+    def values(self, pieces: Pieces, piece: np.ndarray, t: np.ndarray) -> np.ndarray:
+        w, rho, u = pieces.geom(piece, t)
+        return self._phi(w, rho, u, None)
 
     def point_mass_value(self) -> float:
         a_o, b_o, q_o = self.near_coefficients()

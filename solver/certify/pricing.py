@@ -39,13 +39,13 @@ def golden(
     for _ in range(GOLDEN_ITERATIONS):
         c = b - _GOLD * (b - a)
         d = a + _GOLD * (b - a)
-        f = fn.evaluate(pieces, np.concatenate([piece, piece]), np.concatenate([c, d]))[0]
+        f = fn.values(pieces, np.concatenate([piece, piece]), np.concatenate([c, d]))
         left = f[: len(c)] < f[len(c):]
         b = np.where(left, d, b)
         a = np.where(left, a, c)
     n = len(a)
     cand = np.concatenate([lo, hi, a, b, 0.5 * (a + b)])
-    fv = fn.evaluate(pieces, np.concatenate([piece] * 5), cand)[0].reshape(5, n)
+    fv = fn.values(pieces, np.concatenate([piece] * 5), cand).reshape(5, n)
     best = np.argmin(fv, axis=0)
     return cand.reshape(5, n)[best, np.arange(n)], fv[best, np.arange(n)]
 

@@ -79,6 +79,9 @@ def test_near_and_far_forms_are_one_function(dist):
     scale = 1.0 + dist
     assert np.allclose(f1, f2, rtol=0, atol=1e-12 * scale)
     assert np.allclose(e1, e2, rtol=0, atol=1e-12 * scale)
+    # values (pricing's golden section) are evaluate's first output, to the bit
+    assert np.array_equal(fn_far.values(pieces, piece, t), f1)
+    assert np.array_equal(fn_near.values(pieces, piece, t), f2)
 
 
 def test_phi_is_affine_along_rays_and_its_infimum_at_r_is_the_point_mass_value():
