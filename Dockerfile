@@ -49,8 +49,10 @@ COPY --chown=root:root . /app
 USER app
 EXPOSE 8000
 
-HEALTHCHECK --interval=30s --timeout=5s --start-period=20s --retries=3 \
+HEALTHCHECK --interval=30s --timeout=5s --start-period=60s --retries=3 \
   CMD ["python3", "-c", "import sys, urllib.request; sys.exit(0 if urllib.request.urlopen('http://127.0.0.1:8000/healthz', timeout=4).status == 200 else 1)"]
 
-# Same start command as `bash scripts/serve.sh`, listening on all interfaces.
-CMD ["python3", "-m", "uvicorn", "service.app:app", "--host", "0.0.0.0", "--port", "8000"]
+# Same start command as `bash scripts/serve.sh` (gunicorn supervising the web processes,
+# service/server.py), listening on all interfaces; tune with PESHKIN_* (service/settings.py).
+ENV PESHKIN_HOST=0.0.0.0 PESHKIN_PORT=8000
+CMD ["python3", "-m", "service"]

@@ -3,10 +3,13 @@
 #
 #   bash scripts/serve.sh            # http://127.0.0.1:8000  (docs at /docs)
 #   HOST=0.0.0.0 PORT=9000 bash scripts/serve.sh
+#   PESHKIN_WEB_WORKERS=4 PESHKIN_SOLVER_WORKERS=2 bash scripts/serve.sh
 #
 # Creates ./.venv with Python 3.11 if it is missing, installs the pinned
 # runtime dependencies (skipped when requirements.txt is unchanged since the
-# last install), then starts uvicorn.  Extra arguments go to uvicorn.
+# last install), then starts the server: gunicorn supervising uvicorn web
+# processes, each with its solver worker processes (service/server.py; every
+# PESHKIN_* setting is listed in service/settings.py).
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -26,5 +29,6 @@ if [[ "$(cat "$stamp" 2>/dev/null || true)" != "$want" ]]; then
     echo "$want" >"$stamp"
 fi
 
-exec "$VENV/bin/python" -m uvicorn service.app:app \
-    --host "${HOST:-127.0.0.1}" --port "${PORT:-8000}" "$@"
+export PESHKIN_HOST="${HOST:-${PESHKIN_HOST:-127.0.0.1}}"
+export PESHKIN_PORT="${PORT:-${PESHKIN_PORT:-8000}}"
+exec "$VENV/bin/python" -m service

@@ -1,15 +1,14 @@
-"""``python -m service``: run the API with uvicorn, configured by :mod:`service.settings`."""
+"""``python -m service``: the server (gunicorn supervising uvicorn web processes,
+:mod:`service.server`), configured by :mod:`service.settings`."""
 
 from __future__ import annotations
 
-import uvicorn
-
+from service.server import Server
 from service.settings import Settings
 
 
 def main() -> None:
-    settings = Settings.from_env()
-    uvicorn.run("service.app:app", host=settings.host, port=settings.port, log_level=settings.log_level)
+    Server(Settings.from_env()).run()
 
 
 if __name__ == "__main__":

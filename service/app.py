@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import logging
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 
-from fastapi import FastAPI
+from fastapi import FastAPI, Request
+from fastapi.responses import JSONResponse
 
 from service import __version__, errors
 from service.api.health import routes as health
@@ -14,6 +17,10 @@ from service.api.particle import routes as particle
 from service.api.push import routes as push
 from service.api.sketch import routes as sketch
 from service.api.spiral import routes as spiral
+from service.errors import error_body
+from service.runtime.admission import Refused
+from service.runtime.deadline import ArrivalStamp
+from service.runtime.jobs import Runner
 from service.settings import Settings
 
 DESCRIPTION = """\
@@ -24,6 +31,7 @@ in any consistent unit. Errors are HTTP 422 `{"detail": [{"loc": [...], "msg": .
 
 OPERATION_ORDER = (
     "healthz",
+    "readyz",
     "cor_locus",
     "cor_solve",
     "cor_membership",
@@ -58,14 +66,40 @@ def _in_published_order(app: FastAPI) -> None:
     app.openapi = openapi  # type: ignore[method-assign]
 
 
-def create_app() -> FastAPI:
-    logging.getLogger("service").setLevel(Settings.from_env().log_level.upper().replace("TRACE", "DEBUG"))
+async def _refused(request: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, Refused)
+    return JSONResponse(
+        status_code=503,
+        content=error_body([], str(exc), "busy"),
+        headers={"Retry-After": str(exc.retry_after_s)},
+    )
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    """The app; ``settings`` from the environment when None. Its runner (admission gates
+    and solver workers, :mod:`service.runtime`) is made here and closed at shutdown."""
+    settings = Settings.from_env() if settings is None else settings
+    logging.getLogger("service").setLevel(settings.log_level.upper().replace("TRACE", "DEBUG"))
+    runner = Runner.from_settings(settings)
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        await runner.start()
+        try:
+            yield
+        finally:
+            runner.close()
+
     app = FastAPI(
         title="Peshkin pushing planner",
         version=__version__,
         description=DESCRIPTION,
+        lifespan=lifespan,
     )
+    app.state.runner = runner
     errors.install(app)
+    app.add_exception_handler(Refused, _refused)
+    app.add_middleware(ArrivalStamp)
     for resource in (health, locus, motion, particle, push, sketch, spiral):
         app.include_router(resource.router)
     _in_published_order(app)

@@ -133,22 +133,22 @@ async def _http_exception(request: Request, exc: StarletteHTTPException):
     return await http_exception_handler(request, exc)
 
 
-async def _invalid_input(request: Request, exc: InvalidInput) -> JSONResponse:
+def _invalid_input(exc: InvalidInput, where: str) -> JSONResponse:
     return JSONResponse(
         status_code=UNPROCESSABLE,
         content=error_body(["body", exc.field], exc.reason, "value_error"),
     )
 
 
-async def _field_error(request: Request, exc: FieldError) -> JSONResponse:
+def _field_error(exc: FieldError, where: str) -> JSONResponse:
     return JSONResponse(
         status_code=UNPROCESSABLE,
         content=error_body([exc.where, *exc.loc], exc.reason, "value_error"),
     )
 
 
-async def _solver_error(request: Request, exc: SolverError) -> JSONResponse:
-    log.warning("solver error on %s: %s", request.url.path, exc)
+def _solver_error(exc: SolverError, where: str) -> JSONResponse:
+    log.warning("solver error on %s: %s", where, exc)
     return JSONResponse(
         status_code=UNPROCESSABLE,
         content=error_body(
@@ -169,25 +169,25 @@ def time_limit_body(exc: TimeLimitReached, partial: dict[str, Any] | None, hint:
     return body
 
 
-async def _time_limit(request: Request, exc: TimeLimitReached) -> JSONResponse:
-    log.info("time limit on %s: %s", request.url.path, exc)
+def _time_limit(exc: TimeLimitReached, where: str) -> JSONResponse:
+    log.info("time limit on %s: %s", where, exc)
     return JSONResponse(status_code=GATEWAY_TIMEOUT, content=time_limit_body(exc, None, DEFAULT_TIME_LIMIT_HINT))
 
 
-async def _time_limit_answer(request: Request, exc: TimeLimitAnswer) -> JSONResponse:
-    log.info("time limit on %s: %s", request.url.path, exc)
+def _time_limit_answer(exc: TimeLimitAnswer, where: str) -> JSONResponse:
+    log.info("time limit on %s: %s", where, exc)
     return JSONResponse(status_code=GATEWAY_TIMEOUT, content=time_limit_body(exc.reached, exc.partial, exc.hint))
 
 
-async def _model_error(request: Request, exc: ModelError) -> JSONResponse:
-    log.warning("model error on %s: %s", request.url.path, exc)
+def _model_error(exc: ModelError, where: str) -> JSONResponse:
+    log.warning("model error on %s: %s", where, exc)
     return JSONResponse(
         status_code=UNPROCESSABLE,
         content=error_body(["body"], f"{type(exc).__name__}: {exc}", "model_error"),
     )
 
 
-async def _non_finite(request: Request, exc: NonFiniteResult) -> JSONResponse:
+def _non_finite(exc: NonFiniteResult, where: str) -> JSONResponse:
     return JSONResponse(
         status_code=UNPROCESSABLE,
         content=error_body(
@@ -199,29 +199,48 @@ async def _non_finite(request: Request, exc: NonFiniteResult) -> JSONResponse:
     )
 
 
-async def _arithmetic(request: Request, exc: ArithmeticError) -> JSONResponse:
-    log.warning("arithmetic error on %s %s", request.method, request.url.path, exc_info=exc)
-    return await _non_finite(request, NonFiniteResult(f"a computation ({type(exc).__name__})"))
+def _arithmetic(exc: ArithmeticError, where: str) -> JSONResponse:
+    log.warning("arithmetic error on %s", where, exc_info=exc)
+    return _non_finite(NonFiniteResult(f"a computation ({type(exc).__name__})"), where)
 
 
-async def _unexpected(request: Request, exc: Exception) -> JSONResponse:
-    log.exception("unexpected error on %s %s", request.method, request.url.path)
+def _unexpected(exc: Exception, where: str) -> JSONResponse:
+    log.error("unexpected error on %s", where, exc_info=exc)
     return JSONResponse(
         status_code=500,
         content=error_body([], f"internal error ({type(exc).__name__}); this is a bug", "internal_error"),
     )
 
 
+_ANSWERS: tuple[tuple[type[Exception], Callable[[Any, str], JSONResponse]], ...] = (
+    (TimeLimitAnswer, _time_limit_answer),
+    (TimeLimitReached, _time_limit),
+    (FieldError, _field_error),
+    (InvalidInput, _invalid_input),
+    (SolverError, _solver_error),
+    (ModelError, _model_error),
+    (NonFiniteResult, _non_finite),
+    (ArithmeticError, _arithmetic),
+)
+"""The answer to each error a computation may raise, most specific first."""
+
+
+def response_for(exc: Exception, where: str) -> JSONResponse:
+    """The HTTP answer to ``exc`` raised while computing the answer to ``where`` ("POST
+    /v1/..."): the same in the web process and in a solver worker (service.runtime)."""
+    for kind, answer in _ANSWERS:
+        if isinstance(exc, kind):
+            return answer(exc, where)
+    return _unexpected(exc, where)
+
+
+async def _computation_error(request: Request, exc: Exception) -> JSONResponse:
+    return response_for(exc, f"{request.method} {request.url.path}")
+
+
 def install(app: FastAPI) -> None:
     """Register the handlers on ``app``."""
-    app.add_exception_handler(Exception, _unexpected)
     app.add_exception_handler(StarletteHTTPException, _http_exception)
     app.add_exception_handler(RequestValidationError, _request_validation)
-    app.add_exception_handler(InvalidInput, _invalid_input)
-    app.add_exception_handler(FieldError, _field_error)
-    app.add_exception_handler(SolverError, _solver_error)
-    app.add_exception_handler(TimeLimitReached, _time_limit)
-    app.add_exception_handler(TimeLimitAnswer, _time_limit_answer)
-    app.add_exception_handler(ModelError, _model_error)
-    app.add_exception_handler(NonFiniteResult, _non_finite)
-    app.add_exception_handler(ArithmeticError, _arithmetic)
+    for kind in (Exception, *(kind for kind, _ in _ANSWERS)):
+        app.add_exception_handler(kind, _computation_error)

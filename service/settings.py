@@ -1,23 +1,46 @@
-"""Runtime settings from the environment (kept minimal).
+"""Runtime settings from the environment.
 
-=====================  ===========  ===================================
-variable               default      meaning
-=====================  ===========  ===================================
-``PESHKIN_HOST``       127.0.0.1    interface uvicorn listens on
-``PESHKIN_PORT``       8000         TCP port
-``PESHKIN_LOG_LEVEL``  info         uvicorn / ``service`` logger level
-=====================  ===========  ===================================
+==============================  ==========  =====================================================
+variable                        default     meaning
+==============================  ==========  =====================================================
+``PESHKIN_HOST``                127.0.0.1   interface the server listens on
+``PESHKIN_PORT``                8000        TCP port
+``PESHKIN_LOG_LEVEL``           info        server and ``service`` logger level
+``PESHKIN_WEB_WORKERS``         2           web processes under the supervisor (``python -m service``)
+``PESHKIN_SOLVER_WORKERS``      auto        solver worker processes per web process; 0 runs
+                                            expensive work in the web process's threads (tests);
+                                            auto: the CPUs divided among the web processes, >= 1
+``PESHKIN_SOLVER_QUEUE``        16          expensive requests that may wait for a solver worker,
+                                            per web process; beyond, 503 at once
+``PESHKIN_CHEAP_CONCURRENCY``   64          cheap requests computed at once per web process;
+                                            beyond, 503 at once
+``PESHKIN_MAX_TIME_LIMIT_S``    30          the deadline of a request without its own time limit,
+                                            and the cap of every time limit
+``PESHKIN_DEADLINE_GRACE_S``    0.25        how long past its deadline a worker's answer is awaited
+                                            before the worker is stopped and the answer is a 504
+``PESHKIN_RETRY_AFTER_S``       1           ``Retry-After`` of a 503 (seconds)
+``PESHKIN_WORKER_MAX_TASKS``    0           replace a solver worker after this many tasks (0: never)
+``PESHKIN_HEADER_TIMEOUT_S``    10          a client must send a request's headers within this
+``PESHKIN_BODY_TIMEOUT_S``      30          ... and its body within this after the headers
+``PESHKIN_KEEP_ALIVE_S``        5           idle keep-alive connections are closed after this
+``PESHKIN_GRACEFUL_TIMEOUT_S``  30          on shutdown, requests in flight get this long
+==============================  ==========  =====================================================
 
-``python -m service`` starts uvicorn with these; ``uvicorn service.app:app`` (used by
-scripts/serve.sh and the Dockerfile) takes host and port from its own command line.
+``python -m service`` starts the supervisor (gunicorn) with these; ``uvicorn
+service.app:app`` runs one web process and takes host and port from its own command line.
 """
 
 from __future__ import annotations
 
+import math
 import os
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, fields
+from typing import Any
 
 LOG_LEVELS = ("critical", "error", "warning", "info", "debug", "trace")
+AUTO = -1
+"""``solver_workers`` chosen from the CPUs (:meth:`Settings.solver_processes`)."""
 
 
 @dataclass(frozen=True)
@@ -25,19 +48,89 @@ class Settings:
     host: str = "127.0.0.1"
     port: int = 8000
     log_level: str = "info"
+    web_workers: int = 2
+    solver_workers: int = AUTO
+    solver_queue: int = 16
+    cheap_concurrency: int = 64
+    max_time_limit_s: float = 30.0
+    deadline_grace_s: float = 0.25
+    retry_after_s: int = 1
+    worker_max_tasks: int = 0
+    header_timeout_s: float = 10.0
+    body_timeout_s: float = 30.0
+    keep_alive_s: float = 5.0
+    graceful_timeout_s: float = 30.0
 
     @classmethod
-    def from_env(cls, environ=None) -> "Settings":
+    def from_env(cls, environ: Mapping[str, str] | None = None) -> Settings:
         env = os.environ if environ is None else environ
-        host = env.get("PESHKIN_HOST", cls.host).strip() or cls.host
-        port_text = env.get("PESHKIN_PORT", str(cls.port)).strip()
+        values: dict[str, Any] = {}
+        for f in fields(cls):
+            name = f"PESHKIN_{f.name.upper()}"
+            text = env.get(name)
+            if text is None or not text.strip():
+                continue
+            values[f.name] = _PARSERS[f.name](name, text.strip())
+        return cls(**values)
+
+    def solver_processes(self, cpus: int | None = None) -> int:
+        """Solver workers per web process: the setting, or (auto) the CPUs shared among the
+        web processes, at least one."""
+        if self.solver_workers != AUTO:
+            return self.solver_workers
+        n = cpus if cpus is not None else (os.cpu_count() or 1)
+        return max(1, n // max(1, self.web_workers))
+
+
+def _integer(low: int, high: int, auto: bool = False) -> Callable[[str, str], int]:
+    def parse(name: str, text: str) -> int:
+        if auto and text.lower() == "auto":
+            return AUTO
         try:
-            port = int(port_text)
+            value = int(text)
         except ValueError:
-            raise ValueError(f"PESHKIN_PORT must be an integer, got {port_text!r}") from None
-        if not 0 < port < 65536:
-            raise ValueError(f"PESHKIN_PORT must be in 1..65535, got {port}")
-        level = env.get("PESHKIN_LOG_LEVEL", cls.log_level).strip().lower()
-        if level not in LOG_LEVELS:
-            raise ValueError(f"PESHKIN_LOG_LEVEL must be one of {LOG_LEVELS}, got {level!r}")
-        return cls(host=host, port=port, log_level=level)
+            raise ValueError(f"{name} must be an integer, got {text!r}") from None
+        if not low <= value <= high:
+            raise ValueError(f"{name} must be in {low}..{high}, got {value}")
+        return value
+
+    return parse
+
+
+def _seconds(low: float, high: float) -> Callable[[str, str], float]:
+    def parse(name: str, text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise ValueError(f"{name} must be a number of seconds, got {text!r}") from None
+        if not (math.isfinite(value) and low < value <= high):
+            raise ValueError(f"{name} must be in ({low:g}, {high:g}] s, got {text}")
+        return value
+
+    return parse
+
+
+def _log_level(name: str, text: str) -> str:
+    level = text.lower()
+    if level not in LOG_LEVELS:
+        raise ValueError(f"{name} must be one of {LOG_LEVELS}, got {text!r}")
+    return level
+
+
+_PARSERS: dict[str, Callable[[str, str], Any]] = {
+    "host": lambda name, text: text,
+    "port": _integer(1, 65535),
+    "log_level": _log_level,
+    "web_workers": _integer(1, 256),
+    "solver_workers": _integer(0, 1024, auto=True),
+    "solver_queue": _integer(0, 100_000),
+    "cheap_concurrency": _integer(1, 100_000),
+    "max_time_limit_s": _seconds(0.0, 3600.0),
+    "deadline_grace_s": _seconds(0.0, 60.0),
+    "retry_after_s": _integer(1, 3600),
+    "worker_max_tasks": _integer(0, 10**9),
+    "header_timeout_s": _seconds(0.0, 3600.0),
+    "body_timeout_s": _seconds(0.0, 3600.0),
+    "keep_alive_s": _seconds(0.0, 3600.0),
+    "graceful_timeout_s": _seconds(0.0, 3600.0),
+}

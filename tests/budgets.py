@@ -5,6 +5,9 @@ machine and under any load."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 from solver.core.budget import Budget
 
 
@@ -53,3 +56,15 @@ class NoLimitBudgets:
     def of(limit_s: float | None) -> Budget:
         return Budget.of(None)
 
+
+
+def deadline_budgets(budgets: ChecksBudgets | type[NoLimitBudgets]) -> Callable[[Any], Budget]:
+    """A stand-in for :meth:`service.runtime.deadline.Deadline.budget`, where a route's job
+    makes its solver budget (``monkeypatch.setattr(Deadline, "budget",
+    deadline_budgets(ChecksBudgets(n)))``): the budget ``budgets`` makes of the request's
+    time limit. Jobs run in the test process (tests/conftest.py), so the patch reaches them."""
+
+    def budget(deadline: Any) -> Budget:
+        return budgets.of(deadline.limit_s)
+
+    return budget

@@ -12,6 +12,15 @@ import os
 import pytest
 
 # ---------------------------------------------------------------------------
+# The service in tests: expensive jobs run in the test process's threads
+# (PESHKIN_SOLVER_WORKERS=0), so that a test can replace a budget or a solver
+# with monkeypatch. tests/service/runtime/ builds apps with solver worker
+# processes and checks that every route answers the same there; servers
+# started as subprocesses set their own environment.
+# ---------------------------------------------------------------------------
+os.environ.setdefault("PESHKIN_SOLVER_WORKERS", "0")
+
+# ---------------------------------------------------------------------------
 # Benchmarks: tests marked ``@pytest.mark.benchmark`` are skipped unless the
 # run asks for them with ``--run-benchmarks`` or ``RUN_BENCHMARKS=1``.
 # (The marker itself is declared in pyproject.toml; it is registered here

@@ -62,6 +62,19 @@ TIME_LIMIT = {
 }
 """The ``responses`` entry of the routes whose computation may stop at its time limit."""
 
+BUSY = {
+    503: {
+        "model": ErrorResponse,
+        "description": "The service is busy: the request's admission gate is full (type \"busy\"). Nothing was "
+        "computed; retry after the `Retry-After` header's seconds.",
+        "headers": {"Retry-After": {"description": "Seconds to wait before retrying.", "schema": {"type": "integer"}}},
+    },
+}
+"""The ``responses`` entry of every route behind an admission gate (service.runtime)."""
+
+IN_WORKER = {**INVALID_INPUT, **TIME_LIMIT, **BUSY}
+"""The ``responses`` entry of a route whose job runs in a solver worker under its deadline."""
+
 
 def json_or_svg(description: str) -> dict:
     """The 200 entry of a route that answers JSON or, with ``format=svg``, a picture."""

@@ -18,6 +18,7 @@ import io
 import math
 from dataclasses import dataclass
 
+import matplotlib
 import numpy as np
 from matplotlib.backends.backend_svg import FigureCanvasSVG
 from matplotlib.figure import Figure
@@ -56,6 +57,12 @@ def new_figure(width_in: float, height_in: float) -> Figure:
     fig = Figure(figsize=(width_in, height_in))
     FigureCanvasSVG(fig)
     return fig
+
+
+SVG_HASH_SALT = "peshkin-service"
+"""Salt of the ids matplotlib gives clip paths in an SVG: fixed, so that one request always
+draws the same bytes (set once at import, never changed per request)."""
+matplotlib.rcParams["svg.hashsalt"] = SVG_HASH_SALT
 
 
 def svg_bytes(fig: Figure, title: str) -> bytes:

@@ -4,23 +4,13 @@ the 504 of a time limit has its own tests)."""
 
 from __future__ import annotations
 
-import importlib
 import json
-import re
-from pathlib import Path
 
 import pytest
 
-from tests.budgets import NoLimitBudgets
-
-DOC = Path(__file__).resolve().parents[2] / "docs" / "api.md"
-CURL = re.compile(
-    r"curl -s '?http://127\.0\.0\.1:8000(/[^ ']+)'? -H 'content-type: application/json' \\\n  -d '([^']+)'"
-)
-ROUTE_MODULES = [importlib.import_module(f"service.api.{p.name}.routes")
-                 for p in sorted((Path(__file__).resolve().parents[2] / "service" / "api").iterdir())
-                 if (p / "routes.py").is_file()]
-EXAMPLES = [(m.group(1), m.group(2)) for m in CURL.finditer(DOC.read_text(encoding="utf-8"))]
+from service.runtime.deadline import Deadline
+from tests.budgets import NoLimitBudgets, deadline_budgets
+from tests.service.docs_examples import EXAMPLES, split
 
 
 def test_the_examples_are_found():
@@ -33,10 +23,7 @@ def test_the_examples_are_found():
 @pytest.mark.slow
 @pytest.mark.parametrize("url, body", EXAMPLES, ids=[f"{i}:{u}" for i, (u, _) in enumerate(EXAMPLES)])
 def test_doc_example_answers_200(client, monkeypatch, url, body):
-    for module in ROUTE_MODULES:
-        if hasattr(module, "Budget"):
-            monkeypatch.setattr(module, "Budget", NoLimitBudgets)
-    path, _, query = url.partition("?")
-    params = dict(kv.split("=") for kv in query.split("&")) if query else None
+    monkeypatch.setattr(Deadline, "budget", deadline_budgets(NoLimitBudgets))
+    path, params = split(url)
     r = client.post(path, json=json.loads(body), params=params)
     assert r.status_code == 200, r.text

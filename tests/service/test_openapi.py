@@ -74,6 +74,7 @@ def test_stable_operation_ids():
     }
     assert ops == {
         ("/healthz", "get"): "healthz",
+        ("/readyz", "get"): "readyz",
         ("/v1/cor/locus", "post"): "cor_locus",
         ("/v1/cor/solve", "post"): "cor_solve",
         ("/v1/cor/membership", "post"): "cor_membership",
@@ -139,13 +140,18 @@ def test_minimum_power_limits_are_in_the_schema():
 
 
 def test_time_limits_are_documented_where_they_can_run_out():
-    """504 (a TimeLimitResponse) on the operations whose computation may stop at its time
-    limit, nowhere else; every operation documents 422."""
+    """504 (a TimeLimitResponse) on the operations whose job runs in a solver worker under
+    its deadline (all but the probes and the closed form of 6.8); 503 with Retry-After on
+    every operation behind an admission gate; every operation documents 422."""
     ops = {op["operationId"]: op for item in app.openapi()["paths"].values() for op in item.values()}
     with_504 = {name for name, op in ops.items() if "504" in op["responses"]}
-    assert with_504 == {"push_align", "push_disk_encounter", "spiral_schedule"}
+    assert with_504 == set(ops) - {"healthz", "readyz", "push_quasistatic"}
+    with_503 = {name for name, op in ops.items() if "503" in op["responses"]}
+    assert with_503 == set(ops) - {"healthz"}
+    for name in with_503 - {"readyz"}:
+        assert "Retry-After" in ops[name]["responses"]["503"]["headers"]
     for name in with_504:
         assert ops[name]["responses"]["504"]["content"]["application/json"]["schema"] == {
             "$ref": "#/components/schemas/TimeLimitResponse"
         }
-    assert all("422" in op["responses"] for name, op in ops.items() if name != "healthz")
+    assert all("422" in op["responses"] for name, op in ops.items() if name not in ("healthz", "readyz"))

@@ -14,3 +14,20 @@ def test_settings_defaults_and_env():
     for bad in ({"PESHKIN_PORT": "http"}, {"PESHKIN_PORT": "70000"}, {"PESHKIN_LOG_LEVEL": "loud"}):
         with pytest.raises(ValueError):
             Settings.from_env(bad)
+
+
+def test_runtime_settings_are_read_and_checked():
+    s = Settings.from_env({"PESHKIN_WEB_WORKERS": "3", "PESHKIN_SOLVER_WORKERS": "0", "PESHKIN_SOLVER_QUEUE": "5",
+                           "PESHKIN_MAX_TIME_LIMIT_S": "12.5", "PESHKIN_HEADER_TIMEOUT_S": "2"})
+    assert (s.web_workers, s.solver_workers, s.solver_queue, s.max_time_limit_s, s.header_timeout_s) == (3, 0, 5, 12.5, 2.0)
+    for bad in ({"PESHKIN_WEB_WORKERS": "0"}, {"PESHKIN_SOLVER_WORKERS": "-2"}, {"PESHKIN_MAX_TIME_LIMIT_S": "nan"},
+                {"PESHKIN_HEADER_TIMEOUT_S": "0"}, {"PESHKIN_DEADLINE_GRACE_S": "soon"}, {"PESHKIN_RETRY_AFTER_S": "1.5"}):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            Settings.from_env(bad)
+
+
+def test_solver_workers_auto_share_the_cpus_among_the_web_processes():
+    auto = Settings.from_env({"PESHKIN_SOLVER_WORKERS": "auto", "PESHKIN_WEB_WORKERS": "2"})
+    assert auto.solver_processes(cpus=2) == 1 and auto.solver_processes(cpus=8) == 4
+    assert auto.solver_processes(cpus=1) == 1  # at least one
+    assert Settings(solver_workers=3).solver_processes(cpus=64) == 3

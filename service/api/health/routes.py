@@ -1,11 +1,14 @@
-"""``GET /healthz``: the liveness probe."""
+"""``GET /healthz`` (liveness: the process serves requests) and ``GET /readyz`` (readiness:
+it has room for more work)."""
 
 from __future__ import annotations
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Request
+from fastapi.responses import JSONResponse
 
 from service import __version__
-from service.api.health.schemas import HealthResponse
+from service.api.health.schemas import GateOut, HealthResponse, ReadyResponse
+from service.runtime.jobs import runner
 
 router = APIRouter(tags=["health"])
 
@@ -14,3 +17,28 @@ router = APIRouter(tags=["health"])
 async def healthz() -> HealthResponse:
     """Always `{"status": "ok", "version": ...}` while the process serves requests."""
     return HealthResponse(status="ok", version=__version__)
+
+
+@router.get(
+    "/readyz",
+    operation_id="readyz",
+    response_model=ReadyResponse,
+    summary="Readiness probe: room for more work",
+    responses={503: {"model": ReadyResponse, "description": "Saturated: a gate is full; new work would be refused."}},
+)
+async def readyz(request: Request) -> JSONResponse:
+    """`ready` (200) while both admission gates (cheap work in the web process, expensive
+    work for the solver workers) have room; `saturated` (503) when one is full, so that a
+    load balancer sends new requests elsewhere. The gates' use and refusals are listed
+    (for this web process)."""
+    run = runner(request)
+    gates = [run.cheap.state(), run.expensive.state()]
+    full = any(g.full for g in gates)
+    body = ReadyResponse(
+        status="saturated" if full else "ready",
+        version=__version__,
+        solver_workers=0 if run.pool is None else run.pool.workers,
+        gates=[GateOut(name=g.name, in_use=g.in_use, capacity=g.capacity, admitted=g.admitted, refused=g.refused)
+               for g in gates],
+    )
+    return JSONResponse(body.model_dump(mode="json"), status_code=503 if full else 200)

@@ -1,8 +1,10 @@
-"""Response schema of ``GET /healthz``."""
+"""Response schemas of ``GET /healthz`` and ``GET /readyz``."""
 
 from __future__ import annotations
 
 from typing import Literal
+
+from pydantic import Field
 
 from service.common.fields import Strict
 
@@ -10,3 +12,18 @@ from service.common.fields import Strict
 class HealthResponse(Strict):
     status: Literal["ok"]
     version: str
+
+
+class GateOut(Strict):
+    name: str = Field(description="`cheap` (closed forms, in the web process) or `expensive` (solver workers).")
+    in_use: int = Field(description="Requests holding the gate now (for expensive work: running or queued).")
+    capacity: int = Field(description="Requests it admits at once; one more is refused 503 with Retry-After.")
+    admitted: int = Field(description="Requests admitted since this web process started.")
+    refused: int = Field(description="Requests refused since this web process started.")
+
+
+class ReadyResponse(Strict):
+    status: Literal["ready", "saturated"]
+    version: str
+    solver_workers: int = Field(description="Solver worker processes of this web process (0: work runs in its threads).")
+    gates: list[GateOut]

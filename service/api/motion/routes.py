@@ -1,15 +1,16 @@
 """``POST /v1/cor/solve`` (motions for known pressure distributions) and ``POST
 /v1/cor/tripod-statistics`` (CORs of random tripods, figures 3-5 and 7-2).
 
-Each route: request -> problem (:mod:`service.api.motion.convert`) -> one solver call
+Each route hands its job to a solver worker (:mod:`service.runtime.jobs`). Each job:
+request -> problem (:mod:`service.api.motion.convert`) -> one solver call
 (:func:`solver.motion.solve.solve_motion`,
-:func:`solver.motion.statistics.tripod_statistics`) -> response. Plain ``def``: FastAPI
-runs them in its thread pool, so a long solve does not block the event loop.
+:func:`solver.motion.statistics.tripod_statistics`) with the request's budget -> response.
 """
 
 from __future__ import annotations
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Request
+from fastapi.responses import Response
 
 from service.api.motion.convert import (
     motion_errors_located,
@@ -25,8 +26,10 @@ from service.api.motion.schemas import (
     TripodStatisticsResponse,
 )
 from service.common.inputs import located
-from service.common.responses import INVALID_INPUT
-from solver import Budget, solve_motion, tripod_statistics
+from service.common.responses import IN_WORKER
+from service.runtime.deadline import Deadline
+from service.runtime.jobs import runner
+from solver import solve_motion, tripod_statistics
 
 router = APIRouter(tags=["cor"])
 
@@ -36,13 +39,17 @@ router = APIRouter(tags=["cor"])
     operation_id="cor_solve",
     summary="Motion of a pushed workpiece for a known pressure distribution",
     response_model=CorSolveResponse,
-    responses=INVALID_INPUT,
+    responses=IN_WORKER,
 )
-def cor_solve(req: CorSolveRequest) -> CorSolveResponse:
+async def cor_solve(req: CorSolveRequest, request: Request) -> Response:
     """The motion (COR, rotation and slip per unit push, contact mode, forces) that
     minimises the frictional power (book 3.2-3.3.3; with pusher friction mu_c, 4.1), for
     one support, a batch of supports, or a modelled uniform pressure (figure 7-1)."""
-    budget = Budget.of(None)
+    return await runner(request).expensive_job(request, solve_job, req)
+
+
+def solve_job(req: CorSolveRequest, deadline: Deadline) -> CorSolveResponse:
+    budget = deadline.budget()
     mr = motion_problem(req)
     with motion_errors_located(mr):
         result = solve_motion(mr.problem, budget)
@@ -54,14 +61,18 @@ def cor_solve(req: CorSolveRequest) -> CorSolveResponse:
     operation_id="cor_tripod_statistics",
     summary="CORs of random tripod supports (figures 3-5, 7-2)",
     response_model=TripodStatisticsResponse,
-    responses=INVALID_INPUT,
+    responses=IN_WORKER,
 )
-def cor_tripod_statistics(req: TripodStatisticsRequest) -> TripodStatisticsResponse:
+async def cor_tripod_statistics(req: TripodStatisticsRequest, request: Request) -> Response:
     """Random balanced tripods (3.3.3) on the disk or a polygon, seeded: their CORs
     (figure 3-5) and optionally where the sticking CORs fall along the sticking line for a
     large mu_c (figure 7-2). Statistics of a model of pressure distributions, not of the
     locus (7.7)."""
-    budget = Budget.of(None)
+    return await runner(request).expensive_job(request, tripod_statistics_job, req)
+
+
+def tripod_statistics_job(req: TripodStatisticsRequest, deadline: Deadline) -> TripodStatisticsResponse:
+    budget = deadline.budget()
     problem = tripod_problem(req)
     with located():
         stats = tripod_statistics(problem, budget)

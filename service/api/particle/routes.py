@@ -4,7 +4,8 @@ response."""
 
 from __future__ import annotations
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Request
+from fastapi.responses import Response
 
 from service.api.particle.convert import (
     particle_errors,
@@ -12,8 +13,10 @@ from service.api.particle.convert import (
     particle_response,
 )
 from service.api.particle.schemas import ParticleRequest, ParticleResponse
-from service.common.responses import INVALID_INPUT
-from solver import Budget, particle
+from service.common.responses import IN_WORKER
+from service.runtime.deadline import Deadline
+from service.runtime.jobs import runner
+from solver import particle
 
 router = APIRouter(tags=["mpp"])
 
@@ -23,13 +26,17 @@ router = APIRouter(tags=["mpp"])
     operation_id="mpp_particle",
     summary="Newton vs minimum power for the particle of book 2.5",
     response_model=ParticleResponse,
-    responses=INVALID_INPUT,
+    responses=IN_WORKER,
 )
-def mpp_particle(req: ParticleRequest) -> ParticleResponse:
+async def mpp_particle(req: ParticleRequest, request: Request) -> Response:
     """The steady speed v_y along the external force by Newton's law (2.29) and by the
     minimum power principle (2.30)-(2.32, closed form and IPOPT): equal only for Coulomb
     friction (n = 0)."""
-    budget = Budget.of(None)
+    return await runner(request).expensive_job(request, particle_job, req)
+
+
+def particle_job(req: ParticleRequest, deadline: Deadline) -> ParticleResponse:
+    budget = deadline.budget()
     problem = particle_problem(req)
     with particle_errors():
         sol = particle(problem, budget)

@@ -5,13 +5,14 @@ fence push to align a part (3.4, 4.3)? How long does a moving point push a disk 
 Each route: request -> problem (:mod:`service.api.push.convert`) -> one call
 (:func:`models.gross.quasistatic.assess`, a closed form; :func:`solver.gross.align.align`,
 :func:`solver.gross.disk_encounter.disk_encounter`, which take the request's budget) ->
-response. Plain ``def``: FastAPI runs them in its thread pool (an exact bound takes
-seconds).
+response. The closed form runs in the web process, the bounds (seconds) in a solver
+worker (:mod:`service.runtime.jobs`).
 """
 
 from __future__ import annotations
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Request
+from fastapi.responses import Response
 
 from models.gross.quasistatic import assess
 from service.api.push.convert import (
@@ -35,9 +36,11 @@ from service.api.push.schemas import (
     PushQuasistaticResponse,
 )
 from service.common.inputs import located
-from service.common.responses import INVALID_INPUT, TIME_LIMIT
+from service.common.responses import BUSY, IN_WORKER, INVALID_INPUT
 from service.errors import time_limited
-from solver import Budget, align, disk_encounter
+from service.runtime.deadline import Deadline
+from service.runtime.jobs import runner
+from solver import align, disk_encounter
 
 router = APIRouter(tags=["push"])
 
@@ -49,15 +52,19 @@ GROSS_TIME_LIMIT_HINT = "lower n_nodes or n_points, or raise time_limit_s"
     operation_id="push_quasistatic",
     summary="Characteristic speeds for quasi-static motion (book 6.8)",
     response_model=PushQuasistaticResponse,
-    responses=INVALID_INPUT,
+    responses={**INVALID_INPUT, **BUSY},
 )
-def push_quasistatic(req: PushQuasistaticRequest) -> PushQuasistaticResponse:
+async def push_quasistatic(req: PushQuasistaticRequest, request: Request) -> Response:
     """The book's characteristic speeds of a push: for a permissible angular error (6.3),
     for a permissible displacement (6.6), and the quasi-static parameter (6.7), each with
     the ratio speed / characteristic speed and what the part coasts after release at that
     speed; the verdict is on the quasi-static parameter (quasi_static, transitional,
     inertial)."""
-    budget = Budget.of(None)
+    return await runner(request).cheap_job(request, quasistatic_job, req)
+
+
+def quasistatic_job(req: PushQuasistaticRequest, deadline: Deadline) -> PushQuasistaticResponse:
+    budget = deadline.budget()
     inputs = quasistatic_inputs(req)
     res = assess(req.speed, req.mu_s, inputs.g, inputs.part, angular_error=req.angular_error,
                  translational_error=req.translational_error)
@@ -69,9 +76,9 @@ def push_quasistatic(req: PushQuasistaticRequest) -> PushQuasistaticResponse:
     operation_id="push_align",
     summary="Fence alignment: how far a fence must push until an edge is flush (book 3.4, 4.3)",
     response_model=PushAlignResponse,
-    responses={**INVALID_INPUT, **TIME_LIMIT},
+    responses=IN_WORKER,
 )
-def push_align(req: PushAlignRequest) -> PushAlignResponse:
+async def push_align(req: PushAlignRequest, request: Request) -> Response:
     """A fence advancing along `push_direction` meets a polygonal part and turns it until an
     edge lies flush. The answer gives the book's geometry (the contact vertex, a, c, alpha,
     beta_initial, beta_final, the flush edge, the sense; a counter-clockwise turn reflected
@@ -80,7 +87,11 @@ def push_align(req: PushAlignRequest) -> PushAlignResponse:
     longest and shortest pushes from the exact COR sketch of the circumscribing disk with
     their quadrature error estimates, their difference, and optionally whether the speed is
     quasi-static (6.8)."""
-    budget = Budget.of(req.time_limit_s)
+    return await runner(request).expensive_job(request, align_job, req, time_limit_s=req.time_limit_s)
+
+
+def align_job(req: PushAlignRequest, deadline: Deadline) -> PushAlignResponse:
+    budget = deadline.budget()
     problem = align_problem(req)
     with time_limited(align_partial(req, problem), GROSS_TIME_LIMIT_HINT), located(rename=ALIGN_FIELDS):
         result = align(problem, budget)
@@ -92,16 +103,20 @@ def push_align(req: PushAlignRequest) -> PushAlignResponse:
     operation_id="push_disk_encounter",
     summary="A point pushing a disk aside: length and rotation of the encounter (book 4.4)",
     response_model=PushDiskEncounterResponse,
-    responses={**INVALID_INPUT, **TIME_LIMIT},
+    responses=IN_WORKER,
 )
-def push_disk_encounter(req: PushDiskEncounterRequest) -> PushDiskEncounterResponse:
+async def push_disk_encounter(req: PushDiskEncounterRequest, request: Request) -> Response:
     """A point pusher moving in a line meets a disk at collision parameter beta_initial (or
     at an offset d from grazing, (4.24)) and pushes it aside until it is tangent to the
     path. The answer gives the greatest and least length of the encounter and the greatest
     and least rotation of the disk from the exact COR sketch, the book's (4.16) and (4.18)
     beside the greatest with the differences, where sketch i begins (4.17), and optionally
     whether the speed is quasi-static (6.8)."""
-    budget = Budget.of(req.time_limit_s)
+    return await runner(request).expensive_job(request, encounter_job, req, time_limit_s=req.time_limit_s)
+
+
+def encounter_job(req: PushDiskEncounterRequest, deadline: Deadline) -> PushDiskEncounterResponse:
+    budget = deadline.budget()
     problem = encounter_problem(req)
     with time_limited(encounter_partial(req), GROSS_TIME_LIMIT_HINT), located(rename=ENCOUNTER_FIELDS):
         result = disk_encounter(problem, budget)

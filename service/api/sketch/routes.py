@@ -1,22 +1,24 @@
 """``POST /v1/cor/sketch``: the COR sketch of a push with pusher friction (book 4.1).
 
 Request -> :func:`service.api.sketch.convert.sketch_problem` (the scene, as for
-``/v1/cor/locus``) -> :func:`solver.locus.sketch.sketch` -> response or picture. Plain
-``def``: FastAPI runs it in its thread pool (a sketch takes a few hundred milliseconds, a
+``/v1/cor/locus``) -> :func:`solver.locus.sketch.sketch` -> response or picture, in a
+solver worker (:mod:`service.runtime.jobs`; a sketch takes a few hundred milliseconds, a
 certified one seconds).
 """
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Query
+from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
 from service.api.sketch.convert import sketch_problem, sketch_response
 from service.api.sketch.render import render_sketch_svg
 from service.api.sketch.schemas import CorSketchRequest, CorSketchResponse
 from service.common.fields import ResponseFormat
-from service.common.responses import INVALID_INPUT, SVG_MEDIA_TYPE, json_or_svg
-from solver import Budget, sketch
+from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
+from service.runtime.deadline import Deadline
+from service.runtime.jobs import runner
+from solver import sketch
 
 router = APIRouter()
 
@@ -29,11 +31,12 @@ router = APIRouter()
     response_model=CorSketchResponse,
     responses={
         **json_or_svg("The COR sketch: JSON (default) or, with `format=svg`, an SVG picture."),
-        **INVALID_INPUT,
+        **IN_WORKER,
     },
 )
-def cor_sketch_route(
+async def cor_sketch_route(
     req: CorSketchRequest,
+    request: Request,
     response_format: ResponseFormat = Query(
         "json",
         alias="format",
@@ -48,8 +51,12 @@ def cor_sketch_route(
     of the nine sketches of figure 4-6 results and what it implies (must slip up, must
     stick, ...). A polygon is bounded by its circumscribing disk, or, with method
     'certified', sketched itself with every piece certified. World frame, radians."""
-    budget = Budget.of(req.time_limit_s)
     svg = response_format == "svg"
+    return await runner(request).expensive_job(request, sketch_job, req, svg, time_limit_s=req.time_limit_s)
+
+
+def sketch_job(req: CorSketchRequest, svg: bool, deadline: Deadline) -> CorSketchResponse | Response:
+    budget = deadline.budget()
     prep, problem = sketch_problem(req, with_tip_line=svg)
     result = sketch(problem, budget)
     body = sketch_response(prep, result, budget.elapsed() * 1e3)  # also the NaN/inf guard of the picture

@@ -3,15 +3,14 @@ figure 4-19 and the fastest guaranteed spiral (4.26) planned on OR-Tools.
 
 Each route: request -> problem (:mod:`service.api.spiral.convert`) -> one solver call
 (:func:`solver.spiral.critical_radius.critical_radii`, :func:`solver.spiral.plan.plan_spiral`)
--> response or picture (:mod:`service.api.spiral.render`). Plain ``def``: FastAPI runs them
-in its thread pool (a first table for a new mu_c takes seconds; later ones come from the
-cache).
+-> response or picture (:mod:`service.api.spiral.render`), in a solver worker
+(:mod:`service.runtime.jobs`; a first table for a new mu_c takes seconds).
 """
 
 from __future__ import annotations
 
 import numpy as np
-from fastapi import APIRouter, Query
+from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
 from service.api.spiral.convert import (
@@ -34,14 +33,11 @@ from service.api.spiral.schemas import (
 )
 from service.common.fields import ResponseFormat
 from service.common.inputs import located
-from service.common.responses import (
-    INVALID_INPUT,
-    SVG_MEDIA_TYPE,
-    TIME_LIMIT,
-    json_or_svg,
-)
+from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.errors import time_limited
-from solver import Budget, critical_radii, plan_spiral
+from service.runtime.deadline import Deadline
+from service.runtime.jobs import runner
+from solver import critical_radii, plan_spiral
 
 router = APIRouter(tags=["spiral"])
 
@@ -54,20 +50,29 @@ TABLE_TIME_LIMIT_HINT = "raise time_limit_s (a finished table is cached for late
     operation_id="spiral_critical_radius",
     summary="Critical radius r*(beta) of spiral localization, its inverse and b_inf (book 4.5.3-4.5.4)",
     response_model=SpiralCriticalRadiusResponse,
-    responses={**json_or_svg("JSON (default) or, with `format=svg`, an SVG picture."), **INVALID_INPUT},
+    responses={**json_or_svg("JSON (default) or, with `format=svg`, an SVG picture."), **IN_WORKER},
 )
-def spiral_critical_radius(req: SpiralCriticalRadiusRequest, response_format: ResponseFormat = FORMAT):
+async def spiral_critical_radius(
+    req: SpiralCriticalRadiusRequest, request: Request, response_format: ResponseFormat = FORMAT,
+) -> Response:
     """The tightest pusher circle r*(beta) that still pushes a disk met at collision
     parameter beta into the circle (4.5.2-4.5.3: the distance from the pusher's line to the
     lower end of the sticking locus), by the certified sticking locus, the book's sweep or
     its tip line; the inverse beta*(r) and the critical distance from grazing d*(r) (4.24);
     the limiting radius b_inf against (4.25). SVG: figure 4-19 (a / r* against beta / pi)."""
-    budget = Budget.of(req.time_limit_s)
+    return await runner(request).expensive_job(
+        request, critical_radius_job, req, response_format == "svg", time_limit_s=req.time_limit_s)
+
+
+def critical_radius_job(
+    req: SpiralCriticalRadiusRequest, svg: bool, deadline: Deadline,
+) -> SpiralCriticalRadiusResponse | Response:
+    budget = deadline.budget()
     problem = critical_radius_problem(req)
     with located():
         res = critical_radii(problem, budget)
     body = critical_radius_response(req, res, budget.elapsed() * 1e3)
-    if response_format == "svg":
+    if svg:
         tab = res.table
         ok = np.isfinite(tab.radii)  # points not decided are left out of the picture
         betas = tab.betas[ok]
@@ -86,9 +91,11 @@ def spiral_critical_radius(req: SpiralCriticalRadiusRequest, response_format: Re
     operation_id="spiral_schedule",
     summary="The fastest guaranteed spiral to localise a disk, certified on OR-Tools (book 4.5.5)",
     response_model=SpiralScheduleResponse,
-    responses={**json_or_svg("JSON (default) or, with `format=svg`, an SVG picture."), **INVALID_INPUT, **TIME_LIMIT},
+    responses={**json_or_svg("JSON (default) or, with `format=svg`, an SVG picture."), **IN_WORKER},
 )
-def spiral_schedule(req: SpiralScheduleRequest, response_format: ResponseFormat = FORMAT):
+async def spiral_schedule(
+    req: SpiralScheduleRequest, request: Request, response_format: ResponseFormat = FORMAT,
+) -> Response:
     """The radii b_1 ... b_N of a pusher spiralling in from `start_radius` to `target`,
     every revolution safe by (4.26) (the disk is pushed into the spiral, never out), with
     the fewest revolutions or the shortest path under optional robot limits, solved as a
@@ -96,12 +103,17 @@ def spiral_schedule(req: SpiralScheduleRequest, response_format: ResponseFormat 
     version beside it; the path as a polyline; the approach to b_inf (figure 4-21); and,
     on request, disks with random pressure distributions pushed along it. SVG: the path and
     figure 4-21."""
-    budget = Budget.of(req.time_limit_s)
+    return await runner(request).expensive_job(
+        request, schedule_job, req, response_format == "svg", time_limit_s=req.time_limit_s)
+
+
+def schedule_job(req: SpiralScheduleRequest, svg: bool, deadline: Deadline) -> SpiralScheduleResponse | Response:
+    budget = deadline.budget()
     problem = schedule_problem(req)
     with time_limited(table_partial, TABLE_TIME_LIMIT_HINT), located():
         plan = plan_spiral(problem, budget)
     body = schedule_response(req, plan, budget.elapsed() * 1e3)
-    if response_format == "svg":
+    if svg:
         fit = plan.fit
         points = None if body.path is None else body.path.points
         svg = render_schedule_svg(

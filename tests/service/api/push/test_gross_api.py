@@ -25,10 +25,10 @@ from models.gross import gross_bounds as gb
 from models.gross import gross_motion as gm
 from models.gross import quasistatic as qs
 from service.api.push import convert as push_convert
-from service.api.push import routes as push_routes
 from service.limits import GROSS_MAX_N_NODES, MAX_TIME_LIMIT_S, SKETCH_MAX_N_POINTS
+from service.runtime.deadline import Deadline
 from solver.gross.bounds import SKETCH_COST, SketchCost
-from tests.budgets import ChecksBudgets
+from tests.budgets import ChecksBudgets, deadline_budgets
 
 ALIGN = "/v1/push/align"
 ENCOUNTER = "/v1/push/disk-encounter"
@@ -327,7 +327,7 @@ def test_time_budget(client, monkeypatch):
     r, got = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.3, "n_nodes": 16, "time_limit_s": 1.0})
     assert r.status_code == 422 and "predicted" in detail(got)[2]
     monkeypatch.setattr(push_convert, "SKETCH_COST", SketchCost(fixed_s=0.0, per_point_s=0.0))
-    monkeypatch.setattr(push_routes, "Budget", ChecksBudgets(2))  # 0.01 s spent in two checks, on any machine
+    monkeypatch.setattr(Deadline, "budget", deadline_budgets(ChecksBudgets(2)))  # 0.01 s spent in two checks, on any machine
     r, got = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.3, **FAST, "time_limit_s": 0.01})
     assert r.status_code == 504
     loc, type_, msg = detail(got)
@@ -336,7 +336,7 @@ def test_time_budget(client, monkeypatch):
     assert got["reached"] in msg and got["time_limit_s"] == 0.01 and got["elapsed_s"] > 0.01
     assert [s["contact_vertex_index"] for s in got["partial"]["stages"]] == []  # stage 1 was not finished
     # the deadline is checked between the sketches of one bound, too
-    monkeypatch.setattr(push_routes, "Budget", ChecksBudgets(0))
+    monkeypatch.setattr(Deadline, "budget", deadline_budgets(ChecksBudgets(0)))
     r, got = post(client, ENCOUNTER, {"disk_radius": 1.0, "beta_initial": 0.7, "mu_c": 0.5, **FAST,
                                       "time_limit_s": 1e-9})
     loc, _, msg = detail(got)

@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 from models.spiral import limiting_radius, tip_line_spiral
-from service.api.spiral import routes as spiral_routes
+from service.runtime.deadline import Deadline
 from solver.spiral.critical_radius import critical_radius_table
-from tests.budgets import NoLimitBudgets
+from tests.budgets import NoLimitBudgets, deadline_budgets
 
 CRIT = "/v1/spiral/critical-radius"
 SCHED = "/v1/spiral/schedule"
@@ -101,7 +101,7 @@ def sweep_plan(client):
     body = {"disk_radius": 1.0, "mu_c": 0.25, "start_radius": 8.0, "target": 1.6,
             "simulate": {"n_supports": 3, "seed": 5, "kind": "dipod"}}
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(spiral_routes, "Budget", NoLimitBudgets)
+        mp.setattr(Deadline, "budget", deadline_budgets(NoLimitBudgets))
         r, got = post(client, SCHED, body)
     assert r.status_code == 200, r.text
     return body, got

@@ -1,0 +1,12 @@
+"""Where a request's work runs, and for how long.
+
+* :mod:`~service.runtime.deadline`: the request's deadline, from its arrival (queueing,
+  solving, converting and rendering all count), and the part of it a solver may use;
+* :mod:`~service.runtime.admission`: bounded gates for cheap (in-process) and expensive
+  (worker-process) work; a full gate answers 503 at once with ``Retry-After``;
+* :mod:`~service.runtime.pool`: the solver worker processes (Pebble's process pool on a
+  forkserver), each with its own solver caches; a worker that dies or overruns is replaced;
+* :mod:`~service.runtime.jobs`: runs a route's job (a top-level function: request in,
+  response out) in a worker or in a thread, and turns what it returns or raises into the
+  bytes of an HTTP answer, under the deadline; a client that goes away cancels its job.
+"""

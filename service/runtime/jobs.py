@@ -1,0 +1,208 @@
+"""Running a route's job under the request's deadline, and answering with what it gave.
+
+A job is a top-level function ``job(*args, deadline) -> answer`` of a route module: the
+route's whole computation (problem, solver, conversion, picture), with a
+:class:`~service.runtime.deadline.Deadline` from which it makes its solver budget. Its
+answer (a pydantic response model or a Starlette ``Response``) or the error it raised
+becomes a :class:`Reply` — status, media type, body bytes — where the job ran, so a worker
+sends back bytes, not objects. The web process then only relays them.
+
+Expensive jobs run in a solver worker (:mod:`service.runtime.pool`); the route awaits the
+first of: the reply, the client going away (the job is cancelled and its worker ended), or
+the deadline plus a grace (the job is cancelled; the answer is a 504). Cheap jobs run in
+the web process's thread pool. Both enter their admission gate first, or are refused 503.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import anyio
+from pebble import ProcessExpired
+from pydantic import BaseModel
+from starlette.requests import Request
+from starlette.responses import JSONResponse, Response
+
+from service.errors import GATEWAY_TIMEOUT, error_body, response_for
+from service.runtime.admission import Gate, Refused
+from service.runtime.deadline import Deadline, arrival
+from service.runtime.pool import SolverPool
+from service.settings import Settings
+
+log = logging.getLogger("service")
+
+Job = Callable[..., Any]
+
+WARM_UP_TIMEOUT_S = 120.0
+"""How long the startup waits for the first solver worker (the imports of the solver stack)."""
+
+CLIENT_GONE = 499
+"""Status of the answer to a client that went away (never seen by it; for the log)."""
+
+
+@dataclass(frozen=True)
+class Reply:
+    """An HTTP answer as bytes (what a worker sends back)."""
+
+    status: int
+    media_type: str | None
+    body: bytes
+    headers: tuple[tuple[str, str], ...] = ()
+
+    def response(self) -> Response:
+        return Response(content=self.body, status_code=self.status, media_type=self.media_type,
+                        headers=dict(self.headers))
+
+
+def reply_of(answer: Any) -> Reply:
+    """The bytes of a job's answer: a ``Response`` as it is, a pydantic model as FastAPI
+    would serialise a route's ``response_model`` (JSON mode, by alias)."""
+    if isinstance(answer, BaseModel):
+        answer = JSONResponse(answer.model_dump(mode="json", by_alias=True))
+    if not isinstance(answer, Response):
+        raise TypeError(f"a job must answer a pydantic model or a Response, not {type(answer).__name__}")
+    headers = tuple((k, v) for k, v in answer.headers.items() if k.lower() not in ("content-length", "content-type"))
+    return Reply(answer.status_code, answer.media_type, bytes(answer.body), headers)
+
+
+def execute(job: Job, args: tuple[Any, ...], deadline: Deadline, where: str) -> Reply:
+    """Run ``job(*args, deadline)`` and make its answer, or the answer to its error, a
+    Reply. This is what a worker runs; nothing it raises leaves it."""
+    try:
+        return reply_of(job(*args, deadline))
+    except Exception as exc:  # every error becomes its HTTP answer (service.errors)
+        return reply_of(response_for(exc, where))
+
+
+def deadline_reply(deadline: Deadline, what: str) -> Reply:
+    """The 504 of a job that did not answer by the deadline (nothing completed is known)."""
+    body = error_body(
+        ["body", "time_limit_s"],
+        f"no answer within the time limit of {deadline.limit_s:g} s ({what}); ask for less work, or raise "
+        "time_limit_s",
+        "time_limit",
+    )
+    body.update(reached=what, time_limit_s=deadline.limit_s, elapsed_s=deadline.elapsed(), partial=None)
+    return reply_of(JSONResponse(body, status_code=GATEWAY_TIMEOUT))
+
+
+def crash_reply(exc: BaseException) -> Reply:
+    """The answer when the worker running the job died (a bug in a native library: the
+    worker is replaced, the service goes on)."""
+    return reply_of(JSONResponse(
+        error_body([], f"the solver worker running this request ended abnormally ({exc}); this is a bug",
+                   "internal_error"),
+        status_code=500,
+    ))
+
+
+async def client_gone(request: Request) -> None:
+    """Returns when the client has disconnected (the body has been read by then)."""
+    while True:
+        message = await request.receive()
+        if message["type"] == "http.disconnect":
+            return
+
+
+@dataclass(frozen=True)
+class Runner:
+    """What a route needs to run a job: the gates, the pool (None: expensive jobs run in
+    the web process's threads, as in most tests), the limits."""
+
+    cheap: Gate
+    expensive: Gate
+    pool: SolverPool | None
+    max_time_limit_s: float
+    grace_s: float
+    retry_after_s: int
+
+    @classmethod
+    def from_settings(cls, settings: Settings) -> Runner:
+        workers = settings.solver_processes()
+        pool = SolverPool(workers, settings.worker_max_tasks) if workers > 0 else None
+        return cls(
+            cheap=Gate("cheap", settings.cheap_concurrency),
+            expensive=Gate("expensive", max(workers, 1) + settings.solver_queue),
+            pool=pool,
+            max_time_limit_s=settings.max_time_limit_s,
+            grace_s=settings.deadline_grace_s,
+            retry_after_s=settings.retry_after_s,
+        )
+
+    async def start(self) -> None:
+        """Start the solver workers (at the app's startup)."""
+        if self.pool is not None:
+            await anyio.to_thread.run_sync(self.pool.warm_up, WARM_UP_TIMEOUT_S)
+
+    def close(self) -> None:
+        if self.pool is not None:
+            self.pool.close()
+
+    def deadline(self, request: Request, time_limit_s: float | None) -> Deadline:
+        limit = self.max_time_limit_s if time_limit_s is None else min(float(time_limit_s), self.max_time_limit_s)
+        return Deadline.starting(arrival(request.scope), limit)
+
+    async def cheap_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
+        """Run a cheap job in the web process (a thread)."""
+        deadline = self.deadline(request, time_limit_s)
+        if not self.cheap.try_enter():
+            raise Refused(self.cheap.name, self.retry_after_s)
+        try:
+            reply = await anyio.to_thread.run_sync(execute, job, args, deadline, where(request))
+        finally:
+            self.cheap.leave()
+        return reply.response()
+
+    async def expensive_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
+        """Run an expensive job in a solver worker, under the deadline."""
+        deadline = self.deadline(request, time_limit_s)
+        if not self.expensive.try_enter():
+            raise Refused(self.expensive.name, self.retry_after_s)
+        try:
+            if self.pool is None:
+                reply = await anyio.to_thread.run_sync(execute, job, args, deadline, where(request))
+            else:
+                reply = await self.in_worker(request, job, args, deadline)
+        finally:
+            self.expensive.leave()
+        return reply.response()
+
+    async def in_worker(self, request: Request, job: Job, args: tuple[Any, ...], deadline: Deadline) -> Reply:
+        assert self.pool is not None
+        wait_s = deadline.remaining() + self.grace_s
+        future = self.pool.schedule(execute, (job, args, deadline, where(request)), timeout=wait_s)
+        answer = asyncio.wrap_future(future)
+        gone = asyncio.ensure_future(client_gone(request))
+        try:
+            done, _ = await asyncio.wait({answer, gone}, timeout=wait_s, return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            gone.cancel()
+        if answer in done:
+            try:
+                reply: Reply = answer.result()
+                return reply
+            except ProcessExpired as exc:
+                log.error("solver worker died on %s: %s", where(request), exc)
+                return crash_reply(exc)
+            except (TimeoutError, concurrent.futures.TimeoutError):
+                return deadline_reply(deadline, "the solver worker was stopped at the deadline")
+        future.cancel()  # a running task's worker is ended and replaced
+        if gone in done:
+            log.info("client gone on %s after %.3g s: its job was cancelled", where(request), deadline.elapsed())
+            return Reply(CLIENT_GONE, None, b"")
+        return deadline_reply(deadline, "the solver worker had not answered by the deadline")
+
+
+def where(request: Request) -> str:
+    return f"{request.method} {request.url.path}"
+
+
+def runner(request: Request) -> Runner:
+    """The app's runner (made by :func:`service.app.create_app`)."""
+    run: Runner = request.app.state.runner
+    return run

@@ -1,0 +1,127 @@
+"""The server: gunicorn supervises ``web_workers`` uvicorn processes (a web process that
+dies is replaced), each running the app with its own solver workers (service.runtime).
+
+What a hostile or broken client cannot do here:
+
+* hold a connection by sending nothing, or its headers byte by byte: the headers must
+  arrive within ``header_timeout_s`` of the connection (or of the request's first byte on
+  a kept-alive connection), the body within ``body_timeout_s`` of the headers; past that
+  the answer is 408 and the connection is closed (:class:`ReadTimeoutProtocol`);
+* keep an idle connection: closed after ``keep_alive_s``;
+* send an endless request line or endless headers: gunicorn's and uvicorn's limits;
+* stop the server from shutting down: requests in flight get ``graceful_timeout_s``.
+
+``python -m service`` runs it; ``scripts/serve.sh`` and the Dockerfile call that.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import math
+from typing import Any, ClassVar
+
+from gunicorn.app.base import BaseApplication
+from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
+from uvicorn_worker import UvicornWorker
+
+from service.settings import Settings
+
+log = logging.getLogger("service")
+
+_TIMEOUT_BODY = b'{"detail":[{"loc":[],"msg":"the request was not sent in time","type":"request_timeout"}]}'
+REQUEST_TIMEOUT_RESPONSE = (
+    b"HTTP/1.1 408 Request Timeout\r\ncontent-type: application/json\r\nconnection: close\r\n"
+    + b"content-length: " + str(len(_TIMEOUT_BODY)).encode() + b"\r\n\r\n" + _TIMEOUT_BODY
+)
+"""What a client that did not send its request in time gets before the connection closes."""
+
+
+class ReadTimeoutProtocol(HttpToolsProtocol):
+    """uvicorn's httptools protocol with read deadlines for the headers and the body
+    (uvicorn has a keep-alive timeout but none for a request being received)."""
+
+    header_timeout_s: ClassVar[float] = Settings.header_timeout_s
+    body_timeout_s: ClassVar[float] = Settings.body_timeout_s
+
+    def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
+        self.read_timer: asyncio.TimerHandle | None = None
+        super().connection_made(transport)
+        self._arm(self.header_timeout_s)
+
+    def on_message_begin(self) -> None:
+        super().on_message_begin()
+        if self.read_timer is None:  # a kept-alive connection's next request
+            self._arm(self.header_timeout_s)
+
+    def on_headers_complete(self) -> None:
+        super().on_headers_complete()
+        self._arm(self.body_timeout_s)
+
+    def on_message_complete(self) -> None:
+        super().on_message_complete()
+        self._disarm()
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self._disarm()
+        super().connection_lost(exc)
+
+    def _arm(self, seconds: float) -> None:
+        self._disarm()
+        self.read_timer = self.loop.call_later(seconds, self._read_timed_out)
+
+    def _disarm(self) -> None:
+        timer = getattr(self, "read_timer", None)
+        if timer is not None:
+            timer.cancel()
+            self.read_timer = None
+
+    def _read_timed_out(self) -> None:
+        self.read_timer = None
+        if self.transport.is_closing():
+            return
+        cycle = self.cycle
+        if cycle is None or not cycle.response_started:
+            self.transport.write(REQUEST_TIMEOUT_RESPONSE)
+        log.info("closed a connection from %s: the request was not sent in time", self.client)
+        self.transport.close()
+
+
+class Worker(UvicornWorker):
+    """A gunicorn worker running uvicorn with uvloop and :class:`ReadTimeoutProtocol`."""
+
+    CONFIG_KWARGS: ClassVar[dict[str, Any]] = {"loop": "uvloop", "http": ReadTimeoutProtocol}
+
+
+class Server(BaseApplication):  # type: ignore[misc]
+    """gunicorn, configured from :class:`Settings`, serving ``service.app:app``."""
+
+    def __init__(self, settings: Settings) -> None:
+        self.settings = settings
+        super().__init__()
+
+    def load_config(self) -> None:
+        s = self.settings
+        ReadTimeoutProtocol.header_timeout_s = s.header_timeout_s
+        ReadTimeoutProtocol.body_timeout_s = s.body_timeout_s
+        Worker.CONFIG_KWARGS = {**Worker.CONFIG_KWARGS, "timeout_graceful_shutdown": s.graceful_timeout_s}
+        options = {
+            "bind": f"{s.host}:{s.port}",
+            "workers": s.web_workers,
+            "worker_class": f"{Worker.__module__}.{Worker.__qualname__}",
+            "keepalive": math.ceil(s.keep_alive_s),  # gunicorn takes whole seconds
+            "graceful_timeout": math.ceil(s.graceful_timeout_s),
+            "timeout": math.ceil(max(60.0, 2 * s.max_time_limit_s)),  # a web process silent this long is replaced
+            "loglevel": s.log_level if s.log_level != "trace" else "debug",
+            "limit_request_line": 8190,
+            "limit_request_fields": 100,
+            "limit_request_field_size": 8190,
+            "accesslog": None,
+        }
+        for key, value in options.items():
+            self.cfg.set(key, value)
+
+    def load(self) -> Any:
+        from service.app import app
+
+        return app

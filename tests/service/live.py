@@ -1,0 +1,63 @@
+"""A live server for tests: ``python -m service`` (gunicorn supervising uvicorn, solver
+workers) in a subprocess on a free loopback port."""
+
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import httpx
+
+REPO = Path(__file__).resolve().parents[2]
+STARTUP_TIMEOUT_S = 120.0
+"""How long the server may take to start (its workers import the solver stack)."""
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def server_command() -> list[str]:
+    """The command that runs the service (what scripts/serve.sh and the Dockerfile run)."""
+    return [sys.executable, "-m", "service"]
+
+
+@contextmanager
+def live_server(**settings: str) -> Iterator[str]:
+    """The base URL of a running server; ``settings`` are PESHKIN_* variables (without the
+    prefix, lower case), e.g. ``solver_workers="1"``. Stopped (SIGTERM) at the end."""
+    port = free_port()
+    env = {k: v for k, v in os.environ.items() if not k.startswith("PESHKIN_")}
+    env.update({"PESHKIN_HOST": "127.0.0.1", "PESHKIN_PORT": str(port), "PESHKIN_LOG_LEVEL": "warning"})
+    env.update({f"PESHKIN_{k.upper()}": v for k, v in settings.items()})
+    proc = subprocess.Popen(server_command(), cwd=REPO, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + STARTUP_TIMEOUT_S
+        while True:
+            if proc.poll() is not None:
+                raise RuntimeError(f"the server exited: {proc.stderr.read().decode(errors='replace')[-2000:]}")
+            try:
+                if httpx.get(f"{url}/readyz", timeout=1.0).status_code == 200:
+                    break
+            except httpx.HTTPError:
+                pass
+            if time.monotonic() > deadline:
+                raise RuntimeError("the server did not become ready")
+            time.sleep(0.2)
+        yield url
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
