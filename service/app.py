@@ -19,7 +19,7 @@ from service.api.sketch import routes as sketch
 from service.api.spiral import routes as spiral
 from service.errors import error_body
 from service.runtime.admission import Refused
-from service.runtime.deadline import ArrivalStamp
+from service.runtime.intake import Intake
 from service.runtime.jobs import Runner
 from service.settings import Settings
 
@@ -99,7 +99,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.runner = runner
     errors.install(app)
     app.add_exception_handler(Refused, _refused)
-    app.add_middleware(ArrivalStamp)
+    app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s)
     for resource in (health, locus, motion, particle, push, sketch, spiral):
         app.include_router(resource.router)
     _in_published_order(app)

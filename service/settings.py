@@ -12,8 +12,9 @@ variable                        default     meaning
                                             auto: the CPUs divided among the web processes, >= 1
 ``PESHKIN_SOLVER_QUEUE``        16          expensive requests that may wait for a solver worker,
                                             per web process; beyond, 503 at once
-``PESHKIN_CHEAP_CONCURRENCY``   64          cheap requests computed at once per web process;
-                                            beyond, 503 at once
+``PESHKIN_MAX_REQUESTS_IN_FLIGHT`` 512     requests in flight per web process (cheap ones are
+                                            computed at once, expensive ones wait in their
+                                            gate); beyond, 503 at once
 ``PESHKIN_MAX_TIME_LIMIT_S``    30          the deadline of a request without its own time limit,
                                             and the cap of every time limit
 ``PESHKIN_DEADLINE_GRACE_S``    0.25        how long past its deadline a worker's answer is awaited
@@ -51,7 +52,7 @@ class Settings:
     web_workers: int = 2
     solver_workers: int = AUTO
     solver_queue: int = 16
-    cheap_concurrency: int = 64
+    max_requests_in_flight: int = 512
     max_time_limit_s: float = 30.0
     deadline_grace_s: float = 0.25
     retry_after_s: int = 1
@@ -124,7 +125,7 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "web_workers": _integer(1, 256),
     "solver_workers": _integer(0, 1024, auto=True),
     "solver_queue": _integer(0, 100_000),
-    "cheap_concurrency": _integer(1, 100_000),
+    "max_requests_in_flight": _integer(1, 100_000),
     "max_time_limit_s": _seconds(0.0, 3600.0),
     "deadline_grace_s": _seconds(0.0, 60.0),
     "retry_after_s": _integer(1, 3600),

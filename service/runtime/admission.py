@@ -1,8 +1,9 @@
-"""Admission control: a bounded gate per kind of work. A request enters its gate or is
-refused at once (HTTP 503 with ``Retry-After``); nothing waits without bound. Cheap work
-(closed forms, in-process) and expensive work (solver workers: in the workers plus a
-bounded queue in front of them) have separate gates, so a flood of expensive requests
-never delays a cheap one."""
+"""Admission control: bounded gates. A request enters its gate or is refused at once (HTTP
+503 with ``Retry-After``); nothing waits without bound. Every request passes the gate of
+requests in flight of its web process (service.runtime.intake); expensive work (solver
+workers, plus a bounded queue in front of them) has its own gate besides, so a flood of
+expensive requests is refused before it can fill the web process, and never delays a
+cheap one, which is computed at once on the event loop."""
 
 from __future__ import annotations
 

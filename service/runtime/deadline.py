@@ -1,5 +1,5 @@
 """The deadline of one request: it starts when the request arrives (the ASGI middleware
-:class:`ArrivalStamp` notes the moment), covers the time it waits for a worker, the solve,
+:class:`service.runtime.intake.Intake` notes the moment), covers the time it waits for a worker, the solve,
 the conversion and the rendering, and ends ``limit_s`` later. A solver gets what remains
 minus a reserve for the work after it (converting, rendering, sending the answer back)."""
 
@@ -9,12 +9,12 @@ import math
 import time
 from dataclasses import dataclass
 
-from starlette.types import ASGIApp, Receive, Scope, Send
+from starlette.types import Scope
 
 from solver import Budget
 
 ARRIVAL_KEY = "peshkin.arrived"
-"""The scope key under which :class:`ArrivalStamp` keeps the arrival (time.monotonic)."""
+"""The scope state key under which the intake keeps the arrival (time.monotonic)."""
 
 
 @dataclass(frozen=True)
@@ -69,15 +69,3 @@ def arrival(scope: Scope) -> float:
     """When the request of ``scope`` arrived (now, when no stamp was put on it)."""
     value = scope.get("state", {}).get(ARRIVAL_KEY)
     return float(value) if value is not None else time.monotonic()
-
-
-class ArrivalStamp:
-    """Pure ASGI middleware: notes when each HTTP request arrived, before its body is read."""
-
-    def __init__(self, app: ASGIApp) -> None:
-        self.app = app
-
-    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] == "http":
-            scope.setdefault("state", {})[ARRIVAL_KEY] = time.monotonic()
-        await self.app(scope, receive, send)

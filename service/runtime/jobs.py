@@ -7,10 +7,11 @@ answer (a pydantic response model or a Starlette ``Response``) or the error it r
 becomes a :class:`Reply` — status, media type, body bytes — where the job ran, so a worker
 sends back bytes, not objects. The web process then only relays them.
 
-Expensive jobs run in a solver worker (:mod:`service.runtime.pool`); the route awaits the
-first of: the reply, the client going away (the job is cancelled and its worker ended), or
-the deadline plus a grace (the job is cancelled; the answer is a 504). Cheap jobs run in
-the web process's thread pool. Both enter their admission gate first, or are refused 503.
+Expensive jobs enter the expensive gate (or are refused 503) and run in a solver worker
+(:mod:`service.runtime.pool`); the route awaits the first of: the reply, the client going
+away (the job is cancelled and its worker ended), or the deadline plus a grace (the job is
+cancelled; the answer is a 504). Cheap jobs (closed forms of a millisecond or less) run at
+once on the web process's event loop: no thread hand-off, no lock contention.
 """
 
 from __future__ import annotations
@@ -60,10 +61,11 @@ class Reply:
 
 
 def reply_of(answer: Any) -> Reply:
-    """The bytes of a job's answer: a ``Response`` as it is, a pydantic model as FastAPI
-    would serialise a route's ``response_model`` (JSON mode, by alias)."""
+    """The bytes of a job's answer: a ``Response`` as it is, a pydantic model as JSON by
+    alias, serialised by pydantic-core (the fields FastAPI would send for the route's
+    ``response_model``, ten times faster than the standard library's encoder)."""
     if isinstance(answer, BaseModel):
-        answer = JSONResponse(answer.model_dump(mode="json", by_alias=True))
+        return Reply(200, "application/json", answer.model_dump_json(by_alias=True).encode())
     if not isinstance(answer, Response):
         raise TypeError(f"a job must answer a pydantic model or a Response, not {type(answer).__name__}")
     headers = tuple((k, v) for k, v in answer.headers.items() if k.lower() not in ("content-length", "content-type"))
@@ -114,7 +116,7 @@ class Runner:
     """What a route needs to run a job: the gates, the pool (None: expensive jobs run in
     the web process's threads, as in most tests), the limits."""
 
-    cheap: Gate
+    requests: Gate
     expensive: Gate
     pool: SolverPool | None
     max_time_limit_s: float
@@ -126,7 +128,7 @@ class Runner:
         workers = settings.solver_processes()
         pool = SolverPool(workers, settings.worker_max_tasks) if workers > 0 else None
         return cls(
-            cheap=Gate("cheap", settings.cheap_concurrency),
+            requests=Gate("requests", settings.max_requests_in_flight),
             expensive=Gate("expensive", max(workers, 1) + settings.solver_queue),
             pool=pool,
             max_time_limit_s=settings.max_time_limit_s,
@@ -148,15 +150,8 @@ class Runner:
         return Deadline.starting(arrival(request.scope), limit)
 
     async def cheap_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
-        """Run a cheap job in the web process (a thread)."""
-        deadline = self.deadline(request, time_limit_s)
-        if not self.cheap.try_enter():
-            raise Refused(self.cheap.name, self.retry_after_s)
-        try:
-            reply = await anyio.to_thread.run_sync(execute, job, args, deadline, where(request))
-        finally:
-            self.cheap.leave()
-        return reply.response()
+        """Run a cheap job at once, on the event loop."""
+        return execute(job, args, self.deadline(request, time_limit_s), where(request)).response()
 
     async def expensive_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
         """Run an expensive job in a solver worker, under the deadline."""

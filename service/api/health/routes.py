@@ -27,12 +27,12 @@ async def healthz() -> HealthResponse:
     responses={503: {"model": ReadyResponse, "description": "Saturated: a gate is full; new work would be refused."}},
 )
 async def readyz(request: Request) -> JSONResponse:
-    """`ready` (200) while both admission gates (cheap work in the web process, expensive
-    work for the solver workers) have room; `saturated` (503) when one is full, so that a
+    """`ready` (200) while both admission gates (requests in flight in this web process,
+    expensive work for its solver workers) have room; `saturated` (503) when one is full, so that a
     load balancer sends new requests elsewhere. The gates' use and refusals are listed
     (for this web process)."""
     run = runner(request)
-    gates = [run.cheap.state(), run.expensive.state()]
+    gates = [run.requests.state(), run.expensive.state()]
     full = any(g.full for g in gates)
     body = ReadyResponse(
         status="saturated" if full else "ready",

@@ -15,7 +15,8 @@ class HealthResponse(Strict):
 
 
 class GateOut(Strict):
-    name: str = Field(description="`cheap` (closed forms, in the web process) or `expensive` (solver workers).")
+    name: str = Field(description="`requests` (all requests in flight in the web process) or `expensive` "
+                      "(requests for its solver workers: running or queued).")
     in_use: int = Field(description="Requests holding the gate now (for expensive work: running or queued).")
     capacity: int = Field(description="Requests it admits at once; one more is refused 503 with Retry-After.")
     admitted: int = Field(description="Requests admitted since this web process started.")

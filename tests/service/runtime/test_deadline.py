@@ -1,14 +1,13 @@
-"""The request's deadline (service/runtime/deadline.py): it starts at arrival, the solver's
-budget ends a reserve before it, and the arrival is stamped before the body is read."""
+"""The request's deadline (service/runtime/deadline.py): it starts at arrival and the
+solver's budget ends a reserve before it."""
 
 from __future__ import annotations
 
-import asyncio
 import time
 
 import pytest
 
-from service.runtime.deadline import ARRIVAL_KEY, DEFAULT_RESERVE, ArrivalStamp, Deadline, ReservePolicy, arrival
+from service.runtime.deadline import DEFAULT_RESERVE, Deadline, ReservePolicy
 
 
 def test_the_reserve_is_a_bounded_fraction_of_the_limit():
@@ -34,15 +33,3 @@ def test_a_passed_deadline_leaves_nothing():
 @pytest.mark.parametrize("bad", [float("nan"), float("inf"), -1.0])
 def test_a_meaningless_limit_is_an_expired_deadline(bad):
     assert Deadline.starting(time.monotonic(), bad).limit_s == 0.0
-
-
-def test_the_arrival_is_stamped_before_the_app_runs():
-    seen = {}
-
-    async def app(scope, receive, send):
-        seen["arrived"] = arrival(scope)
-
-    scope = {"type": "http"}
-    before = time.monotonic()
-    asyncio.run(ArrivalStamp(app)(scope, None, None))
-    assert scope["state"][ARRIVAL_KEY] == seen["arrived"] and before <= seen["arrived"] <= time.monotonic()
