@@ -143,6 +143,13 @@ def dipod_quotient(rho: Real, omega: Real) -> tuple[np.ndarray, np.ndarray]:
     rho = np.asarray(rho, dtype=float)
     sa = np.sin(omega)
     ca = np.cos(omega)
+    mu, vx, vy = _dipod_terms(rho, sa, ca)
+    eta = np.arctan2(-vx, vy)
+    return mu, eta
+
+
+def _dipod_terms(rho: np.ndarray, sa: Real, ca: Real) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(mu, v_x, v_y) of :func:`dipod_quotient` from sin and cos of omega."""
     dp = np.hypot(rho + ca, sa)
     dm = np.hypot(rho - ca, sa)
     big_d = dp * dm
@@ -151,9 +158,12 @@ def dipod_quotient(rho: Real, omega: Real) -> tuple[np.ndarray, np.ndarray]:
     vx = -2.0 * rho * sa * ca / (big_d * big_s)
     vy = 0.5 * ((rho + ca) / dp + (rho - ca) / dm)
     num = 2.0 * rho * rho * sa * sa * (q + big_d) / ((big_d + rho * rho - 1.0) * big_s * big_d)
-    mu = num / np.hypot(vx, vy)
-    eta = np.arctan2(-vx, vy)
-    return mu, eta
+    return num / np.hypot(vx, vy), vx, vy
+
+
+def _dipod_moment_arm(rho: np.ndarray, sa: Real, ca: Real) -> np.ndarray:
+    """mu of :func:`dipod_quotient` alone (the root solve of :func:`outer_boundary`)."""
+    return _dipod_terms(rho, sa, ca)[0]
 
 
 def dipod_quotient_printed(rho: Real, omega: Real) -> tuple[np.ndarray, np.ndarray]:
@@ -197,39 +207,46 @@ def outer_boundary(omega: np.ndarray, mu: float, tol: Tolerances = DEFAULT) -> t
     all points at once. Returns (rho, eta, iterations).
     """
     omega = np.asarray(omega, dtype=float)
+    sa, ca = np.sin(omega), np.cos(omega)
+
+    def g(x: np.ndarray, k: np.ndarray | slice) -> np.ndarray:
+        # log(mu(x)/mu) of dipod_quotient (same operations, without eta, on the points k)
+        return np.log(_dipod_moment_arm(np.exp(x), sa[k], ca[k]) / mu)
+
     x_lo = np.zeros_like(omega)
     x_hi = np.full_like(omega, math.log(1.0 / mu))
-
-    def g(x: Real) -> Real:
-        m, _ = dipod_quotient(np.exp(x), omega)
-        return np.log(m / mu)
-
     # rho = 1 is singular only at omega = 0, which callers exclude.
-    g_lo = g(x_lo)
-    g_hi = g(x_hi)
+    g_lo = g(x_lo, slice(None))
+    g_hi = g(x_hi, slice(None))
     done = g_hi >= 0.0  # the tip itself (omega = pi/2): root at the upper end
     x = np.where(done, x_hi, 0.5 * (x_lo + x_hi))
     side = np.zeros_like(omega)
+    active = np.flatnonzero(~done)
     it = 0
     for it in range(1, tol.root_max_iter + 1):
-        if np.all(done):
+        if active.size == 0:
             break
-        denom = g_hi - g_lo
-        x_new = np.where(denom != 0.0, x_hi - g_hi * (x_hi - x_lo) / np.where(denom != 0.0, denom, 1.0), 0.5 * (x_lo + x_hi))
-        bad = ~((x_new > x_lo) & (x_new < x_hi))
-        x_new = np.where(bad, 0.5 * (x_lo + x_hi), x_new)
-        g_new = g(x_new)
+        # Illinois (modified regula falsi) on the points not yet converged; elementwise
+        # the same steps as on the whole array
+        xl, xh, gl, gh, sd = x_lo[active], x_hi[active], g_lo[active], g_hi[active], side[active]
+        denom = gh - gl
+        x_new = np.where(denom != 0.0, xh - gh * (xh - xl) / np.where(denom != 0.0, denom, 1.0), 0.5 * (xl + xh))
+        bad = ~((x_new > xl) & (x_new < xh))
+        x_new = np.where(bad, 0.5 * (xl + xh), x_new)
+        g_new = g(x_new, active)
         upper = g_new < 0.0  # root lies below x_new
-        # Illinois: halve the retained end's value when the same end is kept twice.
-        g_lo = np.where(upper & (side == -1), 0.5 * g_lo, g_lo)
-        g_hi = np.where(~upper & (side == 1), 0.5 * g_hi, g_hi)
-        x_hi = np.where(upper & ~done, x_new, x_hi)
-        g_hi = np.where(upper & ~done, g_new, g_hi)
-        x_lo = np.where(~upper & ~done, x_new, x_lo)
-        g_lo = np.where(~upper & ~done, g_new, g_lo)
-        side = np.where(upper, -1.0, 1.0)
-        x = np.where(done, x, x_new)
-        done = done | (np.abs(g_new) <= tol.root_rtol) | (x_hi - x_lo <= tol.root_rtol * np.maximum(1.0, np.abs(x_new)))
+        # halve the retained end's value when the same end is kept twice
+        gl = np.where(upper & (sd == -1), 0.5 * gl, gl)
+        gh = np.where(~upper & (sd == 1), 0.5 * gh, gh)
+        x_hi[active] = np.where(upper, x_new, xh)
+        g_hi[active] = np.where(upper, g_new, gh)
+        x_lo[active] = np.where(upper, xl, x_new)
+        g_lo[active] = np.where(upper, gl, g_new)
+        side[active] = np.where(upper, -1.0, 1.0)
+        x[active] = x_new
+        conv = (np.abs(g_new) <= tol.root_rtol) | (x_hi[active] - x_lo[active] <= tol.root_rtol * np.maximum(1.0, np.abs(x_new)))
+        done[active] = conv
+        active = active[~conv]
     if not np.all(done):
         raise BoundaryNotConverged(
             f"outer COR boundary (3.35) did not converge in {tol.root_max_iter} iterations "
