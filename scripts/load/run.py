@@ -27,8 +27,8 @@ import httpx
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 
-from tests.benchmarks._docs import write_section  # noqa: E402
-from tests.service.live import live_server  # noqa: E402
+from tests.benchmarks._docs import write_section
+from tests.service.live import live_server
 
 LOCUS = {"disk_radius": 1, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966}
 EXPENSIVE = {
