@@ -14,7 +14,7 @@ HOST_CA_BUNDLE ?= $(wildcard /etc/ssl/certs/ca-certificates.crt)
 CA_BUILD_FLAGS = $(if $(HOST_CA_BUNDLE),-v $(HOST_CA_BUNDLE):/run/host-ca-bundle.crt:ro --build-arg PIP_CERT=/run/host-ca-bundle.crt)
 PORT          ?= 8000
 
-.PHONY: help venv serve test test-fast openapi bench docker-local-base docker-local docker-run-local
+.PHONY: help venv serve test test-fast openapi bench load docker-local-base docker-local docker-run-local
 
 help:
 	@echo "make serve             run the service (bash scripts/serve.sh)"
@@ -22,6 +22,7 @@ help:
 	@echo "make test-fast         the everyday tier: tests not marked slow, two workers"
 	@echo "make openapi           write the OpenAPI document (scripts/gen_openapi.py)"
 	@echo "make bench             run the benchmarks (tests/benchmarks)"
+	@echo "make load              load test on loopback with wrk (scripts/load/run.py)"
 	@echo "make docker-local-base debootstrap a Debian base image into podman ($(LOCAL_BASE))"
 	@echo "make docker-local      podman build $(IMAGE) on that base"
 	@echo "make docker-run-local  podman run $(IMAGE) on port $(PORT)"
@@ -44,6 +45,9 @@ openapi: venv
 
 bench: venv
 	$(PYTHON) -m pytest tests/benchmarks -q --run-benchmarks
+
+load: venv
+	$(PYTHON) scripts/load/run.py
 
 docker-local-base:
 	bash scripts/docker-local-base.sh $(LOCAL_BASE)
