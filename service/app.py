@@ -99,7 +99,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.runner = runner
     errors.install(app)
     app.add_exception_handler(Refused, _refused)
-    app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s)
+    app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s,
+                       max_body_bytes=settings.max_body_bytes)
     for resource in (health, locus, motion, particle, push, sketch, spiral):
         app.include_router(resource.router)
     _in_published_order(app)

@@ -45,6 +45,7 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from models.errors import InvalidInput, ModelError
+from service.limits import ECHO_MAX_CHARS, ECHO_MAX_DEPTH, ECHO_MAX_ERRORS, ECHO_MAX_ITEMS
 from solver import SolverError, TimeLimitReached
 
 log = logging.getLogger("service")
@@ -70,6 +71,26 @@ class FieldError(Exception):
         self.loc = tuple(loc)
         self.reason = reason
         self.where = where
+
+
+class BodyTooLarge(Exception):
+    """The request's body is longer than the service reads (HTTP 413)."""
+
+    def __init__(self, limit_bytes: int) -> None:
+        super().__init__(f"the body is longer than {limit_bytes} bytes, the most this service reads")
+        self.limit_bytes = limit_bytes
+
+
+PAYLOAD_TOO_LARGE = 413
+
+
+def too_large_body(exc: BodyTooLarge) -> dict[str, Any]:
+    return error_body(["body"], str(exc), "body_too_large")
+
+
+async def _body_too_large(request: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, BodyTooLarge)
+    return JSONResponse(status_code=PAYLOAD_TOO_LARGE, content=too_large_body(exc), headers={"connection": "close"})
 
 
 class TimeLimitAnswer(Exception):
@@ -116,15 +137,40 @@ def json_safe(value: Any) -> Any:
     return str(value)
 
 
+def echo(value: Any, depth: int = 0) -> Any:
+    """What a 422 says back of the client's own input: scalars as they are (non-finite
+    floats by name, strings cut at ECHO_MAX_CHARS), small arrays and objects down to
+    ECHO_MAX_DEPTH levels, anything larger by its size only ("a list of 5000000 items").
+    Bounded in size and in recursion whatever the client sent."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else repr(value)
+    if value is None or isinstance(value, (bool, int)):
+        return value
+    if isinstance(value, str):
+        return value if len(value) <= ECHO_MAX_CHARS else value[:ECHO_MAX_CHARS] + f"... ({len(value)} characters)"
+    if isinstance(value, dict):
+        if depth >= ECHO_MAX_DEPTH or len(value) > ECHO_MAX_ITEMS:
+            return f"an object of {len(value)} fields"
+        return {str(k)[:ECHO_MAX_CHARS]: echo(v, depth + 1) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        if depth >= ECHO_MAX_DEPTH or len(value) > ECHO_MAX_ITEMS:
+            return f"a list of {len(value)} items"
+        return [echo(v, depth + 1) for v in value]
+    return echo(str(value), depth)
+
+
 async def _request_validation(request: Request, exc: RequestValidationError) -> JSONResponse:
     errors = []
-    for err in exc.errors():
-        item = {k: json_safe(v) for k, v in err.items() if k in ("loc", "msg", "type", "input", "ctx")}
+    for err in exc.errors()[:ECHO_MAX_ERRORS]:
+        item = {k: (echo(v) if k in ("input", "ctx") else json_safe(v))
+                for k, v in err.items() if k in ("loc", "msg", "type", "input", "ctx")}
         errors.append(item)
     return JSONResponse(status_code=UNPROCESSABLE, content={"detail": errors})
 
 
 async def _http_exception(request: Request, exc: StarletteHTTPException):
+    if isinstance(exc.__cause__, BodyTooLarge):  # FastAPI wraps what stopped the body's read
+        return await _body_too_large(request, exc.__cause__)
     if exc.status_code == 400:  # FastAPI could not read the body (e.g. not UTF-8)
         return JSONResponse(
             status_code=UNPROCESSABLE,
@@ -241,6 +287,7 @@ async def _computation_error(request: Request, exc: Exception) -> JSONResponse:
 def install(app: FastAPI) -> None:
     """Register the handlers on ``app``."""
     app.add_exception_handler(StarletteHTTPException, _http_exception)
+    app.add_exception_handler(BodyTooLarge, _body_too_large)
     app.add_exception_handler(RequestValidationError, _request_validation)
     for kind in (Exception, *(kind for kind, _ in _ANSWERS)):
         app.add_exception_handler(kind, _computation_error)

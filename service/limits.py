@@ -239,3 +239,14 @@ and solve. Larger grids are refused (422 at `resolution`)."""
 SPIRAL_MAX_REVOLUTIONS = 20_000
 """Most revolutions of a schedule request (the recursion stops there; a target that needs
 more, e.g. within 1e-4 a of b_inf, or a tiny max_step, is refused with 422)."""
+
+
+# Echoes of invalid input in a 422 (service.errors.echo): bounded whatever was sent
+ECHO_MAX_ITEMS = 16
+"""Arrays and objects with more items are echoed by their size only."""
+ECHO_MAX_DEPTH = 4
+"""Nesting echoed at most (deeper parts by their size only)."""
+ECHO_MAX_CHARS = 200
+"""Strings echoed at most this long."""
+ECHO_MAX_ERRORS = 32
+"""Validation errors listed at most in one 422."""

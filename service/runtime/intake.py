@@ -1,37 +1,55 @@
 """The intake of every HTTP request (a pure ASGI middleware, before the body is read): it
-notes when the request arrived (its deadline starts then, service.runtime.deadline) and
-admits it through the web process's gate of requests in flight, or answers 503 with
-``Retry-After`` at once. The probes (``/healthz``, ``/readyz``) are never refused."""
+notes when the request arrived (its deadline starts then, service.runtime.deadline),
+refuses a body longer than the limit (413: at once when ``Content-Length`` says so, else as
+soon as the streamed bytes pass it, without reading further), and admits the request
+through the web process's gate of requests in flight, or answers 503 with ``Retry-After``
+at once. The probes (``/healthz``, ``/readyz``) are never refused. It is also the one
+catch-all: an exception nothing else answered becomes a JSON 500 here, sent as a normal
+answer, so the connection stays usable (Starlette's own last resort re-raises into the
+server, which then drops the connection)."""
 
 from __future__ import annotations
 
 import json
+import logging
 import time
 
-from starlette.types import ASGIApp, Receive, Scope, Send
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from service.errors import error_body
+from service.errors import PAYLOAD_TOO_LARGE, BodyTooLarge, error_body, too_large_body
 from service.runtime.admission import Gate, Refused
 from service.runtime.deadline import ARRIVAL_KEY
 
 PROBES = frozenset({"/healthz", "/readyz"})
+log = logging.getLogger("service")
 
 
-def busy_response_parts(exc: Refused) -> tuple[bytes, list[tuple[bytes, bytes]]]:
-    """The body and headers of the 503 of a full gate."""
-    body = json.dumps(error_body([], str(exc), "busy")).encode()
-    headers = [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()),
-               (b"retry-after", str(exc.retry_after_s).encode())]
-    return body, headers
+def _content_length(scope: Scope) -> int | None:
+    for name, value in scope.get("headers", ()):
+        if name == b"content-length":
+            try:
+                return int(value)
+            except ValueError:
+                return None
+    return None
+
+
+async def _send_json(send: Send, status: int, body_obj: dict, extra: list[tuple[bytes, bytes]]) -> None:
+    body = json.dumps(body_obj).encode()
+    headers = [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()), *extra]
+    await send({"type": "http.response.start", "status": status, "headers": headers})
+    await send({"type": "http.response.body", "body": body})
 
 
 class Intake:
-    """Stamps the arrival and admits through ``gate`` (``retry_after_s`` on a 503)."""
+    """Stamps the arrival, limits the body to ``max_body_bytes`` and admits through
+    ``gate`` (``retry_after_s`` on a 503)."""
 
-    def __init__(self, app: ASGIApp, gate: Gate, retry_after_s: int) -> None:
+    def __init__(self, app: ASGIApp, gate: Gate, retry_after_s: int, max_body_bytes: int) -> None:
         self.app = app
         self.gate = gate
         self.retry_after_s = retry_after_s
+        self.max_body_bytes = max_body_bytes
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
@@ -41,12 +59,40 @@ class Intake:
         if scope.get("path") in PROBES:
             await self.app(scope, receive, send)
             return
-        if not self.gate.try_enter():
-            body, headers = busy_response_parts(Refused(self.gate.name, self.retry_after_s))
-            await send({"type": "http.response.start", "status": 503, "headers": headers})
-            await send({"type": "http.response.body", "body": body})
+        limit = self.max_body_bytes
+        length = _content_length(scope)
+        if length is not None and length > limit:
+            await _send_json(send, PAYLOAD_TOO_LARGE, too_large_body(BodyTooLarge(limit)), [(b"connection", b"close")])
             return
+        if not self.gate.try_enter():
+            exc = Refused(self.gate.name, self.retry_after_s)
+            await _send_json(send, 503, error_body([], str(exc), "busy"), [(b"retry-after", str(exc.retry_after_s).encode())])
+            return
+        seen = 0
+
+        async def limited_receive() -> Message:
+            nonlocal seen
+            message = await receive()
+            if message["type"] == "http.request":
+                seen += len(message.get("body", b""))
+                if seen > limit:
+                    raise BodyTooLarge(limit)  # answered 413 by service.errors
+            return message
+
+        started = False
+
+        async def tracked_send(message: Message) -> None:
+            nonlocal started
+            started = started or message["type"] == "http.response.start"
+            await send(message)
+
         try:
-            await self.app(scope, receive, send)
+            await self.app(scope, limited_receive, tracked_send)
+        except Exception:
+            log.exception("unexpected error on %s %s", scope.get("method"), scope.get("path"))
+            if started:
+                raise  # half an answer is out: the server must close the connection
+            body = error_body([], "internal error; this is a bug", "internal_error")
+            await _send_json(send, 500, body, [])
         finally:
             self.gate.leave()

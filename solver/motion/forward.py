@@ -138,8 +138,9 @@ def _length_scale(scene: PushScene, w_rel: np.ndarray) -> np.ndarray:
 
     L = 0 (every support point and the contact at the CM) leaves the rotation free: the
     motion is not determined, which is refused as an input error."""
-    lw = np.max(np.linalg.norm(w_rel, axis=-1), axis=-1)
-    ell = np.maximum(lw, float(np.linalg.norm(scene.contact_rel)))
+    # hypot, not norm: the squares of lengths below ~1e-154 underflow to zero
+    lw = np.max(np.hypot(w_rel[..., 0], w_rel[..., 1]), axis=-1)
+    ell = np.maximum(lw, math.hypot(float(scene.contact_rel[0]), float(scene.contact_rel[1])))
     if not np.all(ell > 0.0):
         raise InvalidInput(
             "points",

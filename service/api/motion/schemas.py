@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import ConfigDict, Field
+from pydantic import ConfigDict, Field, StrictBool
 
 from service.common.fields import (
     DISK_OR_FOOTPRINT,
@@ -160,7 +160,7 @@ class TripodStatisticsRequest(PushIn):
         description="Seed of the random generator: the same request gives the same answer."
     )
     mu_c: MuC = Field(default=0.0, description="Pusher friction for the COR sample (figure 3-5 uses 0).")
-    histogram: bool = Field(
+    histogram: StrictBool = Field(
         default=False,
         description="Also the sticking-line histogram of figure 7-2 (solved again with "
         "`histogram_mu_c`).",
@@ -175,7 +175,7 @@ class TripodStatisticsRequest(PushIn):
         description="[lo, hi] of the histogram, signed distance from the contact along the push "
         "direction turned +90 degrees (length). Default: the 1st..99th percentile.",
     )
-    include_cors: bool = Field(default=True, description="Return the CORs themselves (n_tripods points).")
+    include_cors: StrictBool = Field(default=True, description="Return the CORs themselves (n_tripods points).")
 
 
 # ---------------------------------------------------------------------------------------

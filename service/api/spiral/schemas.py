@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, create_model
+from pydantic import BaseModel, ConfigDict, Field, StrictBool, create_model
 
 from service.common.fields import Point, Strict, TimeLimit
 from service.limits import (
@@ -236,14 +236,14 @@ class SpiralScheduleRequest(BaseModel):
         description="Grid radii per safe step of the OR-Tools graph (the recursion is continuous).",
     )
     center: Point = Field(default=[0.0, 0.0], description="Centre of the spiral, world frame.")
-    clockwise: bool = Field(default=True, description="Direction of travel of the pusher.")
+    clockwise: StrictBool = Field(default=True, description="Direction of travel of the pusher.")
     start_angle: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-100.0, le=100.0)] = Field(
         default=0.5 * math.pi, description="Polar angle (rad) of the pusher's start about the centre."
     )
     points_per_revolution: Annotated[
         int, Field(strict=True, ge=SPIRAL_MIN_POINTS_PER_REVOLUTION, le=SPIRAL_MAX_POINTS_PER_REVOLUTION)
     ] = Field(default=SPIRAL_DEFAULT_POINTS_PER_REVOLUTION, description="Polyline points per revolution.")
-    include_path: bool = Field(default=True, description="Return the pusher's path as a polyline.")
+    include_path: StrictBool = Field(default=True, description="Return the pusher's path as a polyline.")
     simulate: SimulationIn | None = Field(default=None, description="Optional simulation check of the schedule.")
     time_limit_s: TimeLimit = Field(
         default=SPIRAL_DEFAULT_TIME_LIMIT_S,

@@ -458,3 +458,16 @@ def test_a_failing_conic_solve_is_not_converged(monkeypatch):
     sup = random_support(np.random.default_rng(SEED), 4)
     with pytest.raises(NotConverged, match="numerical trouble"):
         solve_forward(scene_for_mu(0.3), sup, method="cvxpy")
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-200, 1e-160, 1e150, 1e300])
+def test_the_motion_scales_down_to_the_smallest_lengths(scale):
+    """(3.3.12) Scaling the scene and the support scales the COR: below ~1e-154 the squares
+    of lengths underflow, so the problem's length scale is taken with hypot, not a norm of
+    squares (a disk of 1e-300 was refused as 'every point at the centre of mass')."""
+    base = PushScene.create(1.0, [-0.5, -0.3], math.pi / 2)
+    pts = np.array([[0.6, 0.0], [-0.3, 0.5], [-0.3, -0.5]])
+    ref = solve_forward(base, Support.create(pts, [1, 1, 1], [0.0, 0.0]), method="newton")
+    scene = PushScene.create(scale, [-0.5 * scale, -0.3 * scale], math.pi / 2)
+    got = solve_forward(scene, Support.create(pts * scale, [1, 1, 1], [0.0, 0.0]), method="newton")
+    assert np.allclose(got.cor / scale, ref.cor, rtol=1e-12, atol=1e-12)
