@@ -7,6 +7,7 @@ from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
 from fastapi import FastAPI, Request
+from fastapi_offline import FastAPIOffline
 from fastapi.responses import JSONResponse
 
 from service import __version__, errors
@@ -90,7 +91,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         finally:
             runner.close()
 
-    app = FastAPI(
+    # Swagger UI (/docs) and ReDoc (/redoc) from the package's own copies of their
+    # scripts and styles (fastapi-offline): the pages work without the internet.
+    app = FastAPIOffline(
         title="Peshkin pushing planner",
         version=__version__,
         description=DESCRIPTION,
