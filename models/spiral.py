@@ -229,6 +229,11 @@ class CriticalEnvelope:
             d = np.minimum(d, float(max_step))
         return _as_out(d, scalar)
 
+    def step_is_safe(self, b_prev: float, x: float, max_step: float | None = None) -> bool:
+        """b_prev - x <= D(x) in the rounding-proof form the schedule graph uses
+        (:func:`schedule_graph`): b_prev <= fl(x + D(x)) less one ulp."""
+        return float(b_prev) <= float(np.nextafter(float(x) + float(self.d_star(float(x), max_step)), -np.inf))
+
     def next_radius(self, b_prev: float, max_step: float | None = None) -> float:
         """One step of (4.26), exactly (module docstring): the least x <= b_prev with
         b_prev - x <= D(x), D = d* (capped at ``max_step``). Rounded towards the larger x."""
@@ -452,6 +457,13 @@ def fastest_spiral(envelope: CriticalEnvelope, b_1: float, target: float | None 
     else:
         while len(radii) < tol.max_revolutions:
             x = envelope.next_radius(y, max_step)
+            # up by ulps until the step is safe in the graph's rounding-proof form too, so
+            # that a grid holding these radii holds the recursion's path (solver.spiral);
+            # the two forms differ by rounding only, a few ulps at most
+            for _ in range(tol.graph_safe_ulps):
+                if x >= y or envelope.step_is_safe(y, x, max_step):
+                    break
+                x = float(np.nextafter(x, np.inf))
             if y - x <= stall:
                 stop = "stalled"
                 break

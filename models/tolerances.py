@@ -75,6 +75,9 @@ class SpiralTolerances:
         tie_break_unit_rel: the (coarser) length unit of the tie-break of the "revolutions"
             objective: among the schedules with the fewest revolutions the shortest is
             taken, to this unit (relative to a).
+        graph_safe_ulps: how many ulps a radius of the recursion may be raised so that its
+            step is also safe in the schedule graph's rounding-proof test (the two differ
+            by rounding only).
     """
 
     grazing_delta: float = 1e-6
@@ -84,6 +87,7 @@ class SpiralTolerances:
     monotone_rel: float = 1e-9
     length_unit_rel: float = 1e-7
     tie_break_unit_rel: float = 1e-4
+    graph_safe_ulps: int = 64
 
     @classmethod
     def default(cls) -> "SpiralTolerances":

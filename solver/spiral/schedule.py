@@ -60,6 +60,9 @@ class ScheduleCertificate:
     cost_unit: float
     certified: bool
     revolution_weight: int | None = None
+    path_potentials: tuple[int, ...] = ()
+    """pi at the schedule's radii, b_1 first (0) to the target (= dual_bound): along the
+    schedule every arc's reduced cost is 0, which is why its cost equals the bound."""
 
 
 @dataclass(frozen=True)
@@ -233,7 +236,15 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
             f"is below {env.b_floor:.9g}, the smallest radius with any guarantee in this table (its b_inf, 4.5.4): "
             "no spiral can localize the disk further",
         )
+    # the book's recursion with the same maximum step; it ignores a minimum step, so it is
+    # then only a lower bound on the revolutions
+    recursion = fastest_spiral(env, b_1, target, max_step=max_step, speed=speed, tol=spiral_tol)
     x = schedule_grid(env, b_1, target, spacing=spacing, resolution=resolution, max_nodes=max_nodes, max_step=max_step)
+    # the grid holds the recursion's radii, so that the recursion's schedule (its last
+    # radius moved up to the target, still safe: x + D(x) is nondecreasing) is a path of
+    # the graph and the optimum on the grid is never worse than the recursion
+    inner = recursion.radii[(recursion.radii > target) & (recursion.radii < b_1)]
+    x = np.unique(np.concatenate([x, inner]))
     graph = schedule_graph(env, x, min_step=min_step, max_step=max_step)
     grid_kind = "uniform" if spacing is not None else "adaptive"
     sp = np.diff(x)
@@ -266,9 +277,6 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
         costs = arc_costs(graph, "length", unit, spiral_tol.arc_nodes)
         pot = shortest_path_potentials(graph, costs)
     greedy = greedy_on_graph(graph)
-    # the book's recursion with the same maximum step; it ignores a minimum step, so it is
-    # then only a lower bound on the revolutions
-    recursion = fastest_spiral(env, b_1, target, max_step=max_step, speed=speed, tol=spiral_tol)
     g_rev = g_len = None
     if greedy is not None:
         g_rev = int(greedy.size)
@@ -307,7 +315,7 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
     dual = int(pot[0])
     cert = ScheduleCertificate(primal_cost=primal, dual_bound=dual, gap=primal - dual, min_reduced_cost=min_rc,
                                n_arcs_checked=int(rc.size), cost_unit=unit, certified=bool(min_rc >= 0 and primal == dual),
-                               revolution_weight=weight)
+                               revolution_weight=weight, path_potentials=tuple(int(pot[k]) for k in path))
     radii = x[path]
     steps = -np.diff(radii)
     excess = float(np.max(steps - env.d_star(radii[1:], max_step))) if steps.size else 0.0
@@ -317,7 +325,9 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
     if stopped:
         msg += "; stopped early by the time limit (best schedule found, gap in the certificate)"
     if cert.certified:
-        msg += "; certified optimal by shortest-path potentials"
+        msg += ("; certified optimal by shortest-path potentials, among the schedules whose radii are on this grid "
+                "(which holds the recursion's radii, so it is never worse than the recursion (4.26)) and safe by "
+                "this r* table")
     return SpiralSchedule(
         objective=objective, backend=backend, solver_status=status, stopped_early=bool(stopped), radii=radii,
         steps=steps, revolutions=int(radii.size), path_length=length, path_length_error=lerr,

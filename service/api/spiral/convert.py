@@ -14,6 +14,8 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+import numpy as np
+
 from models.tolerances import SPIRAL_DEFAULT
 from service.api.spiral.schemas import (
     REFERENCE,
@@ -179,9 +181,12 @@ def _schedule_out(s: SpiralSchedule) -> ScheduleOut:
     cert = None if c is None else CertificateOut(
         certified=c.certified, primal_cost=c.primal_cost, dual_bound=c.dual_bound, gap=c.gap,
         min_reduced_cost=c.min_reduced_cost, n_arcs_checked=c.n_arcs_checked, cost_unit=finite(c.cost_unit, "cost_unit"),
+        revolution_weight=c.revolution_weight, path_potentials=list(c.path_potentials),
     )
     return ScheduleOut(
-        solver_status=s.solver_status, stopped_early=s.stopped_early, objective=s.objective,
+        solver_status=s.solver_status,
+        optimal_among=(f"schedules on the {s.grid_kind} grid of {s.n_nodes} radii (holding the recursion's radii) that are "
+                       "safe by this r* table"), stopped_early=s.stopped_early, objective=s.objective,
         objective_value=finite_if_known(s.objective_value, "schedule.objective_value"), backend=s.backend,
         radii=finite_list(s.radii, "schedule.radii"), steps=finite_list(s.steps, "schedule.steps"), revolutions=s.revolutions,
         path_length=finite_if_known(s.path_length, "schedule.path_length"),
@@ -233,7 +238,9 @@ def schedule_response(req: SpiralScheduleRequest, plan: SpiralPlan, elapsed_ms: 
             kind=req.simulate.kind,
         )
     covers = float(env.envelope[0])
-    table = TableOut(n_points=int(tab.betas.size), complete=tab.complete, time_limited=tab.time_limited,
+    table = TableOut(n_points=int(tab.betas.size), betas=finite_list(tab.betas, "table.betas"),
+                     radii=[float(r) if np.isfinite(r) else None for r in tab.radii],
+                     certified=[bool(c) for c in tab.certified], complete=tab.complete, time_limited=tab.time_limited,
                      covers_radius=finite(covers, "table.covers_radius"), from_cache=plan.from_cache,
                      monotone=_monotone(tab), message=tab.message)
     msg = _schedule_message(sched, rec, tip, b_1, target, covers, sim)

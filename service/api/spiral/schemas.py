@@ -261,12 +261,26 @@ class CertificateOut(BaseModel):
     min_reduced_cost: int = Field(description=">= 0: the potentials are dual feasible.")
     n_arcs_checked: int
     cost_unit: float = Field(description="Length per cost unit ('length'), or 1 revolution.")
+    revolution_weight: int | None = Field(
+        description="Objective 'revolutions': the cost of one revolution, in units of cost_unit (a revolution costs "
+        "this plus its length, so the fewest revolutions come first and the shortest of them second); null when "
+        "each revolution costs 1."
+    )
+    path_potentials: list[int] = Field(
+        description="The shortest-path potentials (the dual weights) at the schedule's radii, b_1 first (0) to the "
+        "target (= dual_bound): each of the schedule's revolutions has reduced cost 0, every revolution of the grid "
+        ">= 0 (min_reduced_cost), which proves that no schedule on the grid costs less."
+    )
 
 
 class ScheduleOut(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     solver_status: str = Field(description="'OPTIMAL', 'FEASIBLE' (stopped early), 'INFEASIBLE', 'TIME_LIMIT'.")
+    optimal_among: str = Field(
+        description="What 'optimal' is relative to: the schedules whose radii lie on the grid (n_nodes radii, "
+        "holding the recursion's, so never worse than the recursion (4.26)) and that are safe by the table's r*."
+    )
     stopped_early: bool
     objective: Objective
     objective_value: float | None
@@ -372,6 +386,11 @@ class TableOut(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     n_points: int = Field(description="Collision parameters in the r* table.")
+    betas: list[float] = Field(description="The table's collision parameters beta (rad), ascending.")
+    radii: list[float | None] = Field(
+        description="r*(beta) at each (request units; null where none was found). The schedule is safe by these."
+    )
+    certified: list[bool] = Field(description="Whether each r* carries its certificate (method 'exact').")
     complete: bool
     time_limited: bool
     covers_radius: float = Field(

@@ -108,3 +108,20 @@ def test_inputs():
         critical_radius(1.0, 1.0, 0.0)
     with pytest.raises(InvalidInput):
         critical_radius(1.0, 1.0, 0.5, method="guess")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("b1, target", [(20.0, 1.6), (20.0, 3.0), (60.0, 1.7), (5.0, 1.65)])
+@pytest.mark.parametrize("spacing", [None, 0.05])
+def test_the_grid_optimum_is_never_worse_than_the_recursion(dense_sweep_025, b1, target, spacing):
+    """(4.26) The recursion's schedule is the least (4.5.5); the grid holds its radii, so
+    OR-Tools' optimum on the grid needs exactly as many revolutions (the grid of the
+    default resolution once needed 47 where the recursion needed fewer on the same table:
+    its steps, exactly at d*, failed the graph's rounding-proof test by one ulp)."""
+    env = dense_sweep_025.envelope
+    sched = spiral_schedule(env, b1, target, spacing=spacing)
+    rec = fastest_spiral(env, b1, target)
+    assert sched.certificate.certified and sched.revolutions == rec.revolutions
+    # every step of the recursion (its last radius moved up to the target) is safe in the graph's test
+    path = np.append(rec.radii[:-1], target)
+    assert all(env.step_is_safe(y, x) for y, x in zip(path[:-1], path[1:]))
