@@ -272,6 +272,18 @@ def _schedule_message(sched, rec, tip, b_1, target, covers, sim) -> str:
     if covers < b_1:
         text += f"; the r* table covers radii up to {covers:.6g} only (larger ones use its smallest beta: safe, slower)"
     if sim is not None:
-        text += (f"; simulation: {sim.n - sim.escaped} of {sim.n} kept"
-                 f"{', all inside the final radius' if sim.all_inside else ''}")
+        text += "; " + simulation_summary(sim.n, sim.escaped, sim.statuses, sim.all_inside)
     return text
+
+
+def simulation_summary(n: int, escaped: int, statuses: dict[str, int], all_inside: bool) -> str:
+    """The simulation check in words, counting only the runs that ran: "kept" are the runs
+    that ran and were not pushed out; runs the time limit left out are said as not run."""
+    not_run = int(statuses.get("not_run", 0))
+    ran = n - not_run
+    if ran == 0:
+        return f"simulation: none of the {n} runs ran (time limit)"
+    text = f"simulation: {ran - escaped} of the {ran} runs that ran kept"
+    if not_run:
+        text += f", {not_run} of {n} not run (time limit)"
+    return text + (", all inside the final radius" if all_inside else "")

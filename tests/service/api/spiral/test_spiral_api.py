@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from models.spiral import limiting_radius, tip_line_spiral
+from service.api.spiral.convert import simulation_summary
 from service.runtime.deadline import Deadline
 from solver.spiral.critical_radius import critical_radius_table
 from tests.budgets import NoLimitBudgets, deadline_budgets
@@ -258,3 +259,13 @@ def test_a_table_that_runs_out_of_time_is_504_with_how_far_it_got(client):
     assert "first collision parameter" in got["reached"] and "a finished table is cached" in msg
     table = got["partial"]["table"]
     assert table["n_points"] == 0 and table["time_limited"] is True and table["covers_radius"] is None
+
+
+def test_the_simulation_summary_counts_only_the_runs_that_ran():
+    """A count that summarises work says what was not run (the documented example once said
+    "simulation: 4 of 4 kept" when the time limit had left every run out)."""
+    assert simulation_summary(4, 0, {"not_run": 4}, False) == "simulation: none of the 4 runs ran (time limit)"
+    assert simulation_summary(4, 1, {"completed": 2, "escaped": 1, "not_run": 1}, False) == (
+        "simulation: 2 of the 3 runs that ran kept, 1 of 4 not run (time limit)")
+    assert simulation_summary(3, 0, {"completed": 3}, True) == (
+        "simulation: 3 of the 3 runs that ran kept, all inside the final radius")
