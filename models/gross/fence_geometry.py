@@ -315,7 +315,9 @@ def fence_alignment(
     if mirrored:  # reflect across the line of motion through the CM: y -> -y
         q = q * np.array([1.0, -1.0])
         alpha = math.pi - alpha
-        hull = convex_hull_indices(q / a)
+        # the mirror image of the same hull, reversed to stay counter-clockwise (not a new
+        # hull: with nearly collinear vertices a recomputed one may drop the contact vertex)
+        hull = [hull[0], *hull[:0:-1]]
         n_f, ah = frame_normals(alpha)
 
     stages: list[FenceStage] = []

@@ -42,6 +42,8 @@ class SolverTolerances:
         max_bnb_intervals: cap on the intervals of one branch-and-bound lower bound.
         boundary_bracket: width |r_out - r_in| / L of the certified bracket around a
             boundary point of a certified locus.
+        max_cor_distance_rel: farthest candidate COR, |r - CM| / L, a membership query
+            takes (beyond, its rows lose every digit; the query is refused naming it).
     """
 
     kkt: float = 1e-10
@@ -60,6 +62,7 @@ class SolverTolerances:
     max_cg_iter: int = 40
     max_bnb_intervals: int = 200_000
     boundary_bracket: float = 1e-6
+    max_cor_distance_rel: float = 1e12
 
 
 SOLVER_DEFAULT = SolverTolerances()

@@ -238,7 +238,16 @@ def membership(
     r_in = np.asarray(r_world, dtype=float)
     if r_in.shape != (2,) or not np.all(np.isfinite(r_in)):
         raise InvalidInput("cor", "must be a finite point [x, y]")
-    r, on_outline = outline.snap(outline.to_local(r_in))
+    r_local = outline.to_local(r_in)
+    dist = float(np.hypot(r_local[0], r_local[1]))
+    if not dist <= tol.max_cor_distance_rel:  # also catches an overflow to inf or nan
+        raise InvalidInput(
+            "cor",
+            f"is {float(np.hypot(*(r_in - scene.center_of_mass))):.3g} from the centre of mass, more than "
+            f"{tol.max_cor_distance_rel:g} times the part's size L = {ell:.3g}: beyond what the certificates "
+            "resolve (give the part's size in a unit closer to the distances)",
+        )
+    r, on_outline = outline.snap(r_local)
     in_f = outline.contains(r, on_outline)
     alpha = outline.vector_to_local(scene.alpha_hat)
     c = outline.vector_to_local(scene.contact_rel) / ell

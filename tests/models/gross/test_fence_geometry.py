@@ -387,3 +387,15 @@ def test_offset_4_24():
         with pytest.raises(InvalidInput) as err:
             encounter_beta_from_offset(1.0, d)
         assert err.value.field == "offset"
+
+
+def test_a_nearly_collinear_contact_vertex_survives_the_mirror_image():
+    """3.4: a counter-clockwise turn is reflected onto the book's clockwise case; the hull
+    must be the mirror image of the same hull. Recomputed, a vertex nearly collinear at
+    the 1e9 scale of its neighbours (the contact here) was dropped, and the alignment
+    failed with a ValueError (found by the live contract test)."""
+    fp = Footprint.create([[1000.0, -2.4e-107], [979553195.7, -1.2e-263], [1.02, 1.1], [9.9e-80, 1.5e-180],
+                           [0.0, -121343364.5], [-5.1e-160, -705681225.4]])
+    al = fence_alignment(fp, 0.0, 1e-5, 0.0)
+    assert al.mirrored and al.sense == "ccw" and al.first_contact_index == 2
+    assert al.stages and al.final_edge == (2, 1)

@@ -344,3 +344,14 @@ def test_decide_membership_is_membership_of_the_problem_3_8():
     assert decide_membership(MembershipProblem(sc, 1.1 * tip.point)).status == "outside"
     spent = decide_membership(MembershipProblem(sc, 0.9 * tip.point), Budget.of(0.0))
     assert spent.status == "undecided" and not spent.complete
+
+
+@pytest.mark.parametrize("radius", [5e-324, 1e-300, 1e-13])
+def test_a_candidate_beyond_the_resolved_distance_is_refused_by_name(radius):
+    """|r - CM| / L above SolverTolerances.max_cor_distance_rel (a disk of 5e-324 and a
+    candidate 6.5 away: 1.3e324 L, an overflow) is refused naming `cor`, not a solver
+    failure deep in the master (found by the live contract test)."""
+    scene = PushScene.create(radius, [0.0, 0.0], 1e-93, -989690.7470272449)
+    with pytest.raises(InvalidInput) as err:
+        membership(scene, [6.472574030457316, 2.00001])
+    assert err.value.field == "cor"
