@@ -26,6 +26,9 @@ variable                        default     meaning
 ``PESHKIN_BODY_TIMEOUT_S``      30          ... and its body within this after the headers
 ``PESHKIN_KEEP_ALIVE_S``        5           idle keep-alive connections are closed after this
 ``PESHKIN_GRACEFUL_TIMEOUT_S``  30          on shutdown, requests in flight get this long
+``PESHKIN_STORE_PATH``          (tmp)       SQLite file of reusable results (r* rows of spiral
+                                            localization), shared by all processes; "" for
+                                            none; default <tmp>/peshkin-service/results.sqlite3
 ==============================  ==========  =====================================================
 
 ``python -m service`` starts the supervisor (gunicorn) with these; ``uvicorn
@@ -36,6 +39,7 @@ from __future__ import annotations
 
 import math
 import os
+import tempfile
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields
 from typing import Any
@@ -63,6 +67,7 @@ class Settings:
     body_timeout_s: float = 30.0
     keep_alive_s: float = 5.0
     graceful_timeout_s: float = 30.0
+    store_path: str = os.path.join(tempfile.gettempdir(), "peshkin-service", "results.sqlite3")
 
     @classmethod
     def from_env(cls, environ: Mapping[str, str] | None = None) -> Settings:
@@ -71,7 +76,7 @@ class Settings:
         for f in fields(cls):
             name = f"PESHKIN_{f.name.upper()}"
             text = env.get(name)
-            if text is None or not text.strip():
+            if text is None or (not text.strip() and f.name != "store_path"):  # "" turns the store off
                 continue
             values[f.name] = _PARSERS[f.name](name, text.strip())
         return cls(**values)
@@ -137,4 +142,5 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "body_timeout_s": _seconds(0.0, 3600.0),
     "keep_alive_s": _seconds(0.0, 3600.0),
     "graceful_timeout_s": _seconds(0.0, 3600.0),
+    "store_path": lambda name, text: text,
 }

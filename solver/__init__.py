@@ -10,6 +10,7 @@ describes the folders.
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import BackendNotFound, Infeasible, NotConverged, SolverError, TimeLimitReached
 from solver.core.outcome import Outcome
+from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
 from solver.gross.align import AlignProblem, AlignResult, AlignStage, Slip, align, below_line_of_motion
 from solver.gross.bounds import SKETCH_COST, Bound, QuasiStaticQuery
@@ -74,6 +75,7 @@ __all__ = [
     "SolverError",
     "TimeLimitReached",
     "Outcome",
+    "ResultStore",
     "SOLVER_DEFAULT",
     "SOLVER_FAST",
     "SOLVER_HIGH_ACCURACY",

@@ -19,6 +19,8 @@ import pytest
 # started as subprocesses set their own environment.
 # ---------------------------------------------------------------------------
 os.environ.setdefault("PESHKIN_SOLVER_WORKERS", "0")
+# No result store unless a test makes one: every test computes what it checks.
+os.environ.setdefault("PESHKIN_STORE_PATH", "")
 
 # ---------------------------------------------------------------------------
 # Benchmarks: tests marked ``@pytest.mark.benchmark`` are skipped unless the

@@ -40,7 +40,7 @@ import math
 import threading
 import time
 from collections import OrderedDict
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -56,6 +56,7 @@ from models.spiral import (
 )
 from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 from solver.core.budget import UNLIMITED, Budget
+from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.locus.sticking_locus import sticking_locus
 
@@ -299,18 +300,50 @@ class CriticalRadiusTable:
         return "time_limited" if self.time_limited else "partial"
 
 
+STORE_VERSION = 1
+"""Version of the stored r* rows and kinks: raise it when their computation changes."""
+
+
+def _store_namespace(kind: str, mu: float, method: str, sweep_points: int, tol: SolverTolerances) -> str:
+    """Where rows of one table kind live: everything that determines r*(beta) at a = 1."""
+    return f"{kind}/v{STORE_VERSION}/{method}/mu={mu!r}/sweep={sweep_points}/tol={hash(tol) & 0xFFFFFFFF:08x}"
+
+
+def _row_to_dict(r: CriticalRadius) -> dict:
+    return {k: getattr(r, k) for k in CriticalRadius.__dataclass_fields__}
+
+
+def _stored_row(store: ResultStore | None, namespace: str, a: float, beta: float) -> CriticalRadius | None:
+    """The row at ``beta`` computed before (stored at a = 1), scaled to ``a``."""
+    if store is None:
+        return None
+    got = store.get(namespace, repr(float(beta)))
+    if got is None:
+        return None
+    try:
+        row = CriticalRadius(**got)
+    except TypeError:  # written by another layout: not this version's
+        return None
+    scale = {k: (None if getattr(row, k) is None else getattr(row, k) * a)
+             for k in ("radius", "midpoint", "lower_bound", "bracket_width", "distance_from_grazing", "tip_line_radius")}
+    return replace(row, a=a, **scale)
+
+
 def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=None, r_max: float | None = None,
                           budget: Budget = UNLIMITED, tol: SolverTolerances = SOLVER_DEFAULT,
                           spiral_tol: SpiralTolerances = SPIRAL_DEFAULT, sweep_points: int = SWEEP_POINTS,
                           find_kink: bool = True, grid: BetaGrid = BETA_GRID,
-                          margin_rel: float = 0.0) -> CriticalRadiusTable:
+                          margin_rel: float = 0.0, store: ResultStore | None = None) -> CriticalRadiusTable:
     """r*(beta) over ``betas`` (default :func:`beta_grid` with ``grid`` for radii up to
     ``r_max``, default 100 a, refined around the kink (:func:`kink_beta`, if ``find_kink``)
     and the sketch change (4.17)), by ``method``; stops when ``budget`` expires (checked between
     points and passed down to each exact solve) and says how far it got. ``margin_rel``:
     the envelope (what schedules use) takes r* + margin_rel * a, a safety margin for the
-    uncertified methods (the reported radii are unchanged)."""
+    uncertified methods (the reported radii are unchanged). ``store``: rows (at a = 1, per
+    beta) and the kink computed before are taken from it and new ones put in as they are
+    computed, so a table cut by the time limit is kept and a later request extends it."""
     a, _, mu = _check(a, 1.0, mu_c)
+    rows_ns = _store_namespace("rstar", mu, method, sweep_points, tol)
     if method not in METHODS:
         raise InvalidInput("method", f"must be one of {', '.join(METHODS)}")
     t0 = time.perf_counter()
@@ -318,7 +351,14 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
     change = sketch_change_beta(mu)
     if betas is None:
         if find_kink and method != "tip_line":
-            kink = kink_beta(a, mu, budget=budget)
+            kink_ns = _store_namespace("kink", mu, "sweep", KINK_SWEEP_POINTS, tol)
+            known = None if store is None else store.get(kink_ns, "beta")
+            if known is not None:
+                kink = known["beta"]
+            else:
+                kink = kink_beta(a, mu, budget=budget)
+                if store is not None and not budget.expired():
+                    store.put(kink_ns, "beta", {"beta": kink})
         planned = beta_grid(a, 100.0 * a if r_max is None else float(r_max), spiral_tol.grazing_delta,
                             refine=(kink, change), grid=grid)
     else:
@@ -331,10 +371,17 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
         if budget.expired():
             time_limited = True
             break
-        res = critical_radius(a, float(b), mu, method, tol=tol, budget=budget, sweep_points=sweep_points)
-        if method == "exact" and not res.certified and budget.expired():
-            time_limited = True
-            break
+        res = _stored_row(store, rows_ns, a, float(b))
+        if res is None:
+            res = critical_radius(a, float(b), mu, method, tol=tol, budget=budget, sweep_points=sweep_points)
+            if method == "exact" and not res.certified and budget.expired():
+                time_limited = True
+                break
+            if store is not None and method != "tip_line":
+                at_one = _row_to_dict(res)
+                for k in ("radius", "midpoint", "lower_bound", "bracket_width", "distance_from_grazing", "tip_line_radius"):
+                    at_one[k] = None if at_one[k] is None else at_one[k] / a
+                store.put(rows_ns, repr(float(b)), {**at_one, "a": 1.0})
         rows.append(res)
     rows = rows[::-1]
     n = len(rows)
@@ -401,7 +448,8 @@ def scale_table(table: CriticalRadiusTable, a: float) -> CriticalRadiusTable:
 
 def cached_critical_radius_table(a: float, mu_c: float, method: str, r_max: float, budget: Budget = UNLIMITED,
                                  sweep_points: int = SWEEP_POINTS, margin_rel: float = 0.0,
-                                 tol: SolverTolerances = SOLVER_DEFAULT) -> tuple[CriticalRadiusTable, bool]:
+                                 tol: SolverTolerances = SOLVER_DEFAULT,
+                                 store: ResultStore | None = None) -> tuple[CriticalRadiusTable, bool]:
     """:func:`critical_radius_table` through a cache of complete tables at a = 1, keyed
     by (mu_c, method, r_max / a rounded up to R_MAX_BUCKETS, sweep_points, margin_rel, tol).
     Returns (table scaled to ``a``, whether it came from the cache). A table cut short by
@@ -417,7 +465,7 @@ def cached_critical_radius_table(a: float, mu_c: float, method: str, r_max: floa
     if hit is not None:
         return scale_table(hit, a), True
     tab = critical_radius_table(1.0, mu_c, method, r_max=bucket, budget=budget, tol=tol,
-                                sweep_points=sweep_points, margin_rel=margin_rel)
+                                sweep_points=sweep_points, margin_rel=margin_rel, store=store)
     if tab.complete and tab.envelope is not None:
         with _TABLES_LOCK:
             _TABLES[key] = tab
@@ -511,6 +559,8 @@ class CriticalRadiusProblem:
     sweep_points: int = SWEEP_POINTS
     tol: SolverTolerances = SOLVER_DEFAULT
     spiral_tol: SpiralTolerances = SPIRAL_DEFAULT
+    store: ResultStore | None = field(default=None, compare=False)
+    """Where r* rows outlive the process (the service's SQLite store), or None."""
 
     def __post_init__(self) -> None:
         if self.betas is not None and self.max_radius is not None:
@@ -555,12 +605,12 @@ def critical_radii(problem: CriticalRadiusProblem, budget: Budget = UNLIMITED) -
     a, mu = p.disk_radius, p.mu_c
     if p.betas is not None:
         tab = critical_radius_table(a, mu, p.method, betas=p.betas, budget=budget, tol=p.tol, spiral_tol=p.spiral_tol,
-                                    sweep_points=p.sweep_points, find_kink=False)
+                                    sweep_points=p.sweep_points, find_kink=False, store=p.store)
         cached = False
     else:
         r_max = DEFAULT_REACH_REL * a if p.max_radius is None else p.max_radius
         tab, cached = cached_critical_radius_table(a, mu, p.method, r_max, budget=budget, sweep_points=p.sweep_points,
-                                                   tol=p.tol)
+                                                   tol=p.tol, store=p.store)
     delta = p.spiral_tol.grazing_delta
     lim_delta = 0.5 * math.pi - float(tab.betas[-1]) if tab.betas.size else None
     if lim_delta is not None and abs(lim_delta - delta) <= LIMIT_BETA_MATCH:

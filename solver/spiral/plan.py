@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -32,6 +32,7 @@ from models.spiral import (
 from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import NotConverged, TimeLimitReached
+from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.sim.spiral import SpiralBatch, spiral_check, spiral_path
 from solver.spiral.critical_radius import (
@@ -105,6 +106,8 @@ class SpiralProblem:
     max_arcs: int = 5_000_000
     tol: SolverTolerances = SOLVER_DEFAULT
     spiral_tol: SpiralTolerances = SPIRAL_DEFAULT
+    store: ResultStore | None = field(default=None, compare=False)
+    """Where the r* rows outlive the process (the service's SQLite store), or None."""
 
 
 @dataclass(frozen=True)
@@ -161,10 +164,11 @@ def _table(problem: SpiralProblem, budget: Budget) -> tuple[CriticalRadiusTable,
     p = problem
     if p.cached:
         return cached_critical_radius_table(p.disk_radius, p.mu_c, p.method, p.start_radius, budget=budget,
-                                            sweep_points=p.sweep_points, margin_rel=p.safety_margin, tol=p.tol)
+                                            sweep_points=p.sweep_points, margin_rel=p.safety_margin, tol=p.tol,
+                                            store=p.store)
     tab = critical_radius_table(p.disk_radius, p.mu_c, p.method, r_max=p.start_radius, budget=budget, tol=p.tol,
                                 spiral_tol=p.spiral_tol, sweep_points=p.sweep_points, grid=p.grid,
-                                margin_rel=p.safety_margin)
+                                margin_rel=p.safety_margin, store=p.store)
     return tab, False
 
 

@@ -9,6 +9,8 @@ Each route: request -> problem (:mod:`service.api.spiral.convert`) -> one solver
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
@@ -37,6 +39,7 @@ from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.errors import time_limited
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
+from service.store import result_store
 from solver import critical_radii, plan_spiral
 
 router = APIRouter(tags=["spiral"])
@@ -68,7 +71,7 @@ def critical_radius_job(
     req: SpiralCriticalRadiusRequest, svg: bool, deadline: Deadline,
 ) -> SpiralCriticalRadiusResponse | Response:
     budget = deadline.budget()
-    problem = critical_radius_problem(req)
+    problem = replace(critical_radius_problem(req), store=result_store())
     with located():
         res = critical_radii(problem, budget)
     body = critical_radius_response(req, res, budget.elapsed() * 1e3)
@@ -109,7 +112,7 @@ async def spiral_schedule(
 
 def schedule_job(req: SpiralScheduleRequest, svg: bool, deadline: Deadline) -> SpiralScheduleResponse | Response:
     budget = deadline.budget()
-    problem = schedule_problem(req)
+    problem = replace(schedule_problem(req), store=result_store())
     with time_limited(table_partial, TABLE_TIME_LIMIT_HINT), located():
         plan = plan_spiral(problem, budget)
     body = schedule_response(req, plan, budget.elapsed() * 1e3)

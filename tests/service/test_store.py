@@ -1,0 +1,112 @@
+"""The result store (service/store.py) and the r* rows it keeps (solver/spiral/
+critical_radius.py, 4.5.3): a second identical table computes nothing, a table cut by a
+work limit is kept and the next request extends it, two processes writing at once do not
+corrupt the file, a version change makes old rows unreachable, a broken file is
+survived."""
+
+from __future__ import annotations
+
+import multiprocessing
+import sqlite3
+
+import numpy as np
+import pytest
+
+from service import store as store_module
+from service.store import SqliteStore
+from solver.spiral import critical_radius as cr
+from tests.budgets import checks_budget
+
+BETAS = (0.3, 0.6, 0.9, 1.2, 1.45)
+
+
+def test_values_round_trip_and_the_cap_holds(tmp_path):
+    s = SqliteStore(tmp_path / "r.sqlite3", max_rows=3)
+    assert s.get("ns", "k") is None
+    for i in range(5):
+        s.put("ns", f"k{i}", {"i": i, "x": [1.5, None]})
+    assert s.get("ns", "k4") == {"i": 4, "x": [1.5, None]} and s.count() == 3 and s.get("ns", "k0") is None
+    s.put("ns", "bad", {"x": float("nan")})  # not JSON: not kept
+    assert s.get("ns", "bad") is None
+
+
+def test_a_second_table_computes_nothing(tmp_path, monkeypatch):
+    s = SqliteStore(tmp_path / "r.sqlite3")
+    first = cr.critical_radius_table(1.0, 0.25, "sweep", betas=BETAS, find_kink=False, store=s)
+
+    def no_more(*args, **kwargs):
+        raise AssertionError("r* computed again")
+
+    monkeypatch.setattr(cr, "critical_radius", no_more)
+    again = cr.critical_radius_table(2.5, 0.25, "sweep", betas=BETAS, find_kink=False, store=s)  # another a: scaled
+    assert np.array_equal(again.radii, 2.5 * first.radii) and again.complete
+
+
+def test_a_table_cut_short_is_kept_and_extended(tmp_path, monkeypatch):
+    s = SqliteStore(tmp_path / "r.sqlite3")
+    cut = cr.critical_radius_table(1.0, 0.25, "sweep", betas=BETAS, find_kink=False, store=s, budget=checks_budget(3))
+    assert cut.time_limited and 0 < cut.n_done < len(BETAS)
+    computed = []
+    real = cr.critical_radius
+
+    def counting(a, beta, *args, **kwargs):
+        computed.append(beta)
+        return real(a, beta, *args, **kwargs)
+
+    monkeypatch.setattr(cr, "critical_radius", counting)
+    whole = cr.critical_radius_table(1.0, 0.25, "sweep", betas=BETAS, find_kink=False, store=s)
+    assert whole.complete and len(computed) == len(BETAS) - cut.n_done  # only what the cut table lacked
+    reference = cr.critical_radius_table(1.0, 0.25, "sweep", betas=BETAS, find_kink=False)
+    assert np.array_equal(whole.radii, reference.radii)
+
+
+def test_a_new_version_does_not_read_old_rows(tmp_path, monkeypatch):
+    s = SqliteStore(tmp_path / "r.sqlite3")
+    cr.critical_radius_table(1.0, 0.25, "sweep", betas=BETAS[:2], find_kink=False, store=s)
+    monkeypatch.setattr(cr, "STORE_VERSION", cr.STORE_VERSION + 1)
+    computed = []
+    real = cr.critical_radius
+    monkeypatch.setattr(cr, "critical_radius", lambda a, b, *x, **k: computed.append(b) or real(a, b, *x, **k))
+    cr.critical_radius_table(1.0, 0.25, "sweep", betas=BETAS[:2], find_kink=False, store=s)
+    assert len(computed) == 2
+
+
+def _writer(path: str, offset: int) -> None:
+    s = SqliteStore(path)
+    for i in range(300):
+        s.put("ns", f"{offset + i}", {"i": offset + i})
+
+
+def test_two_processes_writing_at_once_leave_a_whole_file(tmp_path):
+    path = str(tmp_path / "r.sqlite3")
+    ctx = multiprocessing.get_context("spawn")
+    procs = [ctx.Process(target=_writer, args=(path, k * 1000)) for k in range(2)]
+    for p in procs:
+        p.start()
+    for p in procs:
+        p.join(60)
+    assert [p.exitcode for p in procs] == [0, 0]
+    s = SqliteStore(path)
+    assert s.count() == 600 and s.get("ns", "1299") == {"i": 1299}
+    assert sqlite3.connect(path).execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+
+
+def test_a_broken_file_is_survived(tmp_path, caplog):
+    bad = tmp_path / "r.sqlite3"
+    bad.write_bytes(b"this is not a database" * 100)
+    s = SqliteStore(bad)
+    s.put("ns", "k", {"x": 1})
+    assert s.get("ns", "k") is None
+    assert "going on without it" in caplog.text
+
+
+def test_the_process_store_follows_the_setting(tmp_path, monkeypatch):
+    monkeypatch.setattr(store_module, "_PROCESS_STORE", {})
+    monkeypatch.setenv("PESHKIN_STORE_PATH", "")
+    assert store_module.result_store() is None
+    monkeypatch.setenv("PESHKIN_STORE_PATH", str(tmp_path / "x.sqlite3"))
+    s = store_module.result_store()
+    assert isinstance(s, SqliteStore) and store_module.result_store() is s
+
+
+pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
