@@ -567,12 +567,56 @@ class CriticalRadiusProblem:
             raise InvalidInput("max_radius", "give betas or max_radius, not both")
 
 
+INVERSE_BETA_TOL = 1e-4
+"""Width (rad) to which beta*(r) is bisected between two table points."""
+INVERSE_MAX_STEPS = 16
+"""Most r* evaluations spent on one beta*(r)."""
+
+
+@dataclass(frozen=True)
+class InversePoint:
+    """beta*(r) (4.5.3) and d*(r) = a (1 - sin beta*) (4.24) at pusher radius ``r``. The
+    table gives the smallest tabulated beta with a guarantee; between it and the table
+    point below (``beta_below``, no guarantee) r*(beta) = r is bisected with the table's
+    method (``steps`` evaluations, fewer when the time ran out), assuming r* decreases
+    there (the table's ``monotone`` says whether it does on the grid). The true beta*(r)
+    lies in (``beta_below``, ``beta_star``]; nan beta_star: r is below every r*."""
+
+    radius: float
+    beta_star: float
+    distance_star: float
+    beta_below: float | None
+    steps: int
+
+
+def _invert(table: CriticalRadiusTable, r: float, p: CriticalRadiusProblem, budget: Budget) -> InversePoint:
+    env = table.envelope
+    assert env is not None
+    hi = float(env.beta_star(r))
+    if not math.isfinite(hi):
+        return InversePoint(float(r), hi, 0.0, None, 0)
+    below = env.betas[env.betas < hi]
+    lo = float(below[-1]) if below.size else None
+    steps = 0
+    while lo is not None and hi - lo > INVERSE_BETA_TOL and steps < INVERSE_MAX_STEPS and not budget.expired():
+        mid = 0.5 * (lo + hi)
+        res = critical_radius(table.a, mid, table.mu_c, table.method, tol=p.tol, budget=budget,
+                              sweep_points=p.sweep_points)
+        steps += 1
+        safe = res.radius is not None and res.radius + table.margin <= r and (res.certified or table.method != "exact")
+        if safe:
+            hi = mid
+        else:
+            lo = mid
+    return InversePoint(float(r), hi, float(distance_from_grazing(table.a, hi)), lo, steps)
+
+
 @dataclass(frozen=True)
 class CriticalRadii:
     """The answer to a :class:`CriticalRadiusProblem`: the ``table`` (``from_cache``), the
     tip line's r* = 2a / sin(beta) (4.13) at its betas, b_inf by (4.25) and numerically
     (r* at pi/2 - ``grazing_delta``; None when there was no time for it), and the inverse
-    ``(r, beta*(r), d*(r))`` per asked radius (None unless asked for)."""
+    per asked radius (None unless asked for): :class:`InversePoint`."""
 
     problem: CriticalRadiusProblem
     table: CriticalRadiusTable
@@ -581,7 +625,7 @@ class CriticalRadii:
     b_inf_closed_form: float
     b_inf_numeric: float | None
     grazing_delta: float
-    inverse: tuple[tuple[float, float, float], ...] | None
+    inverse: tuple[InversePoint, ...] | None
     solve_time_s: float
 
     @property
@@ -624,8 +668,7 @@ def critical_radii(problem: CriticalRadiusProblem, budget: Budget = UNLIMITED) -
     if p.radii is not None:
         if tab.envelope is None:
             raise InvalidInput("radii", f"no usable critical radius to invert: {tab.message}")
-        env = tab.envelope
-        inverse = tuple((float(r), float(env.beta_star(r)), float(env.d_star(r))) for r in p.radii)
+        inverse = tuple(_invert(tab, float(r), p, budget) for r in p.radii)
     tips = tip_line_critical_radius(a, tab.betas) if tab.betas.size else np.empty(0)
     return CriticalRadii(p, tab, cached, np.asarray(tips, dtype=float), limiting_radius(a, mu), numeric, delta,
                          inverse, time.perf_counter() - t0)

@@ -111,9 +111,10 @@ def critical_radius_response(req: SpiralCriticalRadiusRequest, res: CriticalRadi
     inverse = None
     if res.inverse is not None:
         inverse = [
-            InverseOut(radius=r, beta_star=finite_if_known(beta_star, "inverse.beta_star"),
-                       distance_star=finite(d_star, "inverse.distance_star"))
-            for r, beta_star, d_star in res.inverse
+            InverseOut(radius=q.radius, beta_star=finite_if_known(q.beta_star, "inverse.beta_star"),
+                       distance_star=finite(q.distance_star, "inverse.distance_star"), beta_below=q.beta_below,
+                       steps=q.steps)
+            for q in res.inverse
         ]
     numeric, closed = res.b_inf_numeric, res.b_inf_closed_form
     msg = tab.message

@@ -133,6 +133,12 @@ class InverseOut(BaseModel):
         "r*(beta') <= r (4.5.3); null when r is below every r* (no guarantee, r < b_inf)."
     )
     distance_star: float = Field(description="d*(r) = a (1 - sin beta*) (4.24); 0 when there is no guarantee.")
+    beta_below: float | None = Field(
+        description="The largest collision parameter known to have no guarantee at r: the true beta*(r) lies in "
+        "(beta_below, beta_star]. beta_star is bisected from the table's points with the table's method (to 1e-4 "
+        "rad, at most 16 evaluations, fewer when the time limit comes); null when beta_star is the table's first."
+    )
+    steps: int = Field(description="r* evaluations spent refining beta_star between the table's points.")
 
 
 class SpiralCriticalRadiusResponse(BaseModel):

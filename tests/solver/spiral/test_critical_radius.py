@@ -20,6 +20,7 @@ from models.mpp import perp
 from models.spiral import critical_envelope, tip_line_critical_radius
 from solver.core.budget import Budget
 from solver.spiral.critical_radius import (
+    INVERSE_BETA_TOL,
     CriticalRadiusProblem,
     critical_beta,
     critical_distance,
@@ -231,9 +232,15 @@ def test_critical_radii_in_one_call_4_13_4_24_4_25():
     np.testing.assert_allclose(res.tip_line_radii, 2.0 / np.sin(np.array(betas)), rtol=1e-15)
     assert res.b_inf_closed_form == 1.25 and res.b_inf_numeric == want.radii[-1]  # the last beta is the limit point
     env = want.envelope
-    want_inverse = [(r, float(env.beta_star(r)), float(env.d_star(r))) for r in (0.5, 4.0)]
-    np.testing.assert_array_equal(np.array(res.inverse), np.array(want_inverse))  # NaN where NaN
-    assert math.isnan(res.inverse[0][1]) and res.inverse[0][2] == 0.0  # below b_inf: no guarantee
+    low, high = res.inverse
+    assert math.isnan(low.beta_star) and low.distance_star == 0.0  # below b_inf: no guarantee
+    # 4.5.3: bisected between the table's points (not snapped to the next given beta)
+    assert high.beta_below < high.beta_star <= float(env.beta_star(4.0))
+    assert high.beta_star - high.beta_below <= INVERSE_BETA_TOL and high.steps > 0
+    at = critical_radius_table(1.0, 0.25, "sweep", betas=(high.beta_below, high.beta_star), sweep_points=256,
+                               find_kink=False).radii
+    assert at[1] <= 4.0 < at[0]
+    assert high.distance_star == pytest.approx(1.0 - math.sin(high.beta_star), rel=1e-14)
     assert res.complete and res.status == "complete" and not res.from_cache
     with pytest.raises(InvalidInput) as info:
         CriticalRadiusProblem(1.0, 0.25, betas=betas, max_radius=10.0)

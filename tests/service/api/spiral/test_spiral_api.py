@@ -61,11 +61,17 @@ def test_critical_radius_at_given_betas_is_the_solvers(client):
     lim = got["b_inf"]
     assert lim["closed_form"] == 2.0 * 1.25 and lim["tip_line"] == 4.0
     assert lim["numeric"] == pytest.approx(2.5, abs=1e-4)  # (4.25) from beta = pi/2 - 1e-6
-    # inverse on the safe envelope: below every r* no guarantee, then the smallest beta whose tail fits
+    # inverse: below every r* no guarantee; else bisected between the table's points to
+    # 1e-4 rad, not snapped to the next given beta (which said beta*(4 = 2a) = 1.3 where it is ~1.0)
     inv = got["inverse"]
     assert inv[0]["beta_star"] is None and inv[0]["distance_star"] == 0.0
-    assert inv[1]["beta_star"] == 1.3 and inv[2]["beta_star"] == 0.8
-    assert inv[2]["distance_star"] == pytest.approx(2.0 * (1.0 - math.sin(0.8)), rel=1e-14)
+    for q, table_beta in ((inv[1], 1.3), (inv[2], 0.8)):
+        assert q["beta_below"] < q["beta_star"] <= table_beta and q["beta_star"] - q["beta_below"] <= 1e-4
+        assert q["distance_star"] == pytest.approx(2.0 * (1.0 - math.sin(q["beta_star"])), rel=1e-14)
+        at = critical_radius_table(2.0, 0.25, "sweep", betas=[q["beta_below"], q["beta_star"]], sweep_points=512,
+                                   find_kink=False).radii
+        assert at[1] <= q["radius"] < at[0]  # r* crosses r inside the reported bracket
+    assert inv[1]["beta_star"] < 1.1  # ~1.0 for r = 2a (4.5.3), far below the table's 1.3
     assert got["monotone"] and got["complete"] and not got["from_cache"]
 
 
