@@ -94,14 +94,22 @@ def membership_columns(r: ArrayLike, w: ArrayLike, contact_rel: ArrayLike, alpha
     return np.vstack([np.ones(len(w)), w.T / length, g.T / length])
 
 
-def mason_sense(contact_rel: ArrayLike, normal: ArrayLike, push_hat: ArrayLike, mu_c: float) -> str:
+MASON_TRANSLATION_REL = 1e-14
+"""Default moment (per unit |c| and unit force) at or below which Mason's rules see no turn."""
+
+
+def mason_sense(contact_rel: ArrayLike, normal: ArrayLike, push_hat: ArrayLike, mu_c: float,
+                translation_rel: float = MASON_TRANSLATION_REL) -> str:
     """Sense of rotation by Mason's rules (1.6.2): 'ccw', 'cw' or 'none' (translation).
 
     The pusher's force lies in the friction cone of half-angle atan(mu_c) about the inward
-    normal ``n``. Its moment about the CM is c x F. If both edges of the cone give moments
-    of one sign, that is the sense; if they straddle the CM, the line of motion (the push
-    direction through c) decides. A zero decisive moment is a pure translation. With
-    mu_c = 0 both edges are the normal itself.
+    normal ``n``. Its moment about the CM is c x F. If the cone's edges give moments of
+    one sign (or one edge a zero moment), that is the sense; if they straddle the CM, the
+    line of motion (the push direction through c) decides. When every force the cone
+    allows passes through the CM (mu_c = 0 and the normal through the CM: both edges
+    zero), the part translates whatever the push direction. A moment counts as zero at
+    or below ``translation_rel`` (per unit |c| and unit force; pass the solver's
+    translation tolerance to agree with it), and never below 64 ulps.
     """
     c = np.asarray(contact_rel, dtype=float)
     n = np.asarray(normal, dtype=float)
@@ -117,12 +125,14 @@ def mason_sense(contact_rel: ArrayLike, normal: ArrayLike, push_hat: ArrayLike, 
         return float(c_hat[0] * f[1] - c_hat[1] * f[0])
 
     edges = [moment(n + mu_c * t), moment(n - mu_c * t)]
-    eps = 64.0 * np.finfo(float).eps
-    if all(m > eps for m in edges):
+    eps = max(float(translation_rel), 64.0 * float(np.finfo(float).eps))
+    if all(abs(m) <= eps for m in edges):  # every force through the CM
+        decisive = 0.0
+    elif all(m >= -eps for m in edges):
         decisive = 1.0
-    elif all(m < -eps for m in edges):
+    elif all(m <= eps for m in edges):
         decisive = -1.0
-    else:
+    else:  # the cone straddles the CM: the line of motion decides
         mp = moment(p)
         decisive = 0.0 if abs(mp) <= eps else mp
     if decisive > 0.0:

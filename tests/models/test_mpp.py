@@ -96,3 +96,34 @@ def test_columns_are_affine_along_rays_from_r():
         s = lever(c, alpha, r)
         limit = np.concatenate([[1.0], r / 1.7, -s * u / 1.7])
         assert np.allclose(g[:, 0] - slope * rho[0], limit, atol=1e-12)
+
+
+@pytest.mark.parametrize("theta", [0.0, 0.7, 2.0, -2.9])
+@pytest.mark.parametrize("push_angle", [0.0, 0.4, -1.1])
+def test_mason_a_force_through_the_cm_translates_whatever_the_push(theta, push_angle):
+    """(1.6.2) With mu_c = 0 the force is the normal; through the CM it cannot turn the
+    part, whatever the direction the pusher moves in (the push direction decides only when
+    the friction cone straddles the CM). It said 'ccw' when the motion's line missed the CM."""
+    rot = np.array([[math.cos(theta), -math.sin(theta)], [math.sin(theta), math.cos(theta)]])
+    n = rot @ np.array([1.0, 0.0])
+    c = -0.7 * n  # the contact on the line of the normal through the CM
+    p = rot @ np.array([math.cos(push_angle), math.sin(push_angle)])
+    assert mason_sense(c, n, p, 0.0) == "none"
+    assert mason_sense(c + 1e-15 * (rot @ np.array([0.0, 1.0])), n, p, 0.0, translation_rel=1e-12) == "none"
+    off = c + 1e-3 * (rot @ np.array([0.0, 1.0]))  # off the line: it turns, and its mirror image the other way
+    mirror = np.array([[1.0, 0.0], [0.0, -1.0]])
+    turned = mason_sense(off, n, p, 0.0)
+    mirrored = mason_sense(mirror @ off, mirror @ n, mirror @ p, 0.0)
+    assert turned in ("cw", "ccw") and {turned, mirrored} == {"cw", "ccw"}
+
+
+def test_mason_a_cone_with_one_edge_through_the_cm_turns_with_the_other():
+    """(1.6.2) One edge of the friction cone through the CM (contact below it, that edge
+    straight up), the other edge with a moment: every allowed force turns the part that
+    way or not at all, so that is the sense; the push direction does not enter."""
+    mu = 0.3
+    phi = math.atan(mu)
+    c = np.array([0.0, -1.0])
+    n = np.array([math.sin(phi), math.cos(phi)])  # (0, 1) turned clockwise by phi: n + mu J n is vertical
+    for push in (np.array([1.0, 0.0]), np.array([-1.0, 0.2])):
+        assert mason_sense(c, n, push, mu) == "ccw"  # the other edge leans right of the CM: c x f > 0

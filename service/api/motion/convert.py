@@ -49,6 +49,7 @@ from service.limits import (
     SUPPORT_IN_DISK_REL,
 )
 from solver import (
+    SOLVER_DEFAULT,
     BatchResult,
     ForwardResult,
     HistogramQuery,
@@ -204,12 +205,17 @@ def motion_errors_located(mr: MotionRequest):
     return located()
 
 
+MASON_TRANSLATION = SOLVER_DEFAULT.translation_omega
+"""The moment below which Mason's rules see a translation: the forward solver's own
+translation tolerance (the problems are solved with SOLVER_DEFAULT), so that the two agree."""
+
+
 def _sense_of(omega: float, translation: bool) -> str:
     return "none" if translation else ("ccw" if omega > 0.0 else "cw")
 
 
 def motion_out(scene: PushScene, res: ForwardResult, mu_c: float, cor_on_support: int | None) -> MotionOut:
-    mason = mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c)
+    mason = mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c, MASON_TRANSLATION)
     return MotionOut(
         status=res.status,
         method=res.method,
@@ -240,7 +246,7 @@ def batch_motion_out(scene: PushScene, br: BatchResult, j: int, mu_c: float, cor
     omega = float(br.omega[j])
     v = br.velocity_cm[j]
     sense = _sense_of(omega, translation)
-    mason = mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c)
+    mason = mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c, MASON_TRANSLATION)
     return MotionOut(
         status="optimal" if bool(br.converged[j]) else "not_converged",
         method="newton",

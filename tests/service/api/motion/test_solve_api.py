@@ -405,3 +405,13 @@ def test_degenerate_inputs_are_not_server_errors(client):
         r = client.post(URL, json=body)
         assert r.status_code in (200, 422), r.text
         strict_json(r.text)
+
+
+@pytest.mark.parametrize("edge_angle", [3 * math.pi / 4, -math.pi / 4])
+def test_mason_agrees_with_the_solver_on_a_translation(client, edge_angle):
+    """A frictionless push whose normal passes through the CM (contact (-0.3, -0.3), edge
+    at 135 degrees) translates: the solver says so and Mason's rule now does too (it said
+    'ccw' from the push direction, ignoring the translation)."""
+    r = client.post(URL, json={"contact_point": [-0.3, -0.3], "edge_angle": edge_angle, "mu_c": 0.0, "support": TRIPOD})
+    m = r.json()["motion"]
+    assert m["kind"] == "translation" and m["sense"] == m["mason_sense"] == "none" and m["mason_agrees"]
