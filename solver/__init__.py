@@ -13,7 +13,7 @@ from solver.core.outcome import Outcome
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
 from solver.gross.align import AlignProblem, AlignResult, AlignStage, Slip, align, below_line_of_motion
-from solver.gross.bounds import SKETCH_COST, Bound, QuasiStaticQuery
+from solver.gross.bounds import ENCOUNTER_SKETCH_COST, SKETCH_COST, Bound, QuasiStaticQuery
 from solver.gross.disk_encounter import DiskEncounterProblem, DiskEncounterResult, disk_encounter
 from solver.locus.certified_locus import (
     CertifiedDiskBoundary,
@@ -87,6 +87,7 @@ __all__ = [
     "align",
     "below_line_of_motion",
     "SKETCH_COST",
+    "ENCOUNTER_SKETCH_COST",
     "Bound",
     "QuasiStaticQuery",
     "DiskEncounterProblem",

@@ -64,7 +64,15 @@ class SketchCost:
 
 
 SKETCH_COST = SketchCost()
-"""The cost model of the service (one core)."""
+"""The cost model of fence alignment (one core). Measured against it (issue 11, quiet
+2-core machine): the square of the API guide at 8 nodes, 256 points, 1.2 s against 2.0 s
+predicted; at 16 nodes, 1024 points, 5.0 s against 8.5 s; an L shape at 16 nodes 2.8 s
+against 3.9 s."""
+
+ENCOUNTER_SKETCH_COST = SketchCost(fixed_s=0.12, per_point_s=3.2e-4)
+"""The cost model of the disk encounter, whose sketches cost more (measured 0.18 s each at
+256 points and 0.26 s at 512, i.e. 0.106 s + 3.0e-4 s per point; this is ~10 % above):
+beta 45 degrees, 16 nodes, 256 points took 4.4 s where SKETCH_COST predicted 3.9 s."""
 
 
 def refuse_over_budget(predicted_s: float, budget: Budget) -> None:

@@ -26,7 +26,7 @@ from models.gross import gross_motion as gm
 from models.gross.quasistatic import PartGeometry, QuasiStaticAssessment
 from solver.core.budget import UNLIMITED, Budget
 from solver.gross.bounds import (
-    SKETCH_COST,
+    ENCOUNTER_SKETCH_COST,
     Bound,
     GrossMethod,
     QuasiStaticQuery,
@@ -53,7 +53,7 @@ class DiskEncounterProblem(GrossMethod):
     n_nodes: int = 16
     n_points: int = 256
     quasi_static: QuasiStaticQuery | None = None
-    cost: SketchCost = SKETCH_COST
+    cost: SketchCost = ENCOUNTER_SKETCH_COST
 
     def __post_init__(self) -> None:
         if (self.beta_initial is None) == (self.offset is None):

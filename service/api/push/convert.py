@@ -53,6 +53,7 @@ from service.common.numbers import finite, finite_list, finite_or_none
 from service.errors import FieldError
 from service.limits import GROSS_MIN_LENGTH
 from solver import (
+    ENCOUNTER_SKETCH_COST,
     SKETCH_COST,
     AlignProblem,
     AlignResult,
@@ -425,7 +426,7 @@ def encounter_problem(req: PushDiskEncounterRequest) -> DiskEncounterProblem:
     return DiskEncounterProblem(
         req.disk_radius, req.mu_c, beta_initial=req.beta_initial if source == "beta_initial" else None,
         offset=req.offset if source == "offset" else None, method=req.method, n_nodes=req.n_nodes,
-        n_points=req.n_points, quasi_static=quasi_static_query(req.quasi_static), cost=SKETCH_COST,
+        n_points=req.n_points, quasi_static=quasi_static_query(req.quasi_static), cost=ENCOUNTER_SKETCH_COST,
     )
 
 

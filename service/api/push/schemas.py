@@ -51,7 +51,7 @@ from service.limits import (
     QS_MIN_MU_S,
     SKETCH_MAX_N_POINTS,
 )
-from solver import SKETCH_COST
+from solver import ENCOUNTER_SKETCH_COST, SKETCH_COST
 
 LengthUnit = Literal["m", "cm", "mm", "um", "in", "ft"]
 assert set(LengthUnit.__args__) == set(METRES_PER_UNIT), "LengthUnit must list models.gross.quasistatic.METRES_PER_UNIT"  # type: ignore[attr-defined]
@@ -213,7 +213,9 @@ N_POINTS_DESCRIPTION = (
 )
 TIME_LIMIT_DESCRIPTION = (
     f"Time budget in seconds, (0, {MAX_TIME_LIMIT_S:g}]. A request whose exact bounds are predicted to "
-    f"take longer ({SKETCH_COST.fixed_s:g} s + {SKETCH_COST.per_point_s:g} s x n_points per sketch) "
+    f"take longer ({SKETCH_COST.fixed_s:g} s + {SKETCH_COST.per_point_s:g} s x n_points per sketch for an "
+    f"alignment, {ENCOUNTER_SKETCH_COST.fixed_s:g} s + {ENCOUNTER_SKETCH_COST.per_point_s:g} s x n_points for a "
+    "disk encounter) "
     "is refused (422 at time_limit_s) before any work; between exact bounds the time spent is checked "
     "again."
 )

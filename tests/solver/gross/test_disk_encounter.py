@@ -16,7 +16,7 @@ from models.gross import gross_motion as gm
 from solver.core.budget import Budget
 from solver.core.errors import TimeLimitReached
 from solver.core.outcome import Outcome
-from solver.gross.bounds import SKETCH_COST
+from solver.gross.bounds import ENCOUNTER_SKETCH_COST
 from solver.gross.disk_encounter import DiskEncounterProblem, disk_encounter
 from tests.budgets import TickingClock, checks_budget
 
@@ -36,7 +36,7 @@ def test_closed_forms_4_16_4_18_and_the_exact_bounds():
         assert (got.exact, got.quadrature_error) == (exact[key].value, exact[key].quadrature_error)
     assert res.length_frictionless == gm.encounter_length_frictionless(0.7, 1.0)
     assert res.sketch_i_onset == gm.sketch_i_onset(0.5) == pytest.approx(math.atan(1.0))  # (4.17): tan beta = 2 mu_c
-    assert res.sketch_i_at_start is False and res.predicted_time_s == SKETCH_COST.bounds_s(1, 4, 16)
+    assert res.sketch_i_at_start is False and res.predicted_time_s == ENCOUNTER_SKETCH_COST.bounds_s(1, 4, 16)
 
 
 def test_offset_and_collision_parameter_4_24():

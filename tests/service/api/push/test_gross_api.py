@@ -27,7 +27,7 @@ from models.gross import quasistatic as qs
 from service.api.push import convert as push_convert
 from service.limits import GROSS_MAX_N_NODES, MAX_TIME_LIMIT_S, SKETCH_MAX_N_POINTS
 from service.runtime.deadline import Deadline
-from solver.gross.bounds import SKETCH_COST, SketchCost
+from solver.gross.bounds import ENCOUNTER_SKETCH_COST, SKETCH_COST, SketchCost
 from tests.budgets import ChecksBudgets, deadline_budgets
 
 ALIGN = "/v1/push/align"
@@ -327,6 +327,7 @@ def test_time_budget(client, monkeypatch):
     r, got = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.3, "n_nodes": 16, "time_limit_s": 1.0})
     assert r.status_code == 422 and "predicted" in detail(got)[2]
     monkeypatch.setattr(push_convert, "SKETCH_COST", SketchCost(fixed_s=0.0, per_point_s=0.0))
+    monkeypatch.setattr(push_convert, "ENCOUNTER_SKETCH_COST", SketchCost(fixed_s=0.0, per_point_s=0.0))
     monkeypatch.setattr(Deadline, "budget", deadline_budgets(ChecksBudgets(2)))  # 0.01 s spent in two checks, on any machine
     r, got = post(client, ALIGN, {**SQUARE_30, "mu_c": 0.3, **FAST, "time_limit_s": 0.01})
     assert r.status_code == 504
@@ -392,7 +393,7 @@ def test_encounter_answer_is_the_models(client):
     assert si["occurs"] is True and "(4.17)" in si["note"]
     assert got["length_least"]["exact"] < got["length_greatest"]["exact"]
     assert got["rotation_least"]["exact"] < got["rotation_greatest"]["exact"]
-    assert got["predicted_time_s"] == SKETCH_COST.bounds_s(1, 4, 16)
+    assert got["predicted_time_s"] == ENCOUNTER_SKETCH_COST.bounds_s(1, 4, 16)
 
 
 @pytest.mark.slow
