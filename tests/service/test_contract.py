@@ -68,16 +68,16 @@ def test_every_operation_is_covered() -> None:
                    "spiral_critical_radius", "spiral_schedule"}
 
 
+def contract_settings(max_examples: int) -> hypothesis.settings:
+    """Seeded, no deadline, no example database, no health checks: the same run every time."""
+    return hypothesis.settings(max_examples=max_examples, deadline=None, derandomize=True, database=None,
+                               suppress_health_check=list(hypothesis.HealthCheck))
+
+
 @pytest.mark.slow
 @schema.parametrize()
 @pytest.mark.filterwarnings("ignore::RuntimeWarning")  # numpy overflow inside models on extreme sizes
-@hypothesis.settings(
-    max_examples=MAX_EXAMPLES,
-    deadline=None,
-    derandomize=True,
-    database=None,
-    suppress_health_check=list(hypothesis.HealthCheck),
-)
+@contract_settings(MAX_EXAMPLES)
 def test_api_contract(case: schemathesis.Case) -> None:
     _cap_time_limit(case)
     case.call_and_validate(checks=CHECKS)

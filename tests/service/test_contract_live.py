@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import os
 
-import hypothesis
 import pytest
 import schemathesis
 from schemathesis.checks import not_a_server_error
@@ -20,7 +19,7 @@ from schemathesis.specs.openapi.checks import (
 )
 
 from tests.service.live import live_server
-from tests.service.test_contract import cap_time_limit
+from tests.service.test_contract import cap_time_limit, contract_settings
 
 LIVE_EXAMPLES = int(os.environ.get("CONTRACT_LIVE_EXAMPLES", "300"))
 """Per operation and generation mode (operations without parameters run out of distinct
@@ -47,13 +46,7 @@ schema = schemathesis.pytest.from_fixture("live_schema")
 
 @pytest.mark.slow
 @schema.parametrize()
-@hypothesis.settings(
-    max_examples=LIVE_EXAMPLES,
-    deadline=None,
-    derandomize=True,
-    database=None,
-    suppress_health_check=list(hypothesis.HealthCheck),
-)
+@contract_settings(LIVE_EXAMPLES)
 def test_live_contract(case: schemathesis.Case) -> None:
     cap_time_limit(case)
     case.call_and_validate(checks=CHECKS, timeout=60)
