@@ -79,6 +79,16 @@ def sketch_of(prep: PreparedPush, certified: bool) -> str:
     return "polygon" if certified else "circumscribing_disk"
 
 
+def provisional_note(certified: CertifiedSketch | None) -> str:
+    """What the message says first when a certified sketch is not whole: its verdict is
+    drawn from the pieces finished (the time limit, or a piece not certified, left some
+    out), so another run with more time may find another sketch."""
+    if certified is None or certified.complete:
+        return ""
+    why = "the time limit cut it short" if certified.time_limited else "a piece is not certified"
+    return f"PROVISIONAL ({why}; see certification): "
+
+
 def sketch_message(prep: PreparedPush, sk: CorSketch, certified: bool = False) -> str:
     of = {"disk": "", "circumscribing_disk": " of the polygon's circumscribing disk", "polygon": " of the polygon"}[
         sketch_of(prep, certified)]
@@ -161,7 +171,7 @@ def sketch_response(prep: PreparedPush, result: SketchResult, elapsed_ms: float)
         )
     return CorSketchResponse(
         kind="translation" if is_translation(sk) else "sketch",
-        message=sketch_message(prep, sk, certified is not None),
+        message=provisional_note(certified) + sketch_message(prep, sk, certified is not None),
         mu_c=finite(sk.mu_c, "mu_c"),
         nu=finite(sk.nu, "nu"),
         sense=sk.sense,

@@ -413,3 +413,23 @@ def test_certified_sketch_out_of_time_says_so(client):
 def test_certified_sketch_bad_knobs_are_422(client, change, field):
     r, got = post(client, {**MUST_STICK, "method": "certified", **change})
     assert r.status_code == 422 and detail(got)[0] == ["body", field]
+
+
+@pytest.mark.slow
+def test_a_certified_sketch_cut_by_its_time_limit_says_its_verdict_is_provisional(client, monkeypatch):
+    """With a work limit the certified sketch stops early; its verdict comes from the pieces
+    finished, and the message says so first (before, only certification.complete did, and
+    the verdict changed with the server's load). The whole sketch has no such note."""
+    from service.runtime.deadline import Deadline
+    from tests.budgets import ChecksBudgets, NoLimitBudgets, deadline_budgets
+
+    body = {"footprint": [[-1.5, -0.4], [1.5, -0.4], [1.5, 0.4], [-1.5, 0.4]], "contact_point": [-0.6, -0.4],
+            "edge_angle": 0.3, "push_direction": math.pi / 2, "mu_c": 0.5, "method": "certified", "n_rays": 8,
+            "time_limit_s": 10.0}
+    monkeypatch.setattr(Deadline, "budget", deadline_budgets(ChecksBudgets(3)))
+    cut = client.post(URL, json=body).json()
+    assert cut["message"].startswith("PROVISIONAL (the time limit cut it short")
+    assert cut["certification"]["complete"] is False
+    monkeypatch.setattr(Deadline, "budget", deadline_budgets(NoLimitBudgets))  # a busy machine cannot cut it
+    whole = client.post(URL, json=body).json()
+    assert whole["certification"]["complete"] is True and not whole["message"].startswith("PROVISIONAL")
