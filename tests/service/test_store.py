@@ -110,3 +110,28 @@ def test_the_process_store_follows_the_setting(tmp_path, monkeypatch):
 
 
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
+
+
+def test_a_certified_locus_is_kept_and_answered_again_without_work(tmp_path, monkeypatch, client):
+    """A complete certified locus is kept (per request, all but its time limit): the same
+    request again is answered from the store (from_store), identical but for the timing,
+    with no solver call; an analytic request never touches the store."""
+    from service.api.locus import routes
+
+    monkeypatch.setattr(store_module, "_PROCESS_STORE", {})
+    monkeypatch.setenv("PESHKIN_STORE_PATH", str(tmp_path / "r.sqlite3"))
+    body = {"footprint": [[-1, -0.5], [1, -0.5], [1, 0.5], [-1, 0.5]], "contact_point": [-1, -0.3],
+            "edge_angle": 1.5707963267948966, "method": "certified", "n_certified": 8, "time_limit_s": 30,
+            "outputs": []}
+    first = client.post("/v1/cor/locus", json=body).json()
+    assert first["certified"]["complete"] and first["from_store"] is False
+
+    def no_more(*args, **kwargs):
+        raise AssertionError("computed again")
+
+    monkeypatch.setattr(routes, "locus_of", no_more)
+    again = client.post("/v1/cor/locus", json={**body, "time_limit_s": 5}).json()
+    assert again["from_store"] is True
+    assert again["certified"] == first["certified"] and again["tip"] == first["tip"]
+    other = client.post("/v1/cor/locus", json={**body, "n_certified": 9})  # another request computes: here, fails
+    assert other.status_code == 500

@@ -11,9 +11,12 @@ or picture.
 
 from __future__ import annotations
 
+import hashlib
+
 from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
+from service import __version__
 from service.api.locus.convert import (
     locus_problem,
     locus_response,
@@ -33,6 +36,7 @@ from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.errors import FieldError
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
+from service.store import result_store
 from solver import cor_locus as locus_of
 from solver import decide_membership
 
@@ -76,13 +80,25 @@ async def cor_locus(
     return await run.cheap_job(request, locus_job, req, svg, time_limit_s=req.time_limit_s)
 
 
+CERTIFIED_NAMESPACE = f"certified-locus/v1/service-{__version__}"
+"""Where complete certified loci are kept (service.store): per request, all but its time limit."""
+
+
 def locus_job(req: CorLocusRequest, svg: bool, deadline: Deadline) -> CorLocusResponse | Response:
     budget = deadline.budget()
+    store = result_store() if (req.method == "certified" and not svg) else None
+    key = "" if store is None else hashlib.sha256(req.model_dump_json(exclude={"time_limit_s"}).encode()).hexdigest()
+    kept = None if store is None else store.get(CERTIFIED_NAMESPACE, key)
+    if kept is not None:
+        return CorLocusResponse.model_validate(kept).model_copy(
+            update={"from_store": True, "elapsed_ms": budget.elapsed() * 1e3})
     prep, problem = locus_problem(req, all_outputs=svg)
     result = locus_of(problem, budget)
     body = locus_response(prep, result, req.time_limit_s, budget.elapsed() * 1e3)  # also the NaN/inf guard
     if svg:
         return Response(content=render_locus_svg(prep, result.analytic), media_type=SVG_MEDIA_TYPE)
+    if store is not None and body.certified is not None and body.certified.complete:
+        store.put(CERTIFIED_NAMESPACE, key, body.model_dump(mode="json"))
     return body
 
 

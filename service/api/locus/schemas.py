@@ -283,6 +283,11 @@ class CorLocusResponse(Strict):
     certified: CertifiedLocusOut | None = Field(
         default=None, description="Method 'certified': the certified brackets (null for a translation)."
     )
+    from_store: bool = Field(
+        default=False,
+        description="Method 'certified': the answer was computed before for the same request (all but "
+        "time_limit_s) and kept in the service's result store; only complete answers are kept.",
+    )
     elapsed_ms: float = Field(description="Time spent computing, milliseconds.")
 
 
