@@ -26,8 +26,12 @@ from service.settings import Settings
 
 DESCRIPTION = """\
 Planning service for pushed sliding workpieces, after M. A. Peshkin, *Robotic Manipulation
-Strategies* (1990), chapter 3. World frame: x right, y up, angles in radians CCW; lengths
-in any consistent unit. Errors are HTTP 422 `{"detail": [{"loc": [...], "msg": ..., "type": ...}]}`.
+Strategies* (1990), chapters 2-4. World frame: x right, y up, angles in radians CCW;
+lengths in any consistent unit. Errors share one body, `{"detail": [{"loc": [...], "msg":
+..., "type": ...}]}`: 422 invalid input (naming the field), 413 a body over the limit, 408
+a request not sent in time, 503 busy (retry after `Retry-After` seconds), 504 the time
+limit ran out (with what was finished). A time limit covers waiting, solving and
+rendering.
 """
 
 OPERATION_ORDER = (
