@@ -6,8 +6,7 @@ import logging
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
-from fastapi import FastAPI, Request
-from fastapi.responses import JSONResponse
+from fastapi import FastAPI
 from fastapi_offline import FastAPIOffline
 
 from service import __version__, errors
@@ -18,8 +17,6 @@ from service.api.particle import routes as particle
 from service.api.push import routes as push
 from service.api.sketch import routes as sketch
 from service.api.spiral import routes as spiral
-from service.errors import error_body
-from service.runtime.admission import Refused
 from service.runtime.intake import Intake
 from service.runtime.jobs import Runner
 from service.settings import Settings
@@ -71,15 +68,6 @@ def _in_published_order(app: FastAPI) -> None:
     app.openapi = openapi  # type: ignore[method-assign]
 
 
-async def _refused(request: Request, exc: Exception) -> JSONResponse:
-    assert isinstance(exc, Refused)
-    return JSONResponse(
-        status_code=503,
-        content=error_body([], str(exc), "busy"),
-        headers={"Retry-After": str(exc.retry_after_s)},
-    )
-
-
 def create_app(settings: Settings | None = None) -> FastAPI:
     """The app; ``settings`` from the environment when None. Its runner (admission gates
     and solver workers, :mod:`service.runtime`) is made here and closed at shutdown."""
@@ -105,7 +93,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     app.state.runner = runner
     errors.install(app)
-    app.add_exception_handler(Refused, _refused)
     app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s,
                        max_body_bytes=settings.max_body_bytes)
     for resource in (health, locus, motion, particle, push, sketch, spiral):

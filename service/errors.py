@@ -84,13 +84,15 @@ class BodyTooLarge(Exception):
 PAYLOAD_TOO_LARGE = 413
 
 
-def too_large_body(exc: BodyTooLarge) -> dict[str, Any]:
-    return error_body(["body"], str(exc), "body_too_large")
+def too_large_response(exc: BodyTooLarge) -> JSONResponse:
+    """The 413 of a body over the limit (the rest of it is not read: the connection closes)."""
+    return JSONResponse(status_code=PAYLOAD_TOO_LARGE, content=error_body(["body"], str(exc), "body_too_large"),
+                        headers={"connection": "close"})
 
 
 async def _body_too_large(request: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, BodyTooLarge)
-    return JSONResponse(status_code=PAYLOAD_TOO_LARGE, content=too_large_body(exc), headers={"connection": "close"})
+    return too_large_response(exc)
 
 
 class TimeLimitAnswer(Exception):
@@ -271,6 +273,18 @@ _ANSWERS: tuple[tuple[type[Exception], Callable[[Any, str], JSONResponse]], ...]
 """The answer to each error a computation may raise, most specific first."""
 
 
+BUSY = 503
+
+
+def busy_response(gate: str, retry_after_s: int) -> JSONResponse:
+    """The 503 of a full admission gate (service.runtime): nothing was computed."""
+    return JSONResponse(
+        status_code=BUSY,
+        content=error_body([], f"the service is busy with {gate} work; retry after {retry_after_s} s", "busy"),
+        headers={"Retry-After": str(retry_after_s)},
+    )
+
+
 def response_for(exc: Exception, where: str) -> JSONResponse:
     """The HTTP answer to ``exc`` raised while computing the answer to ``where`` ("POST
     /v1/..."): the same in the web process and in a solver worker (service.runtime)."""
@@ -289,5 +303,7 @@ def install(app: FastAPI) -> None:
     app.add_exception_handler(StarletteHTTPException, _http_exception)
     app.add_exception_handler(BodyTooLarge, _body_too_large)
     app.add_exception_handler(RequestValidationError, _request_validation)
-    for kind in (Exception, *(kind for kind, _ in _ANSWERS)):
+    # anything else is answered by the intake's catch-all (service.runtime.intake), which
+    # sends response_for's 500 as a normal answer
+    for kind, _ in _ANSWERS:
         app.add_exception_handler(kind, _computation_error)

@@ -55,12 +55,3 @@ class Gate:
     def state(self) -> GateState:
         with self._lock:
             return GateState(self.name, self._in_use, self.capacity, self._admitted, self._refused)
-
-
-class Refused(Exception):
-    """A gate was full: answered 503 with ``Retry-After: retry_after_s``."""
-
-    def __init__(self, gate: str, retry_after_s: int) -> None:
-        super().__init__(f"the service is busy with {gate} work; retry after {retry_after_s} s")
-        self.gate = gate
-        self.retry_after_s = retry_after_s

@@ -10,14 +10,13 @@ server, which then drops the connection)."""
 
 from __future__ import annotations
 
-import json
 import logging
 import time
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from service.errors import PAYLOAD_TOO_LARGE, BodyTooLarge, error_body, too_large_body
-from service.runtime.admission import Gate, Refused
+from service.errors import BodyTooLarge, busy_response, response_for, too_large_response
+from service.runtime.admission import Gate
 from service.runtime.deadline import ARRIVAL_KEY
 
 PROBES = frozenset({"/healthz", "/readyz"})
@@ -32,13 +31,6 @@ def _content_length(scope: Scope) -> int | None:
             except ValueError:
                 return None
     return None
-
-
-async def _send_json(send: Send, status: int, body_obj: dict, extra: list[tuple[bytes, bytes]]) -> None:
-    body = json.dumps(body_obj).encode()
-    headers = [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()), *extra]
-    await send({"type": "http.response.start", "status": status, "headers": headers})
-    await send({"type": "http.response.body", "body": body})
 
 
 class Intake:
@@ -62,11 +54,10 @@ class Intake:
         limit = self.max_body_bytes
         length = _content_length(scope)
         if length is not None and length > limit:
-            await _send_json(send, PAYLOAD_TOO_LARGE, too_large_body(BodyTooLarge(limit)), [(b"connection", b"close")])
+            await too_large_response(BodyTooLarge(limit))(scope, receive, send)
             return
         if not self.gate.try_enter():
-            exc = Refused(self.gate.name, self.retry_after_s)
-            await _send_json(send, 503, error_body([], str(exc), "busy"), [(b"retry-after", str(exc.retry_after_s).encode())])
+            await busy_response(self.gate.name, self.retry_after_s)(scope, receive, send)
             return
         seen = 0
 
@@ -88,11 +79,10 @@ class Intake:
 
         try:
             await self.app(scope, limited_receive, tracked_send)
-        except Exception:
-            log.exception("unexpected error on %s %s", scope.get("method"), scope.get("path"))
+        except Exception as exc:
             if started:
+                log.exception("unexpected error on %s %s", scope.get("method"), scope.get("path"))
                 raise  # half an answer is out: the server must close the connection
-            body = error_body([], "internal error; this is a bug", "internal_error")
-            await _send_json(send, 500, body, [])
+            await response_for(exc, f"{scope.get('method')} {scope.get('path')}")(scope, receive, send)
         finally:
             self.gate.leave()

@@ -29,8 +29,8 @@ from pydantic import BaseModel
 from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 
-from service.errors import GATEWAY_TIMEOUT, error_body, response_for
-from service.runtime.admission import Gate, Refused
+from service.errors import GATEWAY_TIMEOUT, busy_response, error_body, response_for
+from service.runtime.admission import Gate
 from service.runtime.deadline import Deadline, arrival
 from service.runtime.pool import SolverPool
 from service.settings import Settings
@@ -157,7 +157,7 @@ class Runner:
         """Run an expensive job in a solver worker, under the deadline."""
         deadline = self.deadline(request, time_limit_s)
         if not self.expensive.try_enter():
-            raise Refused(self.expensive.name, self.retry_after_s)
+            return busy_response(self.expensive.name, self.retry_after_s)
         try:
             if self.pool is None:
                 reply = await anyio.to_thread.run_sync(execute, job, args, deadline, where(request))
