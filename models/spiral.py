@@ -232,7 +232,7 @@ class CriticalEnvelope:
     def step_is_safe(self, b_prev: float, x: float, max_step: float | None = None) -> bool:
         """b_prev - x <= D(x) in the rounding-proof form the schedule graph uses
         (:func:`schedule_graph`): b_prev <= fl(x + D(x)) less one ulp."""
-        return float(b_prev) <= float(np.nextafter(float(x) + float(self.d_star(float(x), max_step)), -np.inf))
+        return float(b_prev) <= float(safe_reach(float(x), float(self.d_star(float(x), max_step))))
 
     def next_radius(self, b_prev: float, max_step: float | None = None) -> float:
         """One step of (4.26), exactly (module docstring): the least x <= b_prev with
@@ -637,6 +637,13 @@ def schedule_grid(envelope: CriticalEnvelope, b_1: float, target: float, spacing
     return np.asarray(out)
 
 
+def safe_reach(x: Real, d: Real) -> Real:
+    """The largest radius from which a revolution to ``x`` is safe with the safe step ``d``
+    (4.26), proof against rounding: y - x <= d holds for every y <= fl(x + d) less one ulp
+    (fl is within half an ulp). The schedule graph and the recursion both use it."""
+    return np.nextafter(np.asarray(x, dtype=float) + d, -np.inf)
+
+
 def schedule_graph(envelope: CriticalEnvelope, x: ArrayLike, min_step: float | None = None,
                    max_step: float | None = None) -> ScheduleGraph:
     """The safe-revolution DAG on the radii ``x`` (see :class:`ScheduleGraph`)."""
@@ -644,8 +651,7 @@ def schedule_graph(envelope: CriticalEnvelope, x: ArrayLike, min_step: float | N
     if x.ndim != 1 or x.size < 2 or np.any(np.diff(x) <= 0.0):
         raise InvalidInput("grid", "need at least two strictly increasing radii")
     D = np.asarray(envelope.d_star(x, max_step), dtype=float)
-    # x_i - x_j <= D_j  <=  x_i <= fl(x_j + D_j) - 1 ulp  (fl is within half an ulp)
-    upper = np.nextafter(x + D, -np.inf)
+    upper = safe_reach(x, D)
     hi = np.searchsorted(x, upper, side="right") - 1
     idx = np.arange(x.size)
     lo = idx + 1

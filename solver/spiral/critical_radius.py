@@ -309,8 +309,14 @@ def _store_namespace(kind: str, mu: float, method: str, sweep_points: int, tol: 
     return f"{kind}/v{STORE_VERSION}/{method}/mu={mu!r}/sweep={sweep_points}/tol={hash(tol) & 0xFFFFFFFF:08x}"
 
 
-def _row_to_dict(r: CriticalRadius) -> dict:
-    return {k: getattr(r, k) for k in CriticalRadius.__dataclass_fields__}
+LENGTH_FIELDS = ("radius", "midpoint", "lower_bound", "bracket_width", "distance_from_grazing", "tip_line_radius")
+"""The fields of a :class:`CriticalRadius` that scale with the disk radius a (stored at a = 1)."""
+
+
+def _row_at(r: CriticalRadius, a: float) -> dict:
+    """The row, as a dict, of the disk of radius ``a`` (its lengths are per r.a)."""
+    row = {k: getattr(r, k) for k in CriticalRadius.__dataclass_fields__}
+    return {**row, **{k: None if row[k] is None else row[k] / r.a * a for k in LENGTH_FIELDS}, "a": a}
 
 
 def _stored_row(store: ResultStore | None, namespace: str, a: float, beta: float) -> CriticalRadius | None:
@@ -321,12 +327,9 @@ def _stored_row(store: ResultStore | None, namespace: str, a: float, beta: float
     if got is None:
         return None
     try:
-        row = CriticalRadius(**got)
+        return CriticalRadius(**_row_at(CriticalRadius(**got), a))
     except TypeError:  # written by another layout: not this version's
         return None
-    scale = {k: (None if getattr(row, k) is None else getattr(row, k) * a)
-             for k in ("radius", "midpoint", "lower_bound", "bracket_width", "distance_from_grazing", "tip_line_radius")}
-    return replace(row, a=a, **scale)
 
 
 def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=None, r_max: float | None = None,
@@ -378,10 +381,7 @@ def critical_radius_table(a: float, mu_c: float, method: str = "exact", betas=No
                 time_limited = True
                 break
             if store is not None and method != "tip_line":
-                at_one = _row_to_dict(res)
-                for k in ("radius", "midpoint", "lower_bound", "bracket_width", "distance_from_grazing", "tip_line_radius"):
-                    at_one[k] = None if at_one[k] is None else at_one[k] / a
-                store.put(rows_ns, repr(float(b)), {**at_one, "a": 1.0})
+                store.put(rows_ns, repr(float(b)), _row_at(res, 1.0))
         rows.append(res)
     rows = rows[::-1]
     n = len(rows)
