@@ -161,11 +161,6 @@ def _dipod_terms(rho: np.ndarray, sa: Real, ca: Real) -> tuple[np.ndarray, np.nd
     return num / np.hypot(vx, vy), vx, vy
 
 
-def _dipod_moment_arm(rho: np.ndarray, sa: Real, ca: Real) -> np.ndarray:
-    """mu of :func:`dipod_quotient` alone (the root solve of :func:`outer_boundary`)."""
-    return _dipod_terms(rho, sa, ca)[0]
-
-
 def dipod_quotient_printed(rho: Real, omega: Real) -> tuple[np.ndarray, np.ndarray]:
     """(3.21), (3.34), (3.35) evaluated exactly as printed (an independent check of
     :func:`dipod_quotient`; accurate only for moderate rho)."""
@@ -211,7 +206,7 @@ def outer_boundary(omega: np.ndarray, mu: float, tol: Tolerances = DEFAULT) -> t
 
     def g(x: np.ndarray, k: np.ndarray | slice) -> np.ndarray:
         # log(mu(x)/mu) of dipod_quotient (same operations, without eta, on the points k)
-        return np.log(_dipod_moment_arm(np.exp(x), sa[k], ca[k]) / mu)
+        return np.log(_dipod_terms(np.exp(x), sa[k], ca[k])[0] / mu)
 
     x_lo = np.zeros_like(omega)
     x_hi = np.full_like(omega, math.log(1.0 / mu))

@@ -65,11 +65,6 @@ class SolverPool:
         take seconds: a request must not pay them out of its deadline)."""
         self.schedule(os.getpid, (), timeout=None).result(timeout=timeout_s)
 
-    @property
-    def started(self) -> bool:
-        with self._lock:
-            return self._pool is not None and self._pool.active
-
     def close(self, timeout_s: float | None = None) -> None:
         """Stop the workers (running tasks are ended)."""
         with self._lock:
