@@ -1,0 +1,432 @@
+"""A part meeting one fence across a conveyor belt: the configuration map of the encounter
+(book 5.1, 5.2, 6.4-6.6), bounded with the part's circumscribing disk.
+
+Frames (world, radians, CCW positive). The belt carries the part in -y; fences are
+stationary. In the belt's frame the fence is the pusher, moving in +y (push direction
+d = (0, 1)) (5.2). ``fence_angle`` gamma is the fence's angle from the x-axis, the
+perpendicular to the belt's motion, in (-pi/2, pi/2): the book's "fence angle" of 6.4-6.5
+(its experiment's 90 - alpha). A fence with gamma > 0 rises to the right, hangs from the
+belt's right side, and the part slides down it to the left; gamma < 0 is its mirror image.
+Its face has the normal n = (-sin gamma, cos gamma) (into the part, which comes from +y).
+
+Part: a polygon's convex hull h_0..h_{m-1} (CCW, CM at the origin, body frame); edge j
+runs from h_j to h_{j+1}, its direction angle phi_j. Orientation theta turns the body frame
+into the world frame.
+
+The phases of one encounter, each derived in docs/architecture.md ("Chapter 5: a part
+meeting a fence") and checked in tests/models/feeder/test_fence.py:
+
+1. First contact: the hull vertex lowest along n. Vertex h_k is in contact for theta in
+   [flush_k, flush_{k-1}], where flush_j = gamma - phi_j is the orientation with edge j
+   flush on the fence.
+2. Sense of rotation: Mason's rule with the friction cone (1.6.2, mpp.mason_sense) at the
+   contact, pusher velocity d. Turning in one sense keeps every vote (the CM turns away
+   from each ray), so the sense holds until an edge at the vertex is flush: CCW brings
+   edge k-1 flush, CW edge k.
+3. Sliding or jamming (6.4): a flush part slides along the fence only if
+   |tan gamma| > mu_c; otherwise it is carried along the fence and never leaves (jam).
+4. Stability of a flush edge (a push function with friction): while it slides flush the
+   part translates, so the belt's drag acts through the CM whatever the pressure, and the
+   fence's force lies on the friction-cone edge n + mu_c sgn(gamma) t. The edge is stable
+   only if that force line through the CM crosses it: with the CM at (u_c, h_c) in the
+   edge's frame (from h_j along the edge, height above it), at u_X = u_c - mu_c sgn(gamma) h_c
+   in [0, L_j]. Past h_j the part pivots there onto edge j-1; past h_{j+1}, onto edge j+1.
+5. Leaving the fence's end (5.1, figure 5-1): when the end E reaches u_X the part turns
+   (CCW for gamma > 0) with E a point pusher on the edge. Extreme A: no slip, until the
+   edge lies along the belt's motion, a turn of pi/2 - |gamma|. Extreme B: the most slip
+   of E toward the edge's upstream end per radian of turn, until E leaves the edge. The
+   slip per radian is linear in the COR r: dl/ddelta = (r - c) . J g with
+   g = (d . e / d . n_e) n_e - e (e the edge, n_e its inward normal, c the contact), so its
+   largest value over all pressure distributions is taken on the frictionless locus of the
+   cone edge n_e + mu_c e (the slipping motions toward the upstream end, 4.1), here the
+   locus of the circumscribing disk (ch. 3), or 0 when only sticking (or no such slip) is
+   possible. The final orientation lies between B and A.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from models.errors import InvalidInput
+from models.feeder.arcs import Arcs, wrap
+from models.feeder.maps import ConfigurationMap
+from models.gross.fence_geometry import convex_hull_indices
+from models.locus.cor_disk import disk_cor_locus
+from models.locus.cor_sketch import force_scene
+from models.mpp import mason_sense, perp
+from models.scene import PushScene
+
+PUSH = np.array([0.0, 1.0])
+"""The fence's velocity in the belt's frame (unit speed)."""
+
+PUSH_ANGLE = 0.5 * math.pi
+
+
+@dataclass(frozen=True)
+class FeederTolerances:
+    """Named tolerances of the fence map.
+
+    Attributes:
+        collinear_rel: a hull point whose turn is at most this times the squared span is
+            dropped (convex_hull_indices).
+        endpoint_steps: Heun steps of the extreme-B integration along the edge (5.1).
+        locus_points: boundary points of each disk locus in that integration.
+        grazing_margin: radians short of A at which that integration stops (the edge is
+            then nearly along the belt's motion and E barely pushes).
+        mu_samples: mu_c values (evenly over an interval) at which extreme B is integrated.
+    """
+
+    collinear_rel: float = 1e-12
+    endpoint_steps: int = 16
+    locus_points: int = 64
+    grazing_margin: float = 1e-6
+    mu_samples: int = 3
+
+
+DEFAULT = FeederTolerances()
+FINE = FeederTolerances(endpoint_steps=200, locus_points=400)
+
+
+@dataclass(frozen=True)
+class Part:
+    """A part's convex hull in its body frame (CM at the origin, CCW), its circumscribing
+    radius about the CM (the disk bound's a), and which input vertex each hull vertex is."""
+
+    hull: np.ndarray
+    vertex_index: tuple[int, ...]
+    radius: float
+
+    @classmethod
+    def create(cls, vertices: ArrayLike, center_of_mass: ArrayLike = (0.0, 0.0),
+               tol: FeederTolerances = DEFAULT) -> Part:
+        v = np.asarray(vertices, dtype=float)
+        if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3:
+            raise InvalidInput("vertices", "need at least three points [x, y]")
+        if not np.all(np.isfinite(v)):
+            raise InvalidInput("vertices", "must be finite numbers")
+        cm = np.asarray(center_of_mass, dtype=float)
+        if cm.shape != (2,) or not np.all(np.isfinite(cm)):
+            raise InvalidInput("center_of_mass", "must be a finite point [x, y]")
+        # Work relative to the CM and per unit size, so that hull and tests do not depend
+        # on the scale (1e-6 .. 1e6 parts give the same map).
+        q = v - cm
+        scale = float(np.max(np.hypot(q[:, 0], q[:, 1])))
+        if not scale > 0.0:
+            raise InvalidInput("vertices", "all vertices lie at the centre of mass")
+        idx = convex_hull_indices(q / scale, tol.collinear_rel)
+        if len(idx) < 3:
+            raise InvalidInput("vertices", "the part's outline has no area (collinear vertices)")
+        hull = q[idx]
+        e = np.roll(hull, -1, axis=0) - hull
+        inside = e[:, 0] * (-hull[:, 1]) - e[:, 1] * (-hull[:, 0])  # edge x (CM - h_j)
+        if not np.all(inside > tol.collinear_rel * scale * scale):
+            raise InvalidInput("center_of_mass", "must lie strictly inside the part's convex hull")
+        return cls(hull=hull, vertex_index=tuple(int(i) for i in idx),
+                   radius=float(np.max(np.hypot(hull[:, 0], hull[:, 1]))))
+
+    @property
+    def m(self) -> int:
+        return len(self.hull)
+
+    def edge(self, j: int) -> tuple[np.ndarray, float, np.ndarray]:
+        """(start h_j, length L_j, unit direction e_j) of edge j."""
+        p = self.hull[j % self.m]
+        d = self.hull[(j + 1) % self.m] - p
+        length = float(math.hypot(float(d[0]), float(d[1])))
+        return p, length, d / length
+
+    def edge_angle(self, j: int) -> float:
+        _, _, e = self.edge(j)
+        return math.atan2(float(e[1]), float(e[0]))
+
+    def cm_in_edge_frame(self, j: int) -> tuple[float, float]:
+        """(u_c, h_c): the CM from h_j along edge j, and its height above the edge (> 0)."""
+        p, _, e = self.edge(j)
+        return float(-p @ e), float(-p @ perp(e))
+
+
+@dataclass(frozen=True)
+class Fence:
+    """One fence: angle gamma (module docstring) and the interval of mu_c against the part."""
+
+    angle: float
+    mu_low: float
+    mu_high: float
+
+    @classmethod
+    def create(cls, angle: float, mu_c: float | tuple[float, float]) -> Fence:
+        g = float(angle)
+        if not (math.isfinite(g) and abs(g) < 0.5 * math.pi and g != 0.0):
+            raise InvalidInput("fence_angle", "must be in (-pi/2, pi/2) and not 0 (a fence square to "
+                               "the belt's motion holds every part)")
+        lo, hi = (mu_c, mu_c) if isinstance(mu_c, (int, float)) else mu_c
+        lo, hi = float(lo), float(hi)
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 <= lo <= hi):
+            raise InvalidInput("mu_c", "must be finite with 0 <= low <= high")
+        return cls(angle=g, mu_low=lo, mu_high=hi)
+
+    @property
+    def sign(self) -> float:
+        """sgn(gamma): the part slides toward -sgn(gamma) t (module docstring)."""
+        return 1.0 if self.angle > 0.0 else -1.0
+
+    @property
+    def normal(self) -> np.ndarray:
+        return np.array([-math.sin(self.angle), math.cos(self.angle)])
+
+    @property
+    def side(self) -> str:
+        """The side of the belt the fence hangs from (its free end is on the other side)."""
+        return "right" if self.angle > 0.0 else "left"
+
+    @property
+    def jam_threshold(self) -> float:
+        """|tan gamma|: a flush part jams for mu_c >= this (6.4)."""
+        return abs(math.tan(self.angle))
+
+    def sliding_mu(self) -> tuple[float, float] | None:
+        """The part of [mu_low, mu_high] where a flush part slides (None: it always jams)."""
+        if self.mu_low >= self.jam_threshold:
+            return None
+        return self.mu_low, min(self.mu_high, self.jam_threshold)
+
+    def may_jam(self) -> bool:
+        return self.mu_high >= self.jam_threshold
+
+
+def flush_orientation(part: Part, j: int, gamma: float) -> float:
+    """theta with edge j flush on the fence (the part above it): theta + phi_j = gamma."""
+    return wrap(gamma - part.edge_angle(j))
+
+
+def contact_interval(part: Part, k: int, gamma: float) -> tuple[float, float]:
+    """(start, width): the orientations in which hull vertex k meets the fence first,
+    [flush_k, flush_{k-1}] (phase 1)."""
+    start = flush_orientation(part, k, gamma)
+    width = wrap(part.edge_angle(k) - part.edge_angle(k - 1))
+    return start, width
+
+
+def rotation(theta: float) -> np.ndarray:
+    c, s = math.cos(theta), math.sin(theta)
+    return np.array([[c, -s], [s, c]])
+
+
+def _mu_samples_for_sense(c: np.ndarray, n: np.ndarray, mu: tuple[float, float]) -> list[float]:
+    """mu_c values that show every sense Mason's rule gives over the interval at contact c:
+    its ends and both sides of each mu where a cone edge passes through the CM."""
+    lo, hi = mu
+    out = [lo, hi]
+    t = perp(n)
+    cn, ct = float(c[0] * n[1] - c[1] * n[0]), float(c[0] * t[1] - c[1] * t[0])
+    if ct != 0.0:
+        for sign in (1.0, -1.0):  # c x (n + sign mu t) = 0
+            star = -cn / (sign * ct)
+            if lo < star < hi:
+                out += [max(lo, star * (1.0 - 1e-9)), min(hi, star * (1.0 + 1e-9))]
+    return out
+
+
+def senses_at(part: Part, k: int, theta: float, fence: Fence) -> set[str]:
+    """The senses ('ccw', 'cw') Mason's rule allows at vertex k, orientation theta, over the
+    fence's mu_c interval (phase 2); a translation ('none') allows both."""
+    c = rotation(theta) @ part.hull[k]
+    n = fence.normal
+    out: set[str] = set()
+    for mu in _mu_samples_for_sense(c, n, (fence.mu_low, fence.mu_high)):
+        s = mason_sense(c, n, PUSH, mu)
+        out |= {"ccw", "cw"} if s == "none" else {s}
+    return out
+
+
+def vote_breakpoints(part: Part, k: int, fence: Fence) -> list[float]:
+    """Orientations where a ray of Mason's rule at vertex k passes through the CM: the
+    push direction and the cone edges at both ends of the mu_c interval (phase 2)."""
+    n = fence.normal
+    t = perp(n)
+    rays = [PUSH]
+    for mu in (fence.mu_low, fence.mu_high):
+        rays += [n + mu * t, n - mu * t]
+    hk = part.hull[k]
+    base = math.atan2(float(hk[1]), float(hk[0]))
+    out = []
+    for w in rays:
+        a = math.atan2(float(w[1]), float(w[0])) - base
+        out += [wrap(a), wrap(a + math.pi)]
+    return out
+
+
+def crossing(part: Part, j: int, mu: float, sign: float) -> float:
+    """u_X of edge j (phase 4): where the force line n + mu sgn t through the CM meets it."""
+    u_c, h_c = part.cm_in_edge_frame(j)
+    return u_c - mu * sign * h_c
+
+
+def final_edges(part: Part, j: int, fence: Fence) -> frozenset[int]:
+    """Every edge a part flush on edge j can come to rest on (phase 4), over the sliding
+    part of the mu_c interval; empty when it always jams."""
+    mu = fence.sliding_mu()
+    if mu is None:
+        return frozenset()
+    out: set[int] = set()
+    seen: set[int] = set()
+    todo = [j % part.m]
+    while todo:
+        e = todo.pop()
+        if e in seen:
+            continue
+        seen.add(e)
+        _, length, _ = part.edge(e)
+        u = sorted(crossing(part, e, m, fence.sign) for m in mu)
+        if u[1] >= 0.0 and u[0] <= length:
+            out.add(e)
+        if u[0] < 0.0:
+            todo.append((e - 1) % part.m)
+        if u[1] > length:
+            todo.append((e + 1) % part.m)
+    return frozenset(out)
+
+
+@dataclass(frozen=True)
+class EndpointTurn:
+    """The turn of the part leaving the fence's end on edge j (phase 5), in radians, in
+    the sense sgn(gamma): between ``least`` (extreme B) and ``most`` (extreme A)."""
+
+    edge: int
+    least: float
+    most: float
+    contact_lost: bool  # B ends with E leaving the edge before A
+    mu_used: tuple[float, ...]
+    locus_evaluations: int
+    sense_flags: int  # steps where Mason's rule at E did not give the turn's sense
+
+
+def _canonical_edge(part: Part, j: int, fence: Fence, mu: float) -> tuple[float, float, float, float]:
+    """(u_c, h_c, L, l_0) of edge j in the frame where gamma > 0 (mirrored for gamma < 0:
+    u -> L - u); l_0 = u_X clipped to the edge."""
+    u_c, h_c = part.cm_in_edge_frame(j)
+    _, length, _ = part.edge(j)
+    u_x = crossing(part, j, mu, fence.sign)
+    if fence.sign < 0.0:
+        u_c, u_x = length - u_c, length - u_x
+    return u_c, h_c, length, min(max(u_x, 0.0), length)
+
+
+def max_slip_rate(a: float, c: np.ndarray, psi: float, mu: float, n_points: int) -> tuple[float, bool]:
+    """Largest dl/ddelta over the disk's motions at contact c (CM frame), edge angle psi
+    (phase 5), and whether Mason's rule at c gives CCW."""
+    e = np.array([math.cos(psi), math.sin(psi)])
+    n_e = perp(e)
+    ccw = mason_sense(c, n_e, PUSH, mu) == "ccw"
+    g = float(PUSH @ e) / float(PUSH @ n_e) * n_e - e
+    scene = PushScene.create(a, c, psi, PUSH_ANGLE)
+    turned, m_sign = force_scene(scene, -math.atan(mu))  # the cone edge n_e + mu e
+    if m_sign == 0:
+        return math.inf, ccw  # that force passes through the CM: slip without turning
+    if m_sign > 0:
+        return 0.0, ccw  # that slip would turn the part CW: none toward the upstream end
+    boundary = disk_cor_locus(turned, outputs=["boundary"], n_points=n_points).boundary
+    rate = float(np.max((boundary - c) @ perp(g)))
+    return max(rate, 0.0), ccw
+
+
+def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFAULT) -> EndpointTurn:
+    """Extremes A and B of leaving the fence's end on edge j (phase 5), with the disk bound.
+
+    B is integrated in the contact's position l (from u_X to the edge's upstream end L):
+    ddelta/dl = 1 / max dl/ddelta. At l = u_X the slipping force passes through the CM
+    (the part slides off without turning: infinite slip per radian), so the turn is the
+    well-behaved variable to accumulate, not the one to step in. The turn is capped at A."""
+    g = abs(fence.angle)
+    most = 0.5 * math.pi - g
+    mu_range = fence.sliding_mu()
+    if mu_range is None:
+        raise InvalidInput("mu_c", "the part jams on this fence for every mu_c given: it never reaches the end")
+    lo, hi = mu_range
+    mus = [lo] if hi <= lo else list(np.linspace(lo, hi, max(2, tol.mu_samples)))
+    least = most
+    lost = False
+    evaluations = flags = 0
+    cap = most - tol.grazing_margin
+    t0 = np.array([math.cos(g), math.sin(g)])
+    n0 = perp(t0)
+    for mu in mus:
+        u_c, h_c, length, ell0 = _canonical_edge(part, j, fence, float(mu))
+
+        def turn_rate(ell: float, delta: float) -> float:
+            """ddelta/dl at contact l and turn delta (0 where the slip is unbounded)."""
+            nonlocal evaluations, flags
+            c = rotation(delta) @ ((ell - u_c) * t0 - h_c * n0)
+            r, ccw = max_slip_rate(part.radius, c, g + delta, float(mu), tol.locus_points)
+            evaluations += 1
+            if math.isinf(r):  # the slipping force through the CM: Mason's rule has a tie
+                return 0.0
+            flags += 0 if ccw else 1
+            return math.inf if r <= 0.0 else 1.0 / r
+
+        delta, ell = 0.0, ell0
+        h = (length - ell0) / tol.endpoint_steps
+        reached = True
+        for _ in range(tol.endpoint_steps):
+            k1 = turn_rate(ell, delta)
+            k2 = turn_rate(ell + h, min(delta + h * k1, cap)) if math.isfinite(k1) else math.inf
+            delta += 0.5 * h * (k1 + k2)
+            ell += h
+            if not delta < cap:
+                reached = False
+                break
+        if reached:
+            lost = True
+            least = min(least, delta)
+    return EndpointTurn(edge=j, least=least, most=most, contact_lost=lost, mu_used=tuple(float(m) for m in mus),
+                        locus_evaluations=evaluations, sense_flags=flags)
+
+
+@dataclass(frozen=True)
+class FenceMap:
+    """The configuration map of one fence (5.2) with how it was bounded."""
+
+    map: ConfigurationMap
+    final_edges: tuple[int, ...]  # the hull edge of each band
+    turns: tuple[EndpointTurn, ...]
+    fence: Fence
+    part: Part
+    bound: str = "disk"
+    notes: tuple[str, ...] = field(default=())
+
+
+def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT) -> FenceMap:
+    """The configuration map of ``part`` meeting ``fence`` (phases 1-5)."""
+    gamma = fence.angle
+    finals_of_flush = {j: final_edges(part, j, fence) for j in range(part.m)}
+    kernels: dict[int, list[tuple[float, float]]] = {}
+    for k in range(part.m):
+        start, width = contact_interval(part, k, gamma)
+        cuts = sorted({0.0, width} | {d for b in vote_breakpoints(part, k, fence)
+                                      if 0.0 < (d := wrap(b - start)) < width})
+        for a, b in zip(cuts[:-1], cuts[1:]):
+            senses = senses_at(part, k, start + 0.5 * (a + b), fence)
+            flushed = ({(k - 1) % part.m} if "ccw" in senses else set()) | ({k} if "cw" in senses else set())
+            for j in flushed:
+                for f in finals_of_flush[j]:
+                    kernels.setdefault(f, []).append((start + a, b - a))
+    edges = tuple(sorted(kernels))
+    turns = tuple(endpoint_turn(part, j, fence, tol) for j in edges)
+    bands = []
+    for j, turn in zip(edges, turns):
+        theta = flush_orientation(part, j, gamma)
+        if fence.sign > 0.0:
+            bands.append(Arcs.of([(theta + turn.least, turn.most - turn.least)]))
+        else:
+            bands.append(Arcs.of([(theta - turn.most, turn.most - turn.least)]))
+    jam = Arcs.circle() if fence.may_jam() else Arcs.empty()
+    notes = []
+    if fence.may_jam():
+        notes.append(f"mu_c up to {fence.mu_high:g} >= |tan(fence_angle)| = {fence.jam_threshold:g}: "
+                     "a flush part may jam on this fence (6.4)")
+    cmap = ConfigurationMap(bands=tuple(bands), kernels=tuple(Arcs.of(kernels[j]) for j in edges), jam=jam)
+    return FenceMap(map=cmap, final_edges=edges, turns=turns, fence=fence, part=part, notes=tuple(notes))

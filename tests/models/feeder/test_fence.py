@@ -1,0 +1,153 @@
+"""One fence across a belt: phases 1-5 of models/feeder/fence.py (book 5.1, 5.2, 6.4-6.6)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from models.errors import InvalidInput
+from models.feeder.arcs import TWO_PI
+from models.feeder.fence import (
+    FINE,
+    Fence,
+    Part,
+    contact_interval,
+    endpoint_turn,
+    fence_map,
+    final_edges,
+)
+
+SQUARE = [[-1, -1], [1, -1], [1, 1], [-1, 1]]
+RECT = [[0, 0], [4, 0], [4, 1], [0, 1]]  # long edges 0 and 2
+PENTAGON = ([[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], [1.4, 1.0])
+N = 360
+
+
+def arcs_deg(arcs):
+    return [(round(math.degrees(s), 6), round(math.degrees(w), 6)) for s, w in arcs.arcs]
+
+
+def test_contact_intervals_partition_the_circle_phase_1():
+    part = Part.create(*PENTAGON)
+    gamma = math.radians(-60)
+    widths = [contact_interval(part, k, gamma)[1] for k in range(part.m)]
+    assert sum(widths) == pytest.approx(TWO_PI)
+    for k in range(part.m):  # vertex k is the lowest along n inside its interval
+        s, w = contact_interval(part, k, gamma)
+        for theta in s + w * np.array([0.1, 0.5, 0.9]):
+            c, si = math.cos(theta), math.sin(theta)
+            world = part.hull @ np.array([[c, si], [-si, c]])
+            depth = world @ np.array([-math.sin(gamma), math.cos(gamma)])
+            assert int(np.argmin(depth)) == k
+
+
+def test_jam_at_the_friction_angle_6_4():
+    """A flush part slides along the fence only if |tan gamma| > mu_c (6.4)."""
+    part = Part.create(SQUARE)
+    gamma = math.atan(0.25)
+    jammed = fence_map(part, Fence.create(gamma, 0.25))
+    assert jammed.map.bands == () and jammed.map.jam.measure == pytest.approx(TWO_PI)
+    assert jammed.notes
+    sliding = fence_map(part, Fence.create(gamma * (1 + 1e-6), 0.25))
+    assert len(sliding.map.bands) == 4 and sliding.map.jam.is_empty
+    either = fence_map(part, Fence.create(gamma * 1.05, (0.2, 0.3)))
+    assert len(either.map.bands) == 4 and not either.map.jam.is_empty
+
+
+def test_flush_edge_stability_by_hand_phase_4():
+    """A 4 x 1 rectangle on a +60 degree fence: its short edge (L = 1, CM at u_c = 0.5,
+    h_c = 2) is stable while u_X = 0.5 - 2 mu_c >= 0, i.e. mu_c <= 0.25; its long edges
+    (u_X = 2 - 0.5 mu_c) always are."""
+    part = Part.create(RECT, [2.0, 0.5])
+    fence = Fence.create(math.radians(60), 0.2)
+    long_edges = {j for j in range(4) if part.edge(j)[1] == pytest.approx(4.0)}
+    short = [j for j in range(4) if j not in long_edges]
+    assert all(final_edges(part, j, fence) == {j} for j in range(4))
+    steep = Fence.create(math.radians(60), 0.3)
+    for j in short:
+        assert final_edges(part, j, steep) <= long_edges and final_edges(part, j, steep)
+    m = fence_map(part, steep)
+    assert set(m.final_edges) == long_edges
+    assert len(fence_map(part, fence).final_edges) == 4
+
+
+def test_endpoint_extremes_5_1_6_5():
+    """Leaving the end: the turn lies between B (> 0) and A = 90 deg - |gamma|, so the edge
+    ends between somewhat more than the fence angle and along the belt (6.5, figure 6-9).
+    The default tolerances agree with FINE to 0.02 degrees."""
+    part = Part.create(SQUARE)
+    last = 0.0
+    for deg in (25, 35, 45, 55, 65):
+        fence = Fence.create(math.radians(deg), 0.25)
+        turn = endpoint_turn(part, 0, fence)
+        fine = endpoint_turn(part, 0, fence, FINE)
+        assert turn.most == pytest.approx(math.radians(90 - deg))
+        assert 0.0 < turn.least < turn.most and turn.contact_lost
+        assert abs(turn.least - fine.least) < math.radians(0.02)
+        assert turn.sense_flags == 0
+        # the final edge angle gamma + B rises with the fence angle
+        assert deg + math.degrees(turn.least) > last
+        last = deg + math.degrees(turn.least)
+
+
+def mirrored(vertices):
+    return [[-x, y] for x, y in vertices]
+
+
+def test_mirror_symmetry():
+    """The mirror image (x -> -x) of part and fence (gamma -> -gamma) mirrors the map:
+    theta -> -theta on both axes."""
+    verts, cm = PENTAGON
+    for deg in (30, 60):
+        a = fence_map(Part.create(verts, cm), Fence.create(math.radians(deg), 0.3))
+        b = fence_map(Part.create(mirrored(verts), [-cm[0], cm[1]]), Fence.create(math.radians(-deg), 0.3))
+        ma, mb = a.map.matrix(N), b.map.matrix(N)
+        flip = (-np.arange(N) - 1) % N  # cell i covers [i, i+1]: its mirror is cell -i-1
+        assert np.array_equal(ma, mb[np.ix_(flip, flip)])
+
+
+def test_rotational_symmetry_of_the_square():
+    """A square's map is unchanged by turning the part a quarter turn before and after:
+    four bands a quarter turn apart."""
+    m = fence_map(Part.create(SQUARE), Fence.create(math.radians(50), 0.25)).map.matrix(N)
+    q = N // 4
+    assert np.array_equal(m, np.roll(np.roll(m, q, axis=0), q, axis=1))
+    starts = sorted(s for b in fence_map(Part.create(SQUARE), Fence.create(math.radians(50), 0.25)).map.bands
+                    for s, _ in b.arcs)
+    assert np.allclose(np.diff(starts), math.pi / 2)
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1e6])
+def test_scale_invariance(scale):
+    verts, cm = PENTAGON
+    fence = Fence.create(math.radians(-45), 0.25)
+    ref = fence_map(Part.create(verts, cm), fence)
+    got = fence_map(Part.create(np.array(verts) * scale, np.array(cm) * scale), fence)
+    assert got.final_edges == ref.final_edges
+    for a, b in zip(got.map.bands + got.map.kernels, ref.map.bands + ref.map.kernels):
+        assert np.allclose(np.array(a.arcs), np.array(b.arcs), atol=1e-9)
+
+
+def test_every_orientation_reaches_a_band_and_intervals_widen_the_map():
+    """Without jams every initial orientation has an outcome; a mu_c interval's map holds
+    the maps of its ends (both senses wherever Mason's rule changes within it)."""
+    part = Part.create(*PENTAGON)
+    lo = fence_map(part, Fence.create(math.radians(-55), 0.2)).map
+    hi = fence_map(part, Fence.create(math.radians(-55), 0.35)).map
+    both = fence_map(part, Fence.create(math.radians(-55), (0.2, 0.35))).map
+    for m in (lo, hi, both):
+        assert np.all(np.any(m.matrix(N), axis=0))
+    assert np.all(both.matrix(N) >= lo.matrix(N)) and np.all(both.matrix(N) >= hi.matrix(N))
+
+
+def test_bad_parts_and_fences_are_refused():
+    with pytest.raises(InvalidInput, match="center_of_mass"):
+        Part.create(SQUARE, center_of_mass=[5, 0])
+    with pytest.raises(InvalidInput, match="vertices"):
+        Part.create([[0, 0], [1, 1], [2, 2]])
+    with pytest.raises(InvalidInput, match="fence_angle"):
+        Fence.create(0.0, 0.2)
+    with pytest.raises(InvalidInput, match="fence_angle"):
+        Fence.create(math.pi / 2, 0.2)
+    with pytest.raises(InvalidInput, match="mu_c"):
+        Fence.create(0.5, (0.3, 0.2))
