@@ -78,6 +78,9 @@ class FeederTolerances:
         grazing_margin: radians short of A at which that integration stops (the edge is
             then nearly along the belt's motion and E barely pushes).
         mu_samples: mu_c values (evenly over an interval) at which extreme B is integrated.
+        b_margin: radians taken off B to cover that integration's error (measured in
+            docs/benchmarks.md: the default steps err by 0.005 deg on the wide side
+            of FINE at most, and by up to 0.3 deg on the safe side near the friction angle).
     """
 
     collinear_rel: float = 1e-12
@@ -85,10 +88,11 @@ class FeederTolerances:
     locus_points: int = 64
     grazing_margin: float = 1e-6
     mu_samples: int = 3
+    b_margin: float = 2e-4
 
 
 DEFAULT = FeederTolerances()
-FINE = FeederTolerances(endpoint_steps=200, locus_points=400)
+FINE = FeederTolerances(endpoint_steps=200, locus_points=400, b_margin=0.0)
 
 
 @dataclass(frozen=True)
@@ -337,10 +341,16 @@ def max_slip_rate(a: float, c: np.ndarray, psi: float, mu: float, n_points: int)
 def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFAULT) -> EndpointTurn:
     """Extremes A and B of leaving the fence's end on edge j (phase 5), with the disk bound.
 
-    B is integrated in the contact's position l (from u_X to the edge's upstream end L):
-    ddelta/dl = 1 / max dl/ddelta. At l = u_X the slipping force passes through the CM
-    (the part slides off without turning: infinite slip per radian), so the turn is the
-    well-behaved variable to accumulate, not the one to step in. The turn is capped at A."""
+    B bounds the slip: the contact's position l on the edge (from u_X toward the edge's
+    upstream end L) and the turn delta obey dl/ddelta <= R(l, delta), the largest slip per
+    radian over the disk's motions (max_slip_rate), so by comparison l(delta) stays below
+    the path with dl/ddelta = R from (u_X, 0); B is the turn at which that path reaches L
+    (capped at A). R is infinite at l = u_X (the slipping force through the CM: the part
+    slides off without turning) and zero where no motion slips upward (the path stalls in
+    l while the part turns), so neither l nor delta is a safe variable to step in: the
+    path is integrated in its arc length s, (dl / a, ddelta)/ds = (R / a, 1) / |(R / a, 1)|
+    (lengths in part radii a; Heun, ``endpoint_steps`` steps of ((L - u_X) / a + A) / steps,
+    enough to reach an end)."""
     g = abs(fence.angle)
     most = 0.5 * math.pi - g
     mu_range = fence.sliding_mu()
@@ -352,36 +362,40 @@ def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFA
     lost = False
     evaluations = flags = 0
     cap = most - tol.grazing_margin
+    a = part.radius
     t0 = np.array([math.cos(g), math.sin(g)])
     n0 = perp(t0)
     for mu in mus:
         u_c, h_c, length, ell0 = _canonical_edge(part, j, fence, float(mu))
 
-        def turn_rate(ell: float, delta: float) -> float:
-            """ddelta/dl at contact l and turn delta (0 where the slip is unbounded)."""
+        def heading(ell_a: float, delta: float) -> np.ndarray:
+            """(dl / a, ddelta)/ds at contact l = ell_a a and turn delta."""
             nonlocal evaluations, flags
-            c = rotation(delta) @ ((ell - u_c) * t0 - h_c * n0)
+            c = rotation(delta) @ ((ell_a * a - u_c) * t0 - h_c * n0)
             r, ccw = max_slip_rate(part.radius, c, g + delta, float(mu), tol.locus_points)
             evaluations += 1
-            if math.isinf(r):  # the slipping force through the CM: Mason's rule has a tie
-                return 0.0
+            if math.isinf(r):  # the slipping force through the CM: slide without turning
+                return np.array([1.0, 0.0])
             flags += 0 if ccw else 1
-            return math.inf if r <= 0.0 else 1.0 / r
+            return np.array([r / a, 1.0]) / math.hypot(r / a, 1.0)
 
-        delta, ell = 0.0, ell0
-        h = (length - ell0) / tol.endpoint_steps
-        reached = True
-        for _ in range(tol.endpoint_steps):
-            k1 = turn_rate(ell, delta)
-            k2 = turn_rate(ell + h, min(delta + h * k1, cap)) if math.isfinite(k1) else math.inf
-            delta += 0.5 * h * (k1 + k2)
-            ell += h
-            if not delta < cap:
-                reached = False
+        x = np.array([ell0 / a, 0.0])
+        end = length / a
+        ds = ((end - x[0]) + cap) / tol.endpoint_steps
+        for _ in range(tol.endpoint_steps + 1):
+            k1 = heading(*x)
+            k2 = heading(*(x + ds * k1))
+            x_new = x + 0.5 * ds * (k1 + k2)
+            if x_new[0] >= end:  # contact lost within this step: where l = L
+                f = (end - x[0]) / (x_new[0] - x[0])
+                delta_lost = x[1] + f * (x_new[1] - x[1])
+                if delta_lost < cap:
+                    lost = True
+                    least = min(least, max(delta_lost - tol.b_margin, 0.0))
                 break
-        if reached:
-            lost = True
-            least = min(least, delta)
+            if x_new[1] >= cap:
+                break
+            x = x_new
     return EndpointTurn(edge=j, least=least, most=most, contact_lost=lost, mu_used=tuple(float(m) for m in mus),
                         locus_evaluations=evaluations, sense_flags=flags)
 

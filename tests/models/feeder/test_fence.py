@@ -74,7 +74,8 @@ def test_flush_edge_stability_by_hand_phase_4():
 def test_endpoint_extremes_5_1_6_5():
     """Leaving the end: the turn lies between B (> 0) and A = 90 deg - |gamma|, so the edge
     ends between somewhat more than the fence angle and along the belt (6.5, figure 6-9).
-    The default tolerances agree with FINE to 0.02 degrees."""
+    The default tolerances agree with FINE to 0.15 degrees and lie on its safe side (B
+    smaller: a wider band)."""
     part = Part.create(SQUARE)
     last = 0.0
     for deg in (25, 35, 45, 55, 65):
@@ -83,7 +84,7 @@ def test_endpoint_extremes_5_1_6_5():
         fine = endpoint_turn(part, 0, fence, FINE)
         assert turn.most == pytest.approx(math.radians(90 - deg))
         assert 0.0 < turn.least < turn.most and turn.contact_lost
-        assert abs(turn.least - fine.least) < math.radians(0.02)
+        assert fine.least - math.radians(0.15) < turn.least <= fine.least
         assert turn.sense_flags == 0
         # the final edge angle gamma + B rises with the fence angle
         assert deg + math.degrees(turn.least) > last
@@ -151,3 +152,16 @@ def test_bad_parts_and_fences_are_refused():
         Fence.create(math.pi / 2, 0.2)
     with pytest.raises(InvalidInput, match="mu_c"):
         Fence.create(0.5, (0.3, 0.2))
+
+
+def test_extreme_b_rises_with_mu_c_so_an_interval_takes_its_low_end_5_1():
+    """More friction, less slip: B grows with mu_c on every edge (measured, not proved),
+    which is why an interval's B, the least over samples including both ends, is the low
+    end's."""
+    part = Part.create(*PENTAGON)
+    for deg in (30.0, -50.0):
+        for j in range(part.m):
+            bs = [endpoint_turn(part, j, Fence.create(math.radians(deg), mu)).least for mu in np.linspace(0.0, 0.5, 6)]
+            assert np.all(np.diff(bs) > 0.0), (deg, j, bs)
+            interval = endpoint_turn(part, j, Fence.create(math.radians(deg), (0.0, 0.5)))
+            assert interval.least == pytest.approx(bs[0], abs=1e-12)

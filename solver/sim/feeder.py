@@ -1,0 +1,371 @@
+"""A part on a conveyor belt meeting one fence, simulated quasi-statically (issue 12; book
+5.1, 6.5): the independent check of the configuration maps of models/feeder/fence.py.
+
+Frames as in models/feeder/fence.py: the belt carries the part in -y; in the belt's frame
+the fence is the pusher, moving in +y. The run is kept in the fence's frame (the fence
+fixed, the belt and everything on it drifting in -y): a motion found in the belt's frame by
+the forward minimum-power solver (3.7, 4.1) is shifted by -d. The fence is the segment from
+its free end E (the origin) along w = sgn(gamma) t for ``fence_length``; its face normal is
+n = (-sin gamma, cos gamma). The part slides toward E.
+
+Contacts and what moves the part at each (the run switches between them by events):
+
+* none: the part drifts with the belt in -y until a vertex meets the face or E meets an
+  edge (placed exactly, by ray casting), or never again: the part has left.
+* a vertex on the face: the forward solve with the fence's edge angle at that vertex.
+* an edge flush on the face (two vertices, or E and a vertex): the part cannot turn, so it
+  translates; the belt's drag then passes through the CM whatever the support, and the
+  contact force lies on the friction-cone edge against the slip, n + mu_c w. If that force
+  line through the CM crosses the supported part of the edge the part slides along the
+  fence; otherwise it pivots on the end the line passes (a vertex contact, or E on the
+  edge). When |tan gamma| <= mu_c the part cannot slide (6.4): it is carried with the
+  fence and the force balances the drag, along d through the CM; where that line meets
+  the supported edge the part jams.
+* E on an edge: the forward solve with E as a point pusher on that edge.
+
+Steps are midpoint steps of the push (solver/sim/stepper.py) with the contact re-imposed;
+a step that would push another vertex through the face or E into the part is halved until
+the new contact is within ``contact_tol``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from models.errors import InvalidInput
+from models.feeder.fence import Fence, Part
+from models.mpp import perp
+from solver.core.budget import UNLIMITED, Budget
+from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
+from solver.sim.contacts import onto_line
+from solver.sim.kinematics import Twist, advance, body_to_world
+from solver.sim.stepper import MotionOracle, SolveCounts
+
+D = np.array([0.0, 1.0])
+PUSH_ANGLE = 0.5 * math.pi
+GRAZING = 1e-9
+"""|sin| of the angle between an edge under E and the belt's motion at which E stops pushing
+(the scene's own grazing test, models.tolerances.Tolerances.grazing_sin)."""
+
+
+MODE_TEXT = {
+    "vertex": "vertex {} on the fence's face, turning",
+    "flush": "edge {} flush on the face, sliding",
+    "end": "the fence's end on edge {}, turning off it",
+}
+
+
+@dataclass(frozen=True)
+class FeederSimSettings:
+    """Named settings of a fence run (lengths relative to the part's radius a).
+
+    Attributes:
+        step: push per midpoint step.
+        contact_tol: a vertex this close to the face (or E to an edge) is in contact.
+        min_step: the shortest step event location halves down to.
+        max_steps: steps (of any kind) before the run gives up (status "step_limit").
+        clearance: the part's start, this far above the face.
+    """
+
+    step: float = 0.02
+    contact_tol: float = 1e-9
+    min_step: float = 1e-12
+    max_steps: int = 20000
+    clearance: float = 0.05
+
+
+DEFAULT_SIM = FeederSimSettings()
+
+
+@dataclass(frozen=True)
+class FenceEvent:
+    push: float
+    kind: str
+    detail: str
+
+
+@dataclass
+class FenceRun:
+    """One part through one fence: initial and final orientation (None unless it left the
+    fence), ``status`` ("left" | "jammed" | "step_limit"), the events, the trajectory
+    (push, cm, theta) at every step and the forward solves that ran."""
+
+    theta_initial: float
+    theta_final: float | None
+    status: str
+    events: list[FenceEvent]
+    pushes: np.ndarray
+    cms: np.ndarray
+    thetas: np.ndarray
+    counts: SolveCounts
+    solve_time_s: float
+    flush_edges: list[int] = field(default_factory=list)
+
+    @property
+    def complete(self) -> bool:
+        return self.status in ("left", "jammed")
+
+    @property
+    def message(self) -> str:
+        return f"{self.status} after {len(self.pushes) - 1} steps, {self.counts.solves} forward solves"
+
+
+class _Geometry:
+    """The fence and the part's hull at a pose, in the fence's frame."""
+
+    def __init__(self, part: Part, fence: Fence, fence_length: float):
+        self.part, self.fence, self.length = part, fence, fence_length
+        self.t = np.array([math.cos(fence.angle), math.sin(fence.angle)])
+        self.w = fence.sign * self.t
+        self.n = fence.normal
+        self.e = np.zeros(2)  # the free end E
+
+    def hull(self, cm: np.ndarray, theta: float) -> np.ndarray:
+        return body_to_world(cm, theta, self.part.hull)
+
+    def heights(self, pts: np.ndarray) -> np.ndarray:
+        return (pts - self.e) @ self.n
+
+    def along(self, pts: np.ndarray) -> np.ndarray:
+        return (pts - self.e) @ self.w
+
+    def on_fence(self, s: np.ndarray) -> np.ndarray:
+        return (s >= 0.0) & (s <= self.length)
+
+    def end_contact(self, pts: np.ndarray) -> tuple[float, np.ndarray]:
+        """Where E is against the part: (its depth inside (> 0 only when inside), its
+        distance to each edge)."""
+        q = np.roll(pts, -1, axis=0)
+        e = q - pts
+        ln2 = np.einsum("ij,ij->i", e, e)
+        r = self.e - pts
+        d = (r[:, 1] * e[:, 0] - r[:, 0] * e[:, 1]) / np.sqrt(ln2)  # inward distance to each edge line
+        u = np.clip(np.einsum("ij,ij->i", r, e) / ln2, 0.0, 1.0)
+        gap = np.hypot(*(r - u[:, None] * e).T)
+        depth = float(np.min(d)) if np.all(d > 0.0) else 0.0
+        return depth, gap
+
+    def next_contact(self, pts: np.ndarray, floor: float) -> float | None:
+        """The drift (in -y, more than ``floor``) after which the part first touches the
+        fence, or None."""
+        best = math.inf
+        cos_g = float(self.n @ D)
+        for p in pts:  # a vertex drifting onto the face
+            lam = float(self.heights(p[None])[0]) / cos_g
+            if lam > floor and self.on_fence(np.array([self.along((p - lam * D)[None])[0]]))[0]:
+                best = min(best, lam)
+        q = np.roll(pts, -1, axis=0)
+        for a, b in zip(pts, q):  # E rising (relative to the part) onto an edge
+            e = b - a
+            den = float(D[0] * (-e[1]) + D[1] * e[0])  # cross(D, e) with sign
+            if abs(den) <= 1e-12 * math.hypot(float(e[0]), float(e[1])):
+                continue  # an edge along the belt's motion: E slides along it
+            r = self.e - a
+            lam = float(r[0] * e[1] - r[1] * e[0]) / den  # E + lam D = a + mu e (Cramer)
+            mu = float(r[0] * D[1] - r[1] * D[0]) / den
+            if lam > floor and 0.0 <= mu <= 1.0:
+                best = min(best, lam)
+        return None if math.isinf(best) else best
+
+
+def _check(part_support: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    pts = np.asarray(part_support, dtype=float).reshape(-1, 2)
+    w = np.asarray(weights, dtype=float).reshape(-1)
+    if len(pts) != len(w) or len(w) == 0:
+        raise InvalidInput("support", "need as many weights as support points")
+    if not (np.all(np.isfinite(pts)) and np.all(np.isfinite(w))) or np.any(w < 0.0) or w.sum() <= 0.0:
+        raise InvalidInput("support", "points and weights must be finite, weights >= 0 and not all 0")
+    return pts, w / w.sum()
+
+
+def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayLike, weights: ArrayLike,
+                   theta_initial: float, fence_length: float | None = None, start_along: float = 0.7,
+                   settings: FeederSimSettings = DEFAULT_SIM, tol: SolverTolerances = SOLVER_DEFAULT,
+                   budget: Budget = UNLIMITED) -> FenceRun:
+    """Run ``part`` (support points relative to the CM in the body frame, with weights; the
+    centroid must be the CM) at orientation ``theta_initial`` onto ``fence`` with contact
+    friction ``mu_c`` until it has left the fence's end, jammed, or ``max_steps``.
+    The part starts above the fence at ``start_along`` of its length (default fence length:
+    40 part radii)."""
+    t0 = time.perf_counter()
+    if not (fence.mu_low <= mu_c <= fence.mu_high):
+        raise InvalidInput("mu_c", "must lie in the fence's mu_c interval")
+    pts, w = _check(np.asarray(support_points, dtype=float), np.asarray(weights, dtype=float))
+    a = part.radius
+    geo = _Geometry(part, fence, 40.0 * a if fence_length is None else float(fence_length))
+    oracle = MotionOracle(pts, w, a, mu_c, tol=tol, budget=budget)
+    s = settings
+    tol_c = s.contact_tol * a
+    theta = float(theta_initial)
+    hull0 = body_to_world(np.zeros(2), theta, part.hull)
+    cm = start_along * geo.length * geo.w + (s.clearance * a - float(np.min(geo.heights(hull0)))) * geo.n
+    push = 0.0
+    events: list[FenceEvent] = []
+    pushes, cms, thetas = [0.0], [cm.copy()], [theta]
+    flush_edges: list[int] = []
+    f_hat = geo.n + mu_c * geo.w
+    status = "step_limit"
+
+    def record(kind: str, detail: str) -> None:
+        events.append(FenceEvent(push, kind, detail))
+
+    for _ in range(s.max_steps):
+        hull = geo.hull(cm, theta)
+        z = geo.heights(hull)
+        sig = geo.along(hull)
+        touching = [i for i in range(part.m) if abs(z[i]) <= tol_c and geo.on_fence(np.array([sig[i]]))[0]]
+        _, gaps = geo.end_contact(hull)
+        edge_e = int(np.argmin(gaps))
+        e_contact = bool(gaps[edge_e] <= tol_c)
+        if not touching and not e_contact:
+            lam = geo.next_contact(hull, tol_c)
+            if lam is None:
+                status = "left"
+                record("left", f"clear of the fence at orientation {theta:.9g}")
+                break
+            cm = cm - lam * D
+            push += lam
+            pushes.append(push)
+            cms.append(cm.copy())
+            thetas.append(theta)
+            if not events or events[-1].kind != "contact":
+                record("contact", "first contact" if not events else "contact again")
+            continue
+        # What moves the part (module docstring).
+        mode, twist = _mode(geo, oracle, cm, theta, hull, touching, gaps, f_hat, mu_c, tol_c)
+        if mode == "along":
+            status = "left"
+            record("left", f"the edge under the fence's end lies along the belt at orientation {theta:.9g}")
+            break
+        if mode == "jam":
+            status = "jammed"
+            record("jam", f"flush and |tan gamma| = {fence.jam_threshold:.6g} <= mu_c = {mu_c:.6g} (6.4)")
+            break
+        kind, _, idx = mode.partition(":")
+        if not events or events[-1].detail != MODE_TEXT[kind].format(idx):
+            if kind == "flush":
+                flush_edges.append(int(idx))
+            record(kind, MODE_TEXT[kind].format(idx))
+        h = s.step * a
+        if mode.startswith("flush"):
+            # a translation is exact: go straight to the next event (E reaching the
+            # downstream vertex, then the force line), never past it
+            h = max(h, _flush_distance(geo, cm, theta, twist, int(mode.split(":")[1]), f_hat))
+        elif mode.startswith("end"):
+            # E stops pushing when the edge under it lies along the belt: never turn past
+            # that (the twist is constant over a step, so the turn is exactly omega h)
+            h = min(h, _turn_to_along(hull, int(mode.split(":")[1]), twist.omega))
+        while True:
+            cm_n, th_n = advance(cm, theta, twist, h)
+            cm_n = _reimpose(geo, cm_n, th_n, mode, cm, theta)
+            hull_n = geo.hull(cm_n, th_n)
+            z_n = geo.heights(hull_n)
+            on = geo.on_fence(geo.along(hull_n))
+            pen = float(np.min(np.where(on, z_n, np.inf)))
+            d_n, _ = geo.end_contact(hull_n)
+            if (pen >= -tol_c and d_n <= tol_c) or h <= s.min_step * a:
+                break
+            h *= 0.5
+        cm, theta = cm_n, th_n
+        push += h
+        pushes.append(push)
+        cms.append(cm.copy())
+        thetas.append(theta)
+    return FenceRun(theta_initial=float(theta_initial), theta_final=theta if status == "left" else None,
+                    status=status, events=events, pushes=np.array(pushes), cms=np.array(cms),
+                    thetas=np.array(thetas), counts=oracle.counts, solve_time_s=time.perf_counter() - t0,
+                    flush_edges=flush_edges)
+
+
+def _mode(geo: _Geometry, oracle: MotionOracle, cm: np.ndarray, theta: float, hull: np.ndarray,
+          touching: list[int], gaps: np.ndarray, f_hat: np.ndarray, mu_c: float,
+          tol_c: float) -> tuple[str, Twist]:
+    """(mode, motion per unit push in the fence's frame) at a pose in contact; ``gaps``:
+    E's distance to each edge."""
+    m = geo.part.m
+    edge_e = int(np.argmin(gaps))  # used when no vertex is on the face: E is on this edge
+    # an edge is flush when both its ends are on the face's line, one on the fence and the
+    # other on it too or past E (E then lies on the edge)
+    on_line = np.abs(geo.heights(hull)) <= tol_c
+    flush = None
+    for v in touching:
+        for j, o in (((v - 1) % m, (v - 1) % m), (v, (v + 1) % m)):
+            if on_line[o] and (o in touching or gaps[j] <= tol_c):
+                flush = j
+    if flush is not None:
+        ends = sorted(((float(geo.along(hull[v][None])[0]), v) for v in (flush, (flush + 1) % m)))
+        (s_a, v_a), (s_b, v_b) = ends  # s_a: the downstream vertex, toward E
+        supported_lo = max(s_a, 0.0)
+        # sliding, the force lies on the cone's edge; carried along (|tan gamma| <= mu_c)
+        # the part moves with the fence and the force balances the drag: along d
+        carried = abs(math.tan(geo.fence.angle)) <= mu_c
+        f = D if carried else f_hat
+        x = cm - float(geo.heights(cm[None])[0]) / float(f @ geo.n) * f
+        s_x = float(geo.along(x[None])[0])
+        if supported_lo - tol_c <= s_x <= s_b + tol_c:
+            if carried:
+                return "jam", Twist(np.zeros(2), 0.0, cm.copy())
+            u = float(geo.n @ D) / float(f_hat @ geo.n) * f_hat
+            return f"flush:{flush}", Twist(u - D, 0.0, cm.copy())
+        # the force line misses the supported part: pivot on the end it passes
+        if s_x > s_b:
+            touching = [v_b]
+        elif s_a >= 0.0:
+            touching = [v_a]
+        else:
+            touching, edge_e = [], flush
+    if touching:
+        i = touching[0]
+        res_twist = oracle.twist(cm, theta, hull[i], geo.fence.angle, PUSH_ANGLE)
+        return f"vertex:{i}", Twist(res_twist.velocity - D, res_twist.omega, cm.copy())
+    q = hull[(edge_e + 1) % m] - hull[edge_e]
+    if abs(float(perp(q) @ D)) <= GRAZING * math.hypot(float(q[0]), float(q[1])):
+        return "along", Twist(-D, 0.0, cm.copy())  # the edge lies along the belt: E no longer pushes
+    edge_angle = math.atan2(float(q[1]), float(q[0]))
+    res_twist = oracle.twist(cm, theta, geo.e.copy(), edge_angle, PUSH_ANGLE)
+    return f"end:{edge_e}", Twist(res_twist.velocity - D, res_twist.omega, cm.copy())
+
+
+def _flush_distance(geo: _Geometry, cm: np.ndarray, theta: float, twist: Twist, edge: int,
+                    f_hat: np.ndarray) -> float:
+    """The push until the sliding part's next event: E reaching the edge's downstream
+    vertex, or (past it) the force line through the CM."""
+    rate = -float(twist.velocity @ geo.w)  # how fast the part approaches E per unit push
+    if rate <= 0.0:
+        return 0.0
+    hull = geo.hull(cm, theta)
+    s_a = min(float(geo.along(hull[edge][None])[0]), float(geo.along(hull[(edge + 1) % geo.part.m][None])[0]))
+    if s_a > 0.0:
+        return s_a / rate
+    x = cm - float(geo.heights(cm[None])[0]) / float(f_hat @ geo.n) * f_hat
+    return max(float(geo.along(x[None])[0]), 0.0) / rate
+
+
+def _turn_to_along(hull: np.ndarray, edge: int, omega: float) -> float:
+    """The push after which edge ``edge`` turning at ``omega`` per unit push lies along the
+    belt's motion (inf if it turns away)."""
+    q = hull[(edge + 1) % len(hull)] - hull[edge]
+    # the turn (counter-clockwise) that brings the edge along +-D, in [0, pi)
+    off = math.atan2(float(perp(q) @ D), float(q @ D)) % math.pi
+    if omega > 0.0:
+        return off / omega
+    if omega < 0.0:
+        return (math.pi - off) / -omega
+    return math.inf
+
+
+def _reimpose(geo: _Geometry, cm: np.ndarray, theta: float, mode: str, cm0: np.ndarray, theta0: float) -> np.ndarray:
+    """The contact of ``mode`` made exact again after a step."""
+    kind, idx = mode.split(":")
+    i = int(idx)
+    hull = geo.hull(cm, theta)
+    if kind in ("vertex", "flush"):
+        return onto_line(cm, hull[i], geo.n, 0.0)
+    q = hull[(i + 1) % geo.part.m] - hull[i]
+    n_e = perp(q) / math.hypot(float(q[0]), float(q[1]))
+    return onto_line(cm, hull[i], n_e, float(n_e @ geo.e))
