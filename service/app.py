@@ -10,6 +10,7 @@ from fastapi import FastAPI
 from fastapi_offline import FastAPIOffline
 
 from service import __version__, errors
+from service.api.feeder import routes as feeder
 from service.api.health import routes as health
 from service.api.locus import routes as locus
 from service.api.motion import routes as motion
@@ -23,7 +24,7 @@ from service.settings import Settings
 
 DESCRIPTION = """\
 Planning service for pushed sliding workpieces, after M. A. Peshkin, *Robotic Manipulation
-Strategies* (1990), chapters 2-4. World frame: x right, y up, angles in radians CCW;
+Strategies* (1990), chapters 2-5. World frame: x right, y up, angles in radians CCW;
 lengths in any consistent unit. Errors share one body, `{"detail": [{"loc": [...], "msg":
 ..., "type": ...}]}`: 422 invalid input (naming the field), 413 a body over the limit, 408
 a request not sent in time, 503 busy (retry after `Retry-After` seconds), 504 the time
@@ -45,6 +46,8 @@ OPERATION_ORDER = (
     "cor_sketch",
     "spiral_critical_radius",
     "spiral_schedule",
+    "feeder_map",
+    "feeder_simulate",
 )
 """The order of the operations in the OpenAPI document (openapi.yaml, stable for clients
 who diff it): the order in which they were published, not the resources' order."""
@@ -95,7 +98,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     errors.install(app)
     app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s,
                        max_body_bytes=settings.max_body_bytes)
-    for resource in (health, locus, motion, particle, push, sketch, spiral):
+    for resource in (health, locus, motion, particle, push, sketch, spiral, feeder):
         app.include_router(resource.router)
     _in_published_order(app)
     return app

@@ -250,3 +250,18 @@ ECHO_MAX_CHARS = 200
 """Strings echoed at most this long."""
 ECHO_MAX_ERRORS = 32
 """Validation errors listed at most in one 422."""
+
+FEEDER_MAX_FENCES = 20
+"""Fences in one feeder request (maps or simulation)."""
+FEEDER_MAX_RESOLUTION = 1440
+"""Cells of the circle in a configuration map's boolean matrix (1440: a quarter degree)."""
+FEEDER_MAX_VERTICES = 64
+"""Vertices of a feeder part's outline (each hull edge costs extreme-B integrations)."""
+FEEDER_MAX_SUPPORT_POINTS = 64
+"""Support points of a simulated part (one forward solve per step)."""
+FEEDER_MAX_STEPS = 20_000
+"""Steps of one part through one fence."""
+FEEDER_MAX_TRAJECTORY_POINTS = 2000
+"""Trajectory samples returned per fence."""
+FEEDER_MAX_FENCE_LENGTH_RADII = 1e4
+"""fence_length, in part radii."""

@@ -12,6 +12,14 @@ from solver.core.errors import BackendNotFound, Infeasible, NotConverged, Solver
 from solver.core.outcome import Outcome
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
+from solver.feeder.workflow import (
+    FeederMapProblem,
+    FeederMapResult,
+    FeederSimProblem,
+    FeederSimResult,
+    feeder_map,
+    feeder_simulate,
+)
 from solver.gross.align import AlignProblem, AlignResult, AlignStage, Slip, align, below_line_of_motion
 from solver.gross.bounds import ENCOUNTER_SKETCH_COST, SKETCH_COST, Bound, QuasiStaticQuery
 from solver.gross.disk_encounter import DiskEncounterProblem, DiskEncounterResult, disk_encounter
@@ -32,6 +40,7 @@ from solver.motion.particle import ParticleProblem, ParticleSolution, particle
 from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure, solve_motion
 from solver.motion.statistics import HistogramQuery, TripodStatistics, TripodStatisticsProblem, tripod_statistics
 from solver.motion.tripod_search import ExtremeCorResult, extreme_cor_search
+from solver.sim.feeder import FeederSimSettings, FenceEvent, FenceRun, simulate_fence
 from solver.sim.push import (
     BatchSimulation,
     PushSimulation,
@@ -62,11 +71,23 @@ ENTRY_POINTS = (
     particle,
     plan_spiral,
     critical_radii,
+    feeder_map,
+    feeder_simulate,
 )
 """The workflows the service calls: each ``(problem, budget) -> Outcome``."""
 
 __all__ = [
     "ENTRY_POINTS",
+    "FeederMapProblem",
+    "FeederMapResult",
+    "FeederSimProblem",
+    "FeederSimResult",
+    "FeederSimSettings",
+    "FenceEvent",
+    "FenceRun",
+    "feeder_map",
+    "feeder_simulate",
+    "simulate_fence",
     "UNLIMITED",
     "Budget",
     "BackendNotFound",

@@ -88,8 +88,9 @@ class Arcs:
     def union(self, other: Arcs) -> Arcs:
         return Arcs.of(self.arcs + other.arcs)
 
-    def contains(self, angle: float) -> bool:
-        return any(ccw_distance(s, angle) <= w for s, w in self.arcs)
+    def contains(self, angle: float, slack: float = 0.0) -> bool:
+        """True when ``angle`` lies in an arc widened by ``slack`` at both ends."""
+        return any(ccw_distance(s - slack, angle) <= w + 2.0 * slack for s, w in self.arcs)
 
     def intersects(self, other: Arcs) -> bool:
         """True when a closed arc of one meets a closed arc of the other."""

@@ -68,6 +68,12 @@ class ConfigurationMap:
                                     if band.intersects(second.jam)))
         return ConfigurationMap(bands=second.bands, kernels=kernels, jam=jam, code_sets=codes)
 
+    def allows(self, theta_initial: float, theta_final: float, slack: float = 0.0) -> bool:
+        """True when the map holds (theta_initial, theta_final): a band within ``slack``
+        of theta_final whose kernel holds theta_initial."""
+        return any(k.contains(theta_initial) and b.contains(theta_final, slack)
+                   for b, k in zip(self.bands, self.kernels))
+
     def final_bands(self) -> tuple[Arcs, ...]:
         """The bands reached from some initial orientation (non-empty kernel)."""
         return tuple(b for b, k in zip(self.bands, self.kernels) if not k.is_empty)

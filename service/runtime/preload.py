@@ -4,6 +4,7 @@ starts with everything loaded."""
 
 from __future__ import annotations
 
+import service.api.feeder.routes
 import service.api.locus.routes
 import service.api.motion.routes
 import service.api.particle.routes

@@ -41,6 +41,7 @@ from models.errors import InvalidInput
 from models.feeder.fence import Fence, Part
 from models.mpp import perp
 from solver.core.budget import UNLIMITED, Budget
+from solver.core.errors import TimeLimitReached
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.sim.contacts import onto_line
 from solver.sim.kinematics import Twist, advance, body_to_world
@@ -92,7 +93,7 @@ class FenceEvent:
 @dataclass
 class FenceRun:
     """One part through one fence: initial and final orientation (None unless it left the
-    fence), ``status`` ("left" | "jammed" | "step_limit"), the events, the trajectory
+    fence), ``status`` ("left" | "jammed" | "step_limit" | "time_limit"), the events, the trajectory
     (push, cm, theta) at every step and the forward solves that ran."""
 
     theta_initial: float
@@ -214,68 +215,72 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
     def record(kind: str, detail: str) -> None:
         events.append(FenceEvent(push, kind, detail))
 
-    for _ in range(s.max_steps):
-        hull = geo.hull(cm, theta)
-        z = geo.heights(hull)
-        sig = geo.along(hull)
-        touching = [i for i in range(part.m) if abs(z[i]) <= tol_c and geo.on_fence(np.array([sig[i]]))[0]]
-        _, gaps = geo.end_contact(hull)
-        edge_e = int(np.argmin(gaps))
-        e_contact = bool(gaps[edge_e] <= tol_c)
-        if not touching and not e_contact:
-            lam = geo.next_contact(hull, tol_c)
-            if lam is None:
+    try:
+        for _ in range(s.max_steps):
+            hull = geo.hull(cm, theta)
+            z = geo.heights(hull)
+            sig = geo.along(hull)
+            touching = [i for i in range(part.m) if abs(z[i]) <= tol_c and geo.on_fence(np.array([sig[i]]))[0]]
+            _, gaps = geo.end_contact(hull)
+            edge_e = int(np.argmin(gaps))
+            e_contact = bool(gaps[edge_e] <= tol_c)
+            if not touching and not e_contact:
+                lam = geo.next_contact(hull, tol_c)
+                if lam is None:
+                    status = "left"
+                    record("left", f"clear of the fence at orientation {theta:.9g}")
+                    break
+                cm = cm - lam * D
+                push += lam
+                pushes.append(push)
+                cms.append(cm.copy())
+                thetas.append(theta)
+                if not events or events[-1].kind != "contact":
+                    record("contact", "first contact" if not events else "contact again")
+                continue
+            # What moves the part (module docstring).
+            mode, twist = _mode(geo, oracle, cm, theta, hull, touching, gaps, f_hat, mu_c, tol_c)
+            if mode == "along":
                 status = "left"
-                record("left", f"clear of the fence at orientation {theta:.9g}")
+                record("left", f"the edge under the fence's end lies along the belt at orientation {theta:.9g}")
                 break
-            cm = cm - lam * D
-            push += lam
+            if mode == "jam":
+                status = "jammed"
+                record("jam", f"flush and |tan gamma| = {fence.jam_threshold:.6g} <= mu_c = {mu_c:.6g} (6.4)")
+                break
+            kind, _, idx = mode.partition(":")
+            if not events or events[-1].detail != MODE_TEXT[kind].format(idx):
+                if kind == "flush":
+                    flush_edges.append(int(idx))
+                record(kind, MODE_TEXT[kind].format(idx))
+            h = s.step * a
+            if mode.startswith("flush"):
+                # a translation is exact: go straight to the next event (E reaching the
+                # downstream vertex, then the force line), never past it
+                h = max(h, _flush_distance(geo, cm, theta, twist, int(mode.split(":")[1]), f_hat))
+            elif mode.startswith("end"):
+                # E stops pushing when the edge under it lies along the belt: never turn past
+                # that (the twist is constant over a step, so the turn is exactly omega h)
+                h = min(h, _turn_to_along(hull, int(mode.split(":")[1]), twist.omega))
+            while True:
+                cm_n, th_n = advance(cm, theta, twist, h)
+                cm_n = _reimpose(geo, cm_n, th_n, mode, cm, theta)
+                hull_n = geo.hull(cm_n, th_n)
+                z_n = geo.heights(hull_n)
+                on = geo.on_fence(geo.along(hull_n))
+                pen = float(np.min(np.where(on, z_n, np.inf)))
+                d_n, _ = geo.end_contact(hull_n)
+                if (pen >= -tol_c and d_n <= tol_c) or h <= s.min_step * a:
+                    break
+                h *= 0.5
+            cm, theta = cm_n, th_n
+            push += h
             pushes.append(push)
             cms.append(cm.copy())
             thetas.append(theta)
-            if not events or events[-1].kind != "contact":
-                record("contact", "first contact" if not events else "contact again")
-            continue
-        # What moves the part (module docstring).
-        mode, twist = _mode(geo, oracle, cm, theta, hull, touching, gaps, f_hat, mu_c, tol_c)
-        if mode == "along":
-            status = "left"
-            record("left", f"the edge under the fence's end lies along the belt at orientation {theta:.9g}")
-            break
-        if mode == "jam":
-            status = "jammed"
-            record("jam", f"flush and |tan gamma| = {fence.jam_threshold:.6g} <= mu_c = {mu_c:.6g} (6.4)")
-            break
-        kind, _, idx = mode.partition(":")
-        if not events or events[-1].detail != MODE_TEXT[kind].format(idx):
-            if kind == "flush":
-                flush_edges.append(int(idx))
-            record(kind, MODE_TEXT[kind].format(idx))
-        h = s.step * a
-        if mode.startswith("flush"):
-            # a translation is exact: go straight to the next event (E reaching the
-            # downstream vertex, then the force line), never past it
-            h = max(h, _flush_distance(geo, cm, theta, twist, int(mode.split(":")[1]), f_hat))
-        elif mode.startswith("end"):
-            # E stops pushing when the edge under it lies along the belt: never turn past
-            # that (the twist is constant over a step, so the turn is exactly omega h)
-            h = min(h, _turn_to_along(hull, int(mode.split(":")[1]), twist.omega))
-        while True:
-            cm_n, th_n = advance(cm, theta, twist, h)
-            cm_n = _reimpose(geo, cm_n, th_n, mode, cm, theta)
-            hull_n = geo.hull(cm_n, th_n)
-            z_n = geo.heights(hull_n)
-            on = geo.on_fence(geo.along(hull_n))
-            pen = float(np.min(np.where(on, z_n, np.inf)))
-            d_n, _ = geo.end_contact(hull_n)
-            if (pen >= -tol_c and d_n <= tol_c) or h <= s.min_step * a:
-                break
-            h *= 0.5
-        cm, theta = cm_n, th_n
-        push += h
-        pushes.append(push)
-        cms.append(cm.copy())
-        thetas.append(theta)
+    except TimeLimitReached as exc:
+        status = "time_limit"
+        record("time_limit", str(exc))
     return FenceRun(theta_initial=float(theta_initial), theta_final=theta if status == "left" else None,
                     status=status, events=events, pushes=np.array(pushes), cms=np.array(cms),
                     thetas=np.array(thetas), counts=oracle.counts, solve_time_s=time.perf_counter() - t0,

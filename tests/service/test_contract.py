@@ -12,8 +12,9 @@ CONTRACT_TIME_LIMIT_S so that one example cannot take seconds. The gross-motion 
 valid n_nodes and n_points are cut to the minimum and their time budget to
 CONTRACT_GROSS_TIME_LIMIT_S, which admits one exact bound of 6 small sketches (~0.5 s) and
 refuses more by the service's cost model (a documented 422). The spiral endpoints get
-CONTRACT_SPIRAL_TIME_LIMIT_S and at most one simulated support. Everything else is as
-generated.
+CONTRACT_SPIRAL_TIME_LIMIT_S and at most one simulated support; the feeder endpoints
+CONTRACT_FEEDER_TIME_LIMIT_S and at most CONTRACT_FEEDER_MAX_STEPS steps per fence.
+Everything else is as generated.
 """
 
 from __future__ import annotations
@@ -42,6 +43,9 @@ CONTRACT_GROSS_TIME_LIMIT_S = 0.7
 GROSS_PATHS = ("/v1/push/align", "/v1/push/disk-encounter")
 SPIRAL_PATHS = ("/v1/spiral/critical-radius", "/v1/spiral/schedule")
 CONTRACT_SPIRAL_TIME_LIMIT_S = 0.3
+FEEDER_PATHS = ("/v1/feeder/map", "/v1/feeder/simulate")
+CONTRACT_FEEDER_TIME_LIMIT_S = 0.3
+CONTRACT_FEEDER_MAX_STEPS = 200
 
 TIME_LIMIT_STATUS = "504"
 """A time limit that runs out (on a busy machine, within the capped budgets below) is
@@ -65,7 +69,7 @@ def test_every_operation_is_covered() -> None:
     ids = {op.ok().definition.raw.get("operationId") for op in schema.get_all_operations()}
     assert ids == {"healthz", "readyz", "cor_locus", "cor_solve", "cor_membership", "cor_tripod_statistics", "mpp_particle",
                    "push_quasistatic", "cor_sketch", "push_align", "push_disk_encounter",
-                   "spiral_critical_radius", "spiral_schedule"}
+                   "spiral_critical_radius", "spiral_schedule", "feeder_map", "feeder_simulate"}
 
 
 def contract_settings(max_examples: int) -> hypothesis.settings:
@@ -96,14 +100,23 @@ def _cap_time_limit(case: schemathesis.Case) -> None:
     if isinstance(body, dict) and case.path in SPIRAL_PATHS:
         _cap_spiral(body)
         return
+    if isinstance(body, dict) and case.path in FEEDER_PATHS:
+        _cap_feeder(body, simulate=case.path.endswith("simulate"))
+        return
     if not isinstance(body, dict) or case.path not in ("/v1/cor/locus", "/v1/cor/membership", "/v1/cor/sketch"):
         return
     if case.path in ("/v1/cor/locus", "/v1/cor/sketch") and body.get("method") != "certified":
         return
-    limit = body.get("time_limit_s", MAX_TIME_LIMIT_S)  # absent: the default, at most the maximum
+    _cap_limit(body, CONTRACT_TIME_LIMIT_S)
+
+
+def _cap_limit(body: dict, cap: float) -> None:
+    """A valid time_limit_s (absent: the default, at most the maximum) above ``cap``
+    becomes ``cap``; an invalid one stays, for the negative examples."""
+    limit = body.get("time_limit_s", MAX_TIME_LIMIT_S)
     valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and limit <= MAX_TIME_LIMIT_S
-    if valid and limit > CONTRACT_TIME_LIMIT_S:
-        body["time_limit_s"] = CONTRACT_TIME_LIMIT_S
+    if valid and limit > cap:
+        body["time_limit_s"] = cap
 
 
 def _is_int(value) -> bool:
@@ -117,10 +130,17 @@ def _cap_gross(body: dict) -> None:
         body["n_nodes"] = GROSS_MIN_N_NODES
     if _is_int(body.get("n_points", MIN_N_POINTS)) and MIN_N_POINTS <= body.get("n_points", MIN_N_POINTS) <= SKETCH_MAX_N_POINTS:
         body["n_points"] = MIN_N_POINTS
-    limit = body.get("time_limit_s", MAX_TIME_LIMIT_S)
-    valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and limit <= MAX_TIME_LIMIT_S
-    if valid and limit > CONTRACT_GROSS_TIME_LIMIT_S:
-        body["time_limit_s"] = CONTRACT_GROSS_TIME_LIMIT_S
+    _cap_limit(body, CONTRACT_GROSS_TIME_LIMIT_S)
+
+
+def _cap_feeder(body: dict, simulate: bool) -> None:
+    """A valid (or absent) time budget at most CONTRACT_FEEDER_TIME_LIMIT_S (a map or a
+    run cut short answers what it finished, status time_limit) and a simulation's valid
+    max_steps at most CONTRACT_FEEDER_MAX_STEPS."""
+    _cap_limit(body, CONTRACT_FEEDER_TIME_LIMIT_S)
+    steps = body.get("max_steps", CONTRACT_FEEDER_MAX_STEPS + 1)
+    if simulate and _is_int(steps) and steps > CONTRACT_FEEDER_MAX_STEPS:
+        body["max_steps"] = CONTRACT_FEEDER_MAX_STEPS
 
 
 def _cap_spiral(body: dict) -> None:
@@ -129,10 +149,7 @@ def _cap_spiral(body: dict) -> None:
     simulation cut to one support, 8 path points per revolution, and the tip-line method (its
     r* table costs nothing, so the examples exercise the schedule rather than a table that
     never finishes in the budget)."""
-    limit = body.get("time_limit_s", MAX_TIME_LIMIT_S)
-    valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and limit <= MAX_TIME_LIMIT_S
-    if valid and limit > CONTRACT_SPIRAL_TIME_LIMIT_S:
-        body["time_limit_s"] = CONTRACT_SPIRAL_TIME_LIMIT_S
+    _cap_limit(body, CONTRACT_SPIRAL_TIME_LIMIT_S)
     if body.get("method", "sweep") in ("sweep", "exact"):
         body["method"] = "tip_line"  # a table in no time: the schedule, the path and the checks still run
     ppr = body.get("points_per_revolution", 64)

@@ -86,6 +86,8 @@ def test_stable_operation_ids():
         ("/v1/push/disk-encounter", "post"): "push_disk_encounter",
         ("/v1/spiral/critical-radius", "post"): "spiral_critical_radius",
         ("/v1/spiral/schedule", "post"): "spiral_schedule",
+        ("/v1/feeder/map", "post"): "feeder_map",
+        ("/v1/feeder/simulate", "post"): "feeder_simulate",
     }
 
 

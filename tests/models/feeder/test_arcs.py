@@ -13,6 +13,8 @@ def test_merge_overlapping_touching_and_across_zero():
     np.testing.assert_allclose(np.array(a.arcs), [(0.5, 0.8), (3.0, 0.0), (TWO_PI - 0.2, 0.3)])
     assert a.measure == pytest.approx(1.1)
     assert a.contains(0.05) and a.contains(3.0) and not a.contains(2.0)
+    assert a.contains(3.0 + 1e-3, slack=1e-3) and not a.contains(3.0 + 2e-3, slack=1e-3)
+    assert a.contains(0.5 - 1e-3, slack=1e-3) and a.contains(TWO_PI - 0.2 - 1e-3, slack=1e-3)
 
 
 def test_wide_arcs_are_the_circle():

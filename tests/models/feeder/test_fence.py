@@ -74,7 +74,7 @@ def test_flush_edge_stability_by_hand_phase_4():
 def test_endpoint_extremes_5_1_6_5():
     """Leaving the end: the turn lies between B (> 0) and A = 90 deg - |gamma|, so the edge
     ends between somewhat more than the fence angle and along the belt (6.5, figure 6-9).
-    The default tolerances agree with FINE to 0.15 degrees and lie on its safe side (B
+    The default tolerances agree with FINE to 0.3 degrees and lie on its safe side (B
     smaller: a wider band)."""
     part = Part.create(SQUARE)
     last = 0.0
@@ -84,7 +84,7 @@ def test_endpoint_extremes_5_1_6_5():
         fine = endpoint_turn(part, 0, fence, FINE)
         assert turn.most == pytest.approx(math.radians(90 - deg))
         assert 0.0 < turn.least < turn.most and turn.contact_lost
-        assert fine.least - math.radians(0.15) < turn.least <= fine.least
+        assert fine.least - math.radians(0.3) < turn.least <= fine.least
         assert turn.sense_flags == 0
         # the final edge angle gamma + B rises with the fence angle
         assert deg + math.degrees(turn.least) > last

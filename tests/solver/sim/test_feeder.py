@@ -9,6 +9,9 @@ All seeded:
 * the runs near the friction angle (|tan gamma| slightly above mu_c), where the map's
   extreme B once missed a stall of the slip (the slip per radian falls to 0 before it
   rises again), are inside too;
+* a sequence of two to four fences on alternating sides: every chained simulation (the
+  final orientation of one fence the initial of the next, one support throughout) lies in
+  the product of the fences' maps (5.1, 5.4, 5.5);
 * jams: a flush part with |tan gamma| <= mu_c stops (6.4);
 * symmetry: the mirror image of part, support, fence and start gives the mirrored final
   orientation; scaling the part by 1e-3 and 1e3 changes nothing;
@@ -24,26 +27,17 @@ import pytest
 
 from models.errors import InvalidInput
 from models.feeder.fence import Fence, Part, fence_map
-from models.footprint import Footprint
-from models.support import random_balanced_tripods
+from models.feeder.maps import sequence
 from solver.sim.feeder import FeederSimSettings, simulate_fence
+from tests.feeder_cases import PARTS, part, random_encounter, random_fence, random_support
 
-PARTS = {
-    "square": ([[0, 0], [1, 0], [1, 1], [0, 1]], [0.5, 0.5]),
-    "rectangle": ([[0, 0], [4, 0], [4, 1], [0, 1]], [2, 0.5]),
-    "right triangle": ([[0, 0], [2, 0], [0, 3]], [2 / 3, 1]),
-    "pentagon": ([[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], [1.4, 1.0]),
-}
 SLACK = 1e-6  # radians: the run's final orientation against a band's edge
 
 
-def random_case(rng, name, gamma_deg=(20.0, 65.0), mu=(0.0, 0.6)):
-    verts, cm = PARTS[name]
-    part = Part.create(verts, cm)
-    gamma = float(rng.choice([-1.0, 1.0]) * math.radians(rng.uniform(*gamma_deg)))
-    mu_c = float(rng.uniform(*mu))
-    pts, wts = random_balanced_tripods(rng, 1, part.radius, footprint=Footprint.create(verts, cm))
-    return part, gamma, mu_c, pts[0] - np.asarray(cm, dtype=float), wts[0], float(rng.uniform(-math.pi, math.pi))
+def random_case(rng, name, mu=(0.0, 0.6)):
+    fence, mu_c = random_fence(rng, mu=mu)
+    enc = random_encounter(rng, name)
+    return enc.part, fence.angle, mu_c, enc.body, enc.weights, enc.theta
 
 
 def assert_inside_map(part, gamma, mu_c, body, wts, theta):
@@ -52,11 +46,10 @@ def assert_inside_map(part, gamma, mu_c, body, wts, theta):
     run = simulate_fence(part, fence, mu_c, body, wts, theta)
     assert run.complete, run.message
     if run.status == "jammed":
-        assert not cmap.jam.is_empty
+        assert cmap.jam.contains(theta)
         return run
-    where = [run.theta_final + d for d in (-SLACK, 0.0, SLACK)]
-    assert any(k.contains(theta) and any(b.contains(x) for x in where) for b, k in zip(cmap.bands, cmap.kernels)), \
-        (gamma, mu_c, theta, run.theta_final, [e.detail for e in run.events])
+    assert cmap.allows(theta, run.theta_final, SLACK), (gamma, mu_c, theta, run.theta_final,
+                                                        [e.detail for e in run.events])
     return run
 
 
@@ -76,35 +69,56 @@ def test_near_the_friction_angle_the_slip_stalls_and_b_still_bounds_it_5_1():
     """|tan gamma| just above mu_c: the part slides off the end after a stall of its slip
     (the case that broke an integration of B in the contact's position)."""
     rng = np.random.default_rng(64)
-    part = Part.create(*PARTS["square"])
-    fp = Footprint.create(*PARTS["square"])
+    square = part("square")
     for gamma_deg in (24.6, -28.3, 31.0):
         gamma = math.radians(gamma_deg)
         mu_c = 0.97 * math.tan(abs(gamma))
-        pts, wts = random_balanced_tripods(rng, 1, part.radius, footprint=fp)
-        body = pts[0] - 0.5
+        body, wts = random_support(rng, "square")
         for theta in rng.uniform(-math.pi, math.pi, 2):
-            run = assert_inside_map(part, gamma, mu_c, body, wts[0], float(theta))
+            run = assert_inside_map(square, gamma, mu_c, body, wts, float(theta))
             assert run.status == "left"
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(PARTS))
+def test_chained_simulations_lie_in_the_product_of_the_maps_5_4_5_5(name):
+    rng = np.random.default_rng(55)
+    the_part = part(name)
+    for n_fences in (2, 4):
+        side = float(rng.choice([-1.0, 1.0]))
+        fences = []
+        for i in range(n_fences):
+            deg = rng.uniform(25.0, 60.0)
+            mu_c = float(rng.uniform(0.05, 0.3))
+            fences.append((Fence.create(side * (-1) ** i * math.radians(deg), (mu_c, mu_c)), mu_c))
+        product = sequence([fence_map(the_part, f).map for f, _ in fences])
+        for _ in range(2):
+            body, wts = random_support(rng, name)
+            theta0 = theta = float(rng.uniform(-math.pi, math.pi))
+            for fence, mu_c in fences:
+                run = simulate_fence(the_part, fence, mu_c, body, wts, theta)
+                assert run.status == "left", run.message
+                theta = run.theta_final
+            assert product.allows(theta0, theta, SLACK)
+
+
 def test_a_flush_part_jams_at_or_below_the_friction_angle_6_4():
-    part = Part.create(*PARTS["square"])
+    square = part("square")
     gamma = math.radians(30.0)
     mu_c = math.tan(gamma) + 0.01
     fence = Fence.create(gamma, mu_c)
-    run = simulate_fence(part, fence, mu_c, [[0.2, 0.1], [-0.1, 0.15], [-0.1, -0.25]], [1, 1, 1], 0.3)
+    run = simulate_fence(square, fence, mu_c, [[0.2, 0.1], [-0.1, 0.15], [-0.1, -0.25]], [1, 1, 1], 0.3)
     assert run.status == "jammed" and run.theta_final is None
     assert run.events[-1].kind == "jam" and "6.4" in run.events[-1].detail
-    assert not fence_map(part, fence).map.jam.is_empty
+    assert fence_map(square, fence).map.jam.contains(0.3)
 
 
 def test_mirror_image_gives_the_mirrored_outcome():
     rng = np.random.default_rng(7)
-    part, gamma, mu_c, body, wts, theta = random_case(rng, "pentagon", mu=(0.1, 0.3))
+    the_part, gamma, mu_c, body, wts, theta = random_case(rng, "pentagon", mu=(0.1, 0.3))
     verts, cm = PARTS["pentagon"]
     fence = Fence.create(gamma, mu_c)
-    run = simulate_fence(part, fence, mu_c, body, wts, theta)
+    run = simulate_fence(the_part, fence, mu_c, body, wts, theta)
     mverts = [[-x, y] for x, y in verts]
     mpart = Part.create(mverts, [-cm[0], cm[1]])
     mbody = body * np.array([-1.0, 1.0])
@@ -116,10 +130,10 @@ def test_mirror_image_gives_the_mirrored_outcome():
 @pytest.mark.parametrize("scale", [1e-3, 1e3])
 def test_scaling_the_part_changes_no_orientation(scale):
     rng = np.random.default_rng(11)
-    part, gamma, mu_c, body, wts, theta = random_case(rng, "right triangle", mu=(0.1, 0.3))
+    the_part, gamma, mu_c, body, wts, theta = random_case(rng, "right triangle", mu=(0.1, 0.3))
     verts, cm = PARTS["right triangle"]
     fence = Fence.create(gamma, mu_c)
-    ref = simulate_fence(part, fence, mu_c, body, wts, theta)
+    ref = simulate_fence(the_part, fence, mu_c, body, wts, theta)
     big = Part.create(np.array(verts, dtype=float) * scale, np.array(cm) * scale)
     got = simulate_fence(big, fence, mu_c, body * scale, wts, theta)
     assert ref.status == got.status == "left"
@@ -128,18 +142,17 @@ def test_scaling_the_part_changes_no_orientation(scale):
 
 
 def test_a_run_cut_short_says_so():
-    part = Part.create(*PARTS["square"])
     fence = Fence.create(math.radians(45.0), 0.2)
-    run = simulate_fence(part, fence, 0.2, [[0.2, 0.1], [-0.1, 0.15], [-0.1, -0.25]], [1, 1, 1], 0.3,
+    run = simulate_fence(part("square"), fence, 0.2, [[0.2, 0.1], [-0.1, 0.15], [-0.1, -0.25]], [1, 1, 1], 0.3,
                          settings=FeederSimSettings(max_steps=3))
     assert run.status == "step_limit" and not run.complete and run.theta_final is None
     assert len(run.pushes) <= 4
 
 
 def test_bad_input_is_refused():
-    part = Part.create(*PARTS["square"])
+    square = part("square")
     fence = Fence.create(math.radians(45.0), 0.2)
     with pytest.raises(InvalidInput, match="mu_c"):
-        simulate_fence(part, fence, 0.5, [[0.0, 0.0]], [1.0], 0.0)
+        simulate_fence(square, fence, 0.5, [[0.0, 0.0]], [1.0], 0.0)
     with pytest.raises(InvalidInput, match="support"):
-        simulate_fence(part, fence, 0.2, [[0.1, 0.0], [-0.1, 0.0]], [1.0, -1.0], 0.0)
+        simulate_fence(square, fence, 0.2, [[0.1, 0.0], [-0.1, 0.0]], [1.0, -1.0], 0.0)

@@ -1,0 +1,174 @@
+"""Request and response schemas of ``POST /v1/feeder/map`` and ``POST /v1/feeder/simulate``
+(book 5.1, 5.2, 6.4-6.6). Frames: the belt carries parts in -y; a fence's ``angle`` is its
+angle from the x-axis in (-pi/2, pi/2) radians, positive when it hangs from the belt's
+right side (the part slides down it to the left). Orientations are radians in [0, 2 pi);
+a set of orientations is a list of closed arcs [start, width] counter-clockwise.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import ConfigDict, Field
+
+from service.common.fields import Angle, MuC, Point, Strict, TimeLimit
+from service.limits import (
+    FEEDER_MAX_FENCE_LENGTH_RADII,
+    FEEDER_MAX_FENCES,
+    FEEDER_MAX_RESOLUTION,
+    FEEDER_MAX_STEPS,
+    FEEDER_MAX_SUPPORT_POINTS,
+    FEEDER_MAX_TRAJECTORY_POINTS,
+    FEEDER_MAX_VERTICES,
+    MAX_WEIGHT,
+    MIN_POLYGON_VERTICES,
+)
+
+Arc = Annotated[list[float], Field(min_length=2, max_length=2, description="[start, width], radians.")]
+
+
+class FeederPartIn(Strict):
+    vertices: Annotated[list[Point], Field(min_length=MIN_POLYGON_VERTICES, max_length=FEEDER_MAX_VERTICES)] = Field(
+        description="The part's outline [[x, y], ...] in its own frame (only its convex hull meets a fence).")
+    center_of_mass: Point = Field(description="The centre of mass [x, y] in the same frame, inside the hull.")
+
+
+class FeederFenceIn(Strict):
+    angle: Angle = Field(description="Fence angle gamma from the x-axis, radians, in (-pi/2, pi/2), not 0.")
+    mu_c: MuC | None = Field(default=None, description="Contact friction between part and fence.")
+    mu_c_range: Annotated[list[MuC], Field(min_length=2, max_length=2)] | None = Field(
+        default=None, description="An interval [low, high] of mu_c instead of one value (maps only).")
+
+
+Fences = Annotated[list[FeederFenceIn], Field(min_length=1, max_length=FEEDER_MAX_FENCES)]
+
+
+class FeederMapRequest(Strict):
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"examples": [{
+            "part": {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]},
+            "fences": [{"angle": 0.7, "mu_c": 0.25}, {"angle": -0.9, "mu_c_range": [0.1, 0.3]}],
+            "resolution": 360,
+        }]},
+    )
+
+    part: FeederPartIn
+    fences: Fences = Field(description="The fences in the order the part meets them.")
+    resolution: Annotated[int, Field(strict=True, ge=0, le=FEEDER_MAX_RESOLUTION)] = Field(
+        default=0, description="Cells of the circle for the product's boolean matrix (0: none; 360: 1 degree).")
+    time_limit_s: TimeLimit | None = None
+
+
+class FeederBandOut(Strict):
+    band: list[Arc] = Field(description="Final orientations B_j (5.2).")
+    kernel: list[Arc] = Field(description="Initial orientations that end in the band, K_j (5.2).")
+
+
+class FeederFenceBandOut(FeederBandOut):
+    edge: int = Field(description="The hull edge that leaves the fence flush (index in the hull, CCW).")
+    vertex: int = Field(description="The input vertex where that edge starts.")
+    turn_least: float = Field(description="Extreme B: the least turn off the fence's end, radians (5.1).")
+    turn_most: float = Field(description="Extreme A: the most turn, pi/2 - |gamma| (5.1).")
+    contact_lost: bool = Field(description="Whether B ends with the end leaving the edge before A.")
+
+
+class FeederFenceMapOut(Strict):
+    angle: float
+    mu_c_range: list[float]
+    jams_possible: bool = Field(description="|tan gamma| <= the highest mu_c: a flush part may jam (6.4).")
+    bands: list[FeederFenceBandOut]
+    jam: list[Arc] = Field(description="Initial orientations that may jam on this fence.")
+    locus_evaluations: int
+
+
+class FeederProductBandOut(FeederBandOut):
+    code_set: list[int] = Field(description="The first fence's kernels whose union is this kernel (5.4, 5.5).")
+
+
+class FeederProductOut(Strict):
+    bands: list[FeederProductBandOut]
+    jam: list[Arc]
+
+
+class FeederMatrixOut(Strict):
+    resolution: int
+    rows: list[str] = Field(description="Row f (final cell) as a string of 0/1 over the initial cells (5.1).")
+
+
+class FeederMapResponse(Strict):
+    fences: list[FeederFenceMapOut]
+    product: FeederProductOut | None = Field(description="The map of the whole sequence (null unless every fence's map was made).")
+    matrix: FeederMatrixOut | None
+    bound: str = Field(description="What bounded the turns off the end: the part's circumscribing disk.")
+    status: str = Field(description="ok, or time_limit (the maps finished are returned).")
+    complete: bool
+    message: str
+    solve_time_ms: float
+    elapsed_ms: float
+
+
+class FeederSupportIn(Strict):
+    points: Annotated[list[Point], Field(min_length=1, max_length=FEEDER_MAX_SUPPORT_POINTS)] = Field(
+        description="Support points in the part's frame; their weighted centroid must be the centre of mass.")
+    weights: Annotated[list[Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=MAX_WEIGHT)]],
+                       Field(min_length=1, max_length=FEEDER_MAX_SUPPORT_POINTS)]
+
+
+class FeederSimFenceIn(Strict):
+    angle: Angle = Field(description="Fence angle gamma, radians, in (-pi/2, pi/2), not 0.")
+    mu_c: MuC = Field(description="Contact friction between part and fence.")
+
+
+class FeederSimulateRequest(Strict):
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"examples": [{
+            "part": {"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "center_of_mass": [0.5, 0.5]},
+            "support": {"points": [[0.7, 0.6], [0.4, 0.65], [0.4, 0.25]], "weights": [1, 1, 1]},
+            "fences": [{"angle": 0.7, "mu_c": 0.25}, {"angle": -0.8, "mu_c": 0.25}],
+            "theta_initial": 0.3,
+        }]},
+    )
+
+    part: FeederPartIn
+    support: FeederSupportIn
+    fences: Annotated[list[FeederSimFenceIn], Field(min_length=1, max_length=FEEDER_MAX_FENCES)]
+    theta_initial: Angle = Field(description="The part's orientation before the first fence, radians.")
+    fence_length: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0)] | None = Field(
+        default=None, description=f"Length of every fence (default 40 part radii; at most "
+                                  f"{FEEDER_MAX_FENCE_LENGTH_RADII:g} radii).")
+    max_steps: Annotated[int, Field(strict=True, ge=1, le=FEEDER_MAX_STEPS)] = 20_000
+    trajectory_points: Annotated[int, Field(strict=True, ge=0, le=FEEDER_MAX_TRAJECTORY_POINTS)] = Field(
+        default=200, description="Trajectory samples returned per fence (evenly over the steps; 0: none).")
+    check_map: bool = Field(default=True, description="Say whether each outcome lies in its fence's map.")
+    time_limit_s: TimeLimit | None = None
+
+
+class FeederEventOut(Strict):
+    push: float = Field(description="Belt travel so far in this fence's run.")
+    kind: str
+    detail: str
+
+
+class FeederFenceRunOut(Strict):
+    status: str = Field(description="left, jammed, step_limit or time_limit.")
+    theta_initial: float
+    theta_final: float | None
+    in_map: bool | None = Field(description="Whether the outcome lies in the fence's map (null: not checked or not finished).")
+    events: list[FeederEventOut]
+    trajectory: list[list[float]] = Field(description="[push, x, y, theta] of the centre of mass in the fence's frame (its free end at the origin).")
+    steps: int
+    forward_solves: int
+
+
+class FeederSimulateResponse(Strict):
+    runs: list[FeederFenceRunOut]
+    theta_final: float | None
+    status: str
+    complete: bool
+    message: str
+    solve_time_ms: float
+    elapsed_ms: float
+
+

@@ -1,0 +1,154 @@
+"""Benchmark (not a test): configuration maps of one fence and the fence simulator
+(models/feeder/fence.py, solver/sim/feeder.py; book 5.1, 5.2, 6.4-6.6).
+
+Writes its section of docs/benchmarks.md: the map's time against the extreme-B
+integration's steps and the error of its band edges against FINE; the boolean matrix's
+time against the orientation resolution; simulated parts per second, how many outcomes
+fall inside their maps, and how much of each band they fill. Run with
+`pytest tests/benchmarks/test_bench_feeder.py --run-benchmarks`."""
+
+from __future__ import annotations
+
+import math
+import platform
+import statistics
+import time
+
+import numpy as np
+import pytest
+
+from models.feeder.arcs import ccw_distance
+from models.feeder.fence import FINE, FeederTolerances, Fence, fence_map
+from solver.sim.feeder import simulate_fence
+from tests.benchmarks._docs import write_section
+from tests.feeder_cases import PARTS, part, random_encounter
+
+pytestmark = pytest.mark.benchmark
+
+SEED = 20261124
+FENCES = ((40.0, (0.25, 0.25)), (-55.0, (0.15, 0.15)), (30.0, (0.1, 0.3)))
+SIM_FENCES = ((40.0, 0.25), (-55.0, 0.15), (24.0, 0.43))  # the last 3 % above the friction angle
+RUNS = 20
+SLACK = 1e-6
+
+
+def timed(fn, repeat=5):
+    times = []
+    out = None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), out
+
+
+def map_rows():
+    rows = []
+    pent = part("pentagon")
+    for deg, mu in FENCES:
+        fence = Fence.create(math.radians(deg), mu)
+        ref = fence_map(pent, fence, FINE)
+        t_fine, _ = timed(lambda: fence_map(pent, fence, FINE), repeat=1)
+        for steps in (8, 16, 32):
+            tol = FeederTolerances(endpoint_steps=steps)
+            t, got = timed(lambda: fence_map(pent, fence, tol))
+            err = [math.degrees(g.least - r.least) for g, r in zip(got.turns, ref.turns)]
+            rows.append(f"| {deg:+.0f}° | {mu[0]:g}–{mu[1]:g} | {steps} | {1e3 * t:.0f} | "
+                        f"{min(err):+.3f} / {max(err):+.3f} | {1e3 * t_fine:.0f} |")
+    return rows
+
+
+def matrix_rows():
+    cmap = fence_map(part("pentagon"), Fence.create(math.radians(40.0), 0.25)).map
+    rows = []
+    for n in (90, 360, 1440):
+        t, m = timed(lambda: cmap.matrix(n))
+        rows.append(f"| {360 / n:g}° ({n}) | {1e3 * t:.2f} | {int(m.sum())} |")
+    return rows
+
+
+def sim_rows(rng):
+    rows = []
+    totals = {"runs": 0, "inside": 0, "time": 0.0, "solves": 0}
+    for name in PARTS:
+        the_part = part(name)
+        for deg, mu in SIM_FENCES:
+            fence = Fence.create(math.radians(deg), mu)
+            cmap = fence_map(the_part, fence).map
+            where: dict[int, list[float]] = {}
+            inside = jams = cut = 0
+            t_sim = 0.0
+            solves = 0
+            for _ in range(RUNS):
+                enc = random_encounter(rng, name)
+                t0 = time.perf_counter()
+                run = simulate_fence(the_part, fence, mu, enc.body, enc.weights, enc.theta)
+                t_sim += time.perf_counter() - t0
+                solves += run.counts.solves
+                if run.status == "jammed":
+                    jams += 1
+                    inside += cmap.jam.contains(enc.theta)
+                    continue
+                if run.status != "left":
+                    cut += 1
+                    continue
+                ok = cmap.allows(enc.theta, run.theta_final, SLACK)
+                inside += ok
+                for j, (band, kernel) in enumerate(zip(cmap.bands, cmap.kernels)):
+                    if kernel.contains(enc.theta) and band.contains(run.theta_final, SLACK):
+                        s, w = band.arcs[0]
+                        d = ccw_distance(s - SLACK, run.theta_final) - SLACK
+                        where.setdefault(j, []).append(d / w if w > 0 else 0.0)
+            spans = [f"{min(v):.2f}–{max(v):.2f}" for _, v in sorted(where.items()) if len(v) >= 2]
+            rows.append(f"| {name} | {deg:+.0f}° | {mu:g} | {RUNS} | {inside} | {jams} | {cut} | "
+                        f"{RUNS / t_sim:.1f} | {solves / RUNS:.0f} | {', '.join(spans) or '–'} |")
+            totals["runs"] += RUNS
+            totals["inside"] += inside
+            totals["time"] += t_sim
+            totals["solves"] += solves
+    return rows, totals
+
+
+def test_bench_feeder():
+    rng = np.random.default_rng(SEED)
+    m_rows = map_rows()
+    x_rows = matrix_rows()
+    s_rows, tot = sim_rows(rng)
+    assert tot["inside"] == tot["runs"]
+    lines = [
+        f"`tests/benchmarks/test_bench_feeder.py`, seed {SEED}, {platform.python_version()}, one core. "
+        "The five-sided part is `tests/feeder_cases.py`'s irregular pentagon (figure 1-9's outline is "
+        "not in the OCR text).",
+        "",
+        "Map of one fence with the disk bound (`fence_map`): median of 5 runs; the error of each "
+        "band's B edge against FINE (200 arc-length steps, 400 locus points, no margin), least / "
+        "most over the bands, after the default margin b_margin = 2e-3 rad (0.11°) (negative: the band is "
+        "wider than FINE's, the safe side).",
+        "",
+        "| γ | μ_c | B steps | map ms | B − B_FINE (deg) | FINE ms |",
+        "|---|---|---|---|---|---|",
+        *m_rows,
+        "",
+        "The boolean matrix of a map (`ConfigurationMap.matrix`) against the orientation grid "
+        "(the symbolic map does not depend on it):",
+        "",
+        "| resolution | ms | true cells |",
+        "|---|---|---|",
+        *x_rows,
+        "",
+        "Simulated parts (`simulate_fence`, one random balanced tripod in the part and a random "
+        "initial orientation per run): inside = final orientation in a band whose kernel holds "
+        "the initial one (slack 1e-6 rad), or a jam where the map allows one; cut = step limit; "
+        "fill = where in its band the outcomes fell, from its clockwise end (0) to its "
+        "counter-clockwise end (1), per band with two or more outcomes (γ > 0: 0 is B and 1 is A; "
+        "γ < 0: 0 is A and 1 is B).",
+        "",
+        "| part | γ | μ_c | runs | inside | jams | cut | parts/s | solves/part | fill per band |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+        *s_rows,
+        "",
+        f"All {tot['runs']} outcomes inside their maps; {tot['runs'] / tot['time']:.1f} parts/s overall, "
+        f"{tot['solves'] / tot['runs']:.0f} forward solves per part (one support at a time: the batched "
+        "simulator is not built yet).",
+    ]
+    write_section("Configuration maps and the fence simulator (issue 12, book 5.1-5.2, 6.4-6.6)", lines)

@@ -1,0 +1,94 @@
+"""POST /v1/feeder/map and /v1/feeder/simulate (book 5.1, 5.2, 5.4, 6.4-6.6) against the
+solver called directly, and their input errors (422 naming the field)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from models.feeder.fence import Fence, Part, fence_map
+from models.feeder.maps import sequence
+
+PENTAGON = {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]}
+SQUARE = {"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "center_of_mass": [0.5, 0.5]}
+SUPPORT = {"points": [[0.7, 0.6], [0.4, 0.65], [0.4, 0.25]], "weights": [1, 1, 1]}
+
+
+def test_map_of_two_fences_equals_the_models_product_5_4(client):
+    body = {"part": PENTAGON, "fences": [{"angle": 0.7, "mu_c": 0.25}, {"angle": -0.9, "mu_c_range": [0.1, 0.3]}],
+            "resolution": 72}
+    r = client.post("/v1/feeder/map", json=body)
+    assert r.status_code == 200, r.text
+    out = r.json()
+    assert out["complete"] and out["status"] == "ok" and out["bound"] == "disk"
+    part = Part.create(PENTAGON["vertices"], PENTAGON["center_of_mass"])
+    maps = [fence_map(part, Fence.create(0.7, 0.25)), fence_map(part, Fence.create(-0.9, (0.1, 0.3)))]
+    for got, ref in zip(out["fences"], maps):
+        assert [b["edge"] for b in got["bands"]] == list(ref.final_edges)
+        for band, b_ref, k_ref in zip(got["bands"], ref.map.bands, ref.map.kernels):
+            assert np.allclose(band["band"], b_ref.arcs) and np.allclose(band["kernel"], k_ref.arcs)
+            assert 0.0 <= band["turn_least"] <= band["turn_most"] == pytest.approx(0.5 * math.pi - abs(got["angle"]))
+    product = sequence([m.map for m in maps])
+    assert [sorted(c) for c in product.code_sets] == [b["code_set"] for b in out["product"]["bands"]]
+    rows = out["matrix"]["rows"]
+    assert len(rows) == 72 and all(len(row) == 72 for row in rows)
+    assert np.array_equal(np.array([[c == "1" for c in row] for row in rows]), product.matrix(72))
+
+
+def test_a_fence_below_the_friction_angle_jams_everything_6_4(client):
+    r = client.post("/v1/feeder/map", json={"part": SQUARE, "fences": [{"angle": 0.3, "mu_c": 0.5}]})
+    assert r.status_code == 200, r.text
+    f = r.json()["fences"][0]
+    assert f["jams_possible"] and f["bands"] == [] and f["jam"] == [[0.0, 2 * math.pi]]
+
+
+def test_simulation_through_two_fences_lands_in_the_maps(client):
+    body = {"part": SQUARE, "support": SUPPORT, "fences": [{"angle": 0.7, "mu_c": 0.25}, {"angle": -0.8, "mu_c": 0.25}],
+            "theta_initial": 0.3, "trajectory_points": 5}
+    r = client.post("/v1/feeder/simulate", json=body)
+    assert r.status_code == 200, r.text
+    out = r.json()
+    assert out["complete"] and out["status"] == "left" and len(out["runs"]) == 2
+    assert all(run["in_map"] for run in out["runs"])
+    assert out["runs"][1]["theta_initial"] == out["runs"][0]["theta_final"]
+    assert out["theta_final"] == out["runs"][1]["theta_final"]
+    assert all(len(run["trajectory"]) == 5 and run["forward_solves"] > 0 for run in out["runs"])
+    kinds = [e["kind"] for e in out["runs"][0]["events"]]
+    assert kinds[0] == "contact" and "flush" in kinds and kinds[-1] == "left"
+
+
+def test_a_step_limit_is_an_incomplete_answer(client):
+    body = {"part": SQUARE, "support": SUPPORT, "fences": [{"angle": 0.7, "mu_c": 0.25}], "theta_initial": 0.3,
+            "max_steps": 2}
+    out = client.post("/v1/feeder/simulate", json=body).json()
+    assert out["status"] == "step_limit" and not out["complete"] and out["theta_final"] is None
+    assert out["runs"][0]["in_map"] is None
+
+
+@pytest.mark.parametrize(("fence", "loc"), [
+    ({"angle": 2.0, "mu_c": 0.2}, ["body", "fences", 0, "angle"]),
+    ({"angle": 0.0, "mu_c": 0.2}, ["body", "fences", 0, "angle"]),
+    ({"angle": 0.5}, ["body", "fences", 0, "mu_c"]),
+    ({"angle": 0.5, "mu_c": 0.2, "mu_c_range": [0.1, 0.3]}, ["body", "fences", 0, "mu_c"]),
+    ({"angle": 0.5, "mu_c_range": [0.3, 0.1]}, ["body", "fences", 0, "mu_c_range"]),
+])
+def test_bad_fences_are_422_at_their_field(client, fence, loc):
+    r = client.post("/v1/feeder/map", json={"part": SQUARE, "fences": [fence]})
+    assert r.status_code == 422, r.text
+    assert r.json()["detail"][0]["loc"][:len(loc)] == loc
+
+
+def test_bad_parts_and_supports_are_422_at_their_field(client):
+    flat = {"vertices": [[0, 0], [1, 0], [2, 0]], "center_of_mass": [1, 0]}
+    r = client.post("/v1/feeder/map", json={"part": flat, "fences": [{"angle": 0.5, "mu_c": 0.1}]})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"][:2] == ["body", "part"]
+    off = {"points": [[0.7, 0.6]], "weights": [1]}
+    r = client.post("/v1/feeder/simulate", json={"part": SQUARE, "support": off, "fences": [{"angle": 0.7, "mu_c": 0.25}],
+                                                 "theta_initial": 0.3})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "support", "points"]
+    assert "centre of mass" in r.json()["detail"][0]["msg"]
+    r = client.post("/v1/feeder/simulate", json={"part": SQUARE, "support": {"points": [[0.5, 0.5]], "weights": [1, 2]},
+                                                 "fences": [{"angle": 0.7, "mu_c": 0.25}], "theta_initial": 0.3})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "support", "weights"]
