@@ -383,7 +383,7 @@ def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFA
         x = np.array([ell0 / a, 0.0])
         end = length / a
         ds = ((end - x[0]) + cap) / tol.endpoint_steps
-        for _ in range(tol.endpoint_steps + 1):
+        for _ in range(4 * tol.endpoint_steps):  # the path's length allows endpoint_steps
             k1 = heading(*x)
             k2 = heading(*(x + ds * k1))
             x_new = x + 0.5 * ds * (k1 + k2)
@@ -397,6 +397,8 @@ def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFA
             if x_new[1] >= cap:
                 break
             x = x_new
+        else:  # no end reached (never seen): B no later than the turn reached, the safe side
+            least = min(least, max(x[1] - tol.b_margin, 0.0))
     return EndpointTurn(edge=j, least=least, most=most, contact_lost=lost, mu_used=tuple(float(m) for m in mus),
                         locus_evaluations=evaluations, sense_flags=flags)
 

@@ -114,18 +114,18 @@ def feeder_simulate(problem: FeederSimProblem, budget: Budget = UNLIMITED) -> Fe
                              fence_length=problem.fence_length, settings=problem.settings, budget=budget)
         runs.append(run)
         status = run.status
+        final = run.theta_final
         verdict: bool | None = None
-        if problem.check_map and run.complete:
-            cmap = fence_map(problem.part, fence).map
-            verdict = (cmap.jam.contains(theta) if run.status == "jammed"
-                       else cmap.allows(theta, float(run.theta_final), MAP_SLACK))  # type: ignore[arg-type]
+        if problem.check_map and run.status == "jammed":
+            verdict = fence_map(problem.part, fence).map.jam.contains(theta)
+        elif problem.check_map and final is not None:
+            verdict = fence_map(problem.part, fence).map.allows(theta, final, MAP_SLACK)
         in_map.append(verdict)
-        if run.status != "left":
+        if final is None:
             break
-        theta = float(run.theta_final)  # type: ignore[arg-type]
+        theta = final
     done = len(runs) == len(problem.fences) and status == "left"
-    final = theta if done else None
     n = len(problem.fences)
     message = (f"left all {n} fence{'s' if n > 1 else ''}" if done else
                f"stopped at fence {len(runs) - 1} of {n}: {runs[-1].message}")
-    return FeederSimResult(tuple(runs), tuple(in_map), final, status, time.perf_counter() - t0, message)
+    return FeederSimResult(tuple(runs), tuple(in_map), theta if done else None, status, time.perf_counter() - t0, message)

@@ -35,10 +35,14 @@ def part_of(p: FeederPartIn) -> Part:
         return Part.create(p.vertices, p.center_of_mass)
 
 
-def fence_of(f: FeederFenceIn, i: int, allow_range: bool = True) -> Fence:
-    if (f.mu_c is None) == (f.mu_c_range is None):
+def fence_of(f: FeederFenceIn, i: int) -> Fence:
+    mu: float | tuple[float, float]
+    if f.mu_c is not None and f.mu_c_range is None:
+        mu = f.mu_c
+    elif f.mu_c is None and f.mu_c_range is not None:
+        mu = (f.mu_c_range[0], f.mu_c_range[1])
+    else:
         raise FieldError(("fences", i, "mu_c"), "give exactly one of mu_c or mu_c_range")
-    mu = f.mu_c if f.mu_c is not None else (f.mu_c_range[0], f.mu_c_range[1])  # type: ignore[index]
     with located(rename={"fence_angle": ("fences", i, "angle"),
                          "mu_c": ("fences", i, "mu_c" if f.mu_c is not None else "mu_c_range")}):
         return Fence.create(f.angle, mu)
