@@ -92,7 +92,7 @@ class FeederSimResult:
     runs: tuple[FenceRun, ...]  # the fences the part met, in order
     in_map: tuple[bool | None, ...]  # each outcome in its fence's map (None: not checked)
     theta_final: float | None
-    status: str  # the last run's: "left" | "jammed" | "step_limit" | "time_limit"
+    status: str  # the last run's: "left" | "missed" | "jammed" | "step_limit" | "time_limit"
     solve_time_s: float
     message: str
     notes: tuple[str, ...] = field(default=())
@@ -118,13 +118,13 @@ def feeder_simulate(problem: FeederSimProblem, budget: Budget = UNLIMITED) -> Fe
         verdict: bool | None = None
         if problem.check_map and run.status == "jammed":
             verdict = fence_map(problem.part, fence).map.jam.contains(theta)
-        elif problem.check_map and final is not None:
+        elif problem.check_map and run.status == "left":  # the maps assume a contact: not for "missed"
             verdict = fence_map(problem.part, fence).map.allows(theta, final, MAP_SLACK)
         in_map.append(verdict)
         if final is None:
             break
         theta = final
-    done = len(runs) == len(problem.fences) and status == "left"
+    done = len(runs) == len(problem.fences) and runs[-1].theta_final is not None
     n = len(problem.fences)
     message = (f"left all {n} fence{'s' if n > 1 else ''}" if done else
                f"stopped at fence {len(runs) - 1} of {n}: {runs[-1].message}")

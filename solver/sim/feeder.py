@@ -70,7 +70,7 @@ class FeederSimSettings:
         contact_tol: a vertex this close to the face (or E to an edge) is in contact.
         min_step: the shortest step event location halves down to.
         max_steps: steps (of any kind) before the run gives up (status "step_limit").
-        clearance: the part's start, this far above the face.
+        clearance: the part's start: this much belt travel before it touches the face.
     """
 
     step: float = 0.02
@@ -93,7 +93,8 @@ class FenceEvent:
 @dataclass
 class FenceRun:
     """One part through one fence: initial and final orientation (None unless it left the
-    fence), ``status`` ("left" | "jammed" | "step_limit" | "time_limit"), the events, the trajectory
+    fence), ``status`` ("left" | "missed" (never touched the fence) | "jammed" | "step_limit" |
+    "time_limit"), the events, the trajectory
     (push, cm, theta) at every step and the forward solves that ran."""
 
     theta_initial: float
@@ -109,7 +110,14 @@ class FenceRun:
 
     @property
     def complete(self) -> bool:
-        return self.status in ("left", "jammed")
+        return self.status in ("left", "missed", "jammed")
+
+    @property
+    def flushed(self) -> bool:
+        """Whether an edge came flush on the face: the configuration map assumes it does
+        (a fence too short for the part to finish turning, or one nearly along the belt,
+        lets it leave still turning on a vertex)."""
+        return bool(self.flush_edges)
 
     @property
     def message(self) -> str:
@@ -204,7 +212,8 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
     tol_c = s.contact_tol * a
     theta = float(theta_initial)
     hull0 = body_to_world(np.zeros(2), theta, part.hull)
-    cm = start_along * geo.length * geo.w + (s.clearance * a - float(np.min(geo.heights(hull0)))) * geo.n
+    # the face approaches the drifting part at n . d = cos gamma per unit of belt travel
+    cm = start_along * geo.length * geo.w + (s.clearance * a * float(geo.n @ D) - float(np.min(geo.heights(hull0)))) * geo.n
     push = 0.0
     events: list[FenceEvent] = []
     pushes, cms, thetas = [0.0], [cm.copy()], [theta]
@@ -227,8 +236,10 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
             if not touching and not e_contact:
                 lam = geo.next_contact(hull, tol_c)
                 if lam is None:
-                    status = "left"
-                    record("left", f"clear of the fence at orientation {theta:.9g}")
+                    touched = any(e.kind == "contact" for e in events)
+                    status = "left" if touched else "missed"
+                    record(status, f"clear of the fence at orientation {theta:.9g}"
+                           + ("" if touched else " without touching it"))
                     break
                 cm = cm - lam * D
                 push += lam
@@ -281,7 +292,7 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
     except TimeLimitReached as exc:
         status = "time_limit"
         record("time_limit", str(exc))
-    return FenceRun(theta_initial=float(theta_initial), theta_final=theta if status == "left" else None,
+    return FenceRun(theta_initial=float(theta_initial), theta_final=theta if status in ("left", "missed") else None,
                     status=status, events=events, pushes=np.array(pushes), cms=np.array(cms),
                     thetas=np.array(thetas), counts=oracle.counts, solve_time_s=time.perf_counter() - t0,
                     flush_edges=flush_edges)

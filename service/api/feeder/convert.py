@@ -112,7 +112,7 @@ def run_out(run: FenceRun, in_map: bool | None, samples: int) -> FeederFenceRunO
     n = len(run.pushes)
     idx = np.unique(np.linspace(0, n - 1, min(samples, n)).round().astype(int)) if samples > 0 else np.array([], int)
     traj = [[float(run.pushes[k]), float(run.cms[k][0]), float(run.cms[k][1]), float(run.thetas[k])] for k in idx]
-    return FeederFenceRunOut(status=run.status, theta_initial=run.theta_initial, theta_final=run.theta_final,
+    return FeederFenceRunOut(status=run.status, flushed=run.flushed, theta_initial=run.theta_initial, theta_final=run.theta_final,
                        in_map=in_map, events=[FeederEventOut(push=e.push, kind=e.kind, detail=e.detail) for e in run.events],
                        trajectory=traj, steps=n - 1, forward_solves=run.counts.solves)
 

@@ -152,7 +152,9 @@ class FeederEventOut(Strict):
 
 
 class FeederFenceRunOut(Strict):
-    status: str = Field(description="left, jammed, step_limit or time_limit.")
+    status: str = Field(description="left, missed (never touched the fence), jammed, step_limit or time_limit.")
+    flushed: bool = Field(description="Whether an edge came flush on the fence; the maps assume it does (a fence too "
+                                      "short for the part to finish turning lets it leave still turning).")
     theta_initial: float
     theta_final: float | None
     in_map: bool | None = Field(description="Whether the outcome lies in the fence's map (null: not checked or not finished).")

@@ -156,3 +156,48 @@ def test_bad_input_is_refused():
         simulate_fence(square, fence, 0.5, [[0.0, 0.0]], [1.0], 0.0)
     with pytest.raises(InvalidInput, match="support"):
         simulate_fence(square, fence, 0.2, [[0.1, 0.0], [-0.1, 0.0]], [1.0, -1.0], 0.0)
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1e6])
+def test_tiny_and_huge_parts_end_alike(scale):
+    rng = np.random.default_rng(5)
+    body, wts = random_support(rng, "right triangle")
+    verts, cm = PARTS["right triangle"]
+    fence = Fence.create(0.6, 0.2)
+    ref = simulate_fence(part("right triangle"), fence, 0.2, body, wts, 1.0)
+    scaled = Part.create(np.array(verts, dtype=float) * scale, np.array(cm) * scale)
+    got = simulate_fence(scaled, fence, 0.2, body * scale, wts, 1.0)
+    assert got.status == ref.status == "left"
+    assert got.theta_final == pytest.approx(ref.theta_final, abs=1e-7)
+
+
+def test_at_the_friction_angle_exactly_a_flush_part_jams_6_4():
+    """|tan gamma| = mu_c: the part cannot slide (the boundary case belongs to jamming)."""
+    square = part("square")
+    fence = Fence.create(math.atan(0.3), 0.3)
+    body, wts = random_support(np.random.default_rng(9), "square")
+    assert simulate_fence(square, fence, 0.3, body, wts, 0.4).status == "jammed"
+    assert fence_map(square, fence).map.jam == fence_map(square, fence).map.jam.circle()
+
+
+def test_a_fence_nearly_along_the_belt_and_one_too_short_are_flagged():
+    """At 88 degrees the part still comes flush and lands in its map; at 89.9 degrees it
+    turns so slowly (cos gamma per unit of travel) that it leaves a 40-radius fence still
+    turning on a vertex: the run says it never came flush (the map assumes it did)."""
+    square = part("square")
+    body, wts = random_support(np.random.default_rng(5), "square")
+    steep = Fence.create(math.radians(88.0), 0.2)
+    run = simulate_fence(square, steep, 0.2, body, wts, 0.4)
+    assert run.status == "left" and run.flushed
+    assert fence_map(square, steep).map.allows(0.4, run.theta_final, SLACK)
+    along = Fence.create(math.radians(89.9), 0.2)
+    run = simulate_fence(square, along, 0.2, body, wts, 0.4)
+    assert run.status == "left" and not run.flushed
+    assert not fence_map(square, along).map.allows(0.4, run.theta_final, SLACK)
+
+
+def test_a_part_that_never_touches_the_fence_is_missed():
+    square = part("square")
+    body, wts = random_support(np.random.default_rng(5), "square")
+    run = simulate_fence(square, Fence.create(0.7, 0.2), 0.2, body, wts, 0.4, start_along=-0.5)
+    assert run.status == "missed" and run.complete and run.theta_final == 0.4 and not run.flushed
