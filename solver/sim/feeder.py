@@ -23,8 +23,12 @@ Contacts and what moves the part at each (the run switches between them by event
   the supported edge the part jams.
 * E on an edge: the forward solve with E as a point pusher on that edge.
 
-Steps are midpoint steps of the push (solver/sim/stepper.py) with the contact re-imposed;
-a step that would push another vertex through the face or E into the part is halved until
+Point contacts step with the motion at the step's start held for the step (one forward
+solve per step), the contact re-imposed; translations and the last turn onto A are exact.
+The final orientation's error is first order in the step (docs/benchmarks.md: about 0.2
+degrees at the default step 0.02 a, 0.05 at 0.005 a; a midpoint rule, tried, was no better
+per solve: the motion jumps where the contact switches between sticking and slipping). A
+step that would push another vertex through the face or E into the part is halved until
 the new contact is within ``contact_tol``.
 """
 
@@ -271,11 +275,11 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
                 h = max(h, _flush_distance(geo, cm, theta, twist, int(mode.split(":")[1]), f_hat))
             elif mode.startswith("end"):
                 # E stops pushing when the edge under it lies along the belt: never turn past
-                # that (the twist is constant over a step, so the turn is exactly omega h)
+                # that (the twist is held for a step, so the turn is exactly omega h)
                 h = min(h, _turn_to_along(hull, int(mode.split(":")[1]), twist.omega))
             while True:
                 cm_n, th_n = advance(cm, theta, twist, h)
-                cm_n = _reimpose(geo, cm_n, th_n, mode, cm, theta)
+                cm_n = _reimpose(geo, cm_n, th_n, mode)
                 hull_n = geo.hull(cm_n, th_n)
                 z_n = geo.heights(hull_n)
                 on = geo.on_fence(geo.along(hull_n))
@@ -336,15 +340,27 @@ def _mode(geo: _Geometry, oracle: MotionOracle, cm: np.ndarray, theta: float, hu
         else:
             touching, edge_e = [], flush
     if touching:
-        i = touching[0]
-        res_twist = oracle.twist(cm, theta, hull[i], geo.fence.angle, PUSH_ANGLE)
-        return f"vertex:{i}", Twist(res_twist.velocity - D, res_twist.omega, cm.copy())
+        mode = f"vertex:{touching[0]}"
+        return mode, _point_twist(geo, oracle, mode, cm, theta)
     q = hull[(edge_e + 1) % m] - hull[edge_e]
     if abs(float(perp(q) @ D)) <= GRAZING * math.hypot(float(q[0]), float(q[1])):
         return "along", Twist(-D, 0.0, cm.copy())  # the edge lies along the belt: E no longer pushes
-    edge_angle = math.atan2(float(q[1]), float(q[0]))
-    res_twist = oracle.twist(cm, theta, geo.e.copy(), edge_angle, PUSH_ANGLE)
-    return f"end:{edge_e}", Twist(res_twist.velocity - D, res_twist.omega, cm.copy())
+    mode = f"end:{edge_e}"
+    return mode, _point_twist(geo, oracle, mode, cm, theta)
+
+
+def _point_twist(geo: _Geometry, oracle: MotionOracle, mode: str, cm: np.ndarray, theta: float) -> Twist:
+    """The motion per unit push (fence's frame) of a point contact: vertex i on the face
+    ("vertex:i") or E on edge i ("end:i"), by the forward solve in the belt's frame."""
+    kind, idx = mode.split(":")
+    i = int(idx)
+    hull = geo.hull(cm, theta)
+    if kind == "vertex":
+        res = oracle.twist(cm, theta, hull[i], geo.fence.angle, PUSH_ANGLE)
+    else:
+        q = hull[(i + 1) % geo.part.m] - hull[i]
+        res = oracle.twist(cm, theta, geo.e.copy(), math.atan2(float(q[1]), float(q[0])), PUSH_ANGLE)
+    return Twist(res.velocity - D, res.omega, cm.copy())
 
 
 def _flush_distance(geo: _Geometry, cm: np.ndarray, theta: float, twist: Twist, edge: int,
@@ -375,7 +391,7 @@ def _turn_to_along(hull: np.ndarray, edge: int, omega: float) -> float:
     return math.inf
 
 
-def _reimpose(geo: _Geometry, cm: np.ndarray, theta: float, mode: str, cm0: np.ndarray, theta0: float) -> np.ndarray:
+def _reimpose(geo: _Geometry, cm: np.ndarray, theta: float, mode: str) -> np.ndarray:
     """The contact of ``mode`` made exact again after a step."""
     kind, idx = mode.split(":")
     i = int(idx)
