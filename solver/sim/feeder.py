@@ -25,8 +25,8 @@ Contacts and what moves the part at each (the run switches between them by event
 
 Point contacts step with the motion at the step's start held for the step (one forward
 solve per step), the contact re-imposed; translations and the last turn onto A are exact.
-The final orientation's error is first order in the step (docs/benchmarks.md: about 0.2
-degrees at the default step 0.02 a, 0.05 at 0.005 a; a midpoint rule, tried, was no better
+The final orientation's error is first order in the step (docs/benchmarks.md: up to 0.5
+degrees at the default step 0.02 a, 0.1 at 0.005 a; a midpoint rule, tried, was no better
 per solve: the motion jumps where the contact switches between sticking and slipping). A
 step that would push another vertex through the face or E into the part is halved until
 the new contact is within ``contact_tol``.
