@@ -92,7 +92,7 @@ class FeederSimResult:
     runs: tuple[FenceRun, ...]  # the fences the part met, in order
     in_map: tuple[bool | None, ...]  # each outcome in its fence's map (None: not checked)
     theta_final: float | None
-    status: str  # the last run's: "left" | "missed" | "jammed" | "step_limit" | "time_limit"
+    status: str  # the last run's: "left" | "missed" | "jammed" | "step_limit" | "stalled" | "time_limit"
     solve_time_s: float
     message: str
     notes: tuple[str, ...] = field(default=())

@@ -74,6 +74,8 @@ class FeederSimSettings:
         contact_tol: a vertex this close to the face (or E to an edge) is in contact.
         min_step: the shortest step event location halves down to.
         max_steps: steps (of any kind) before the run gives up (status "step_limit").
+        stall_steps: consecutive steps cut to ``min_step`` after which the run stops as
+            "stalled" (a contact it cannot advance: two contacts at once, a vertex at E).
         clearance: the part's start: this much belt travel before it touches the face.
     """
 
@@ -81,6 +83,7 @@ class FeederSimSettings:
     contact_tol: float = 1e-9
     min_step: float = 1e-12
     max_steps: int = 20000
+    stall_steps: int = 20
     clearance: float = 0.05
 
 
@@ -98,7 +101,7 @@ class FenceEvent:
 class FenceRun:
     """One part through one fence: initial and final orientation (None unless it left the
     fence), ``status`` ("left" | "missed" (never touched the fence) | "jammed" | "step_limit" |
-    "time_limit"), the events, the trajectory
+    "stalled" (a contact the simulator cannot advance) | "time_limit"), the events, the trajectory
     (push, cm, theta) at every step and the forward solves that ran."""
 
     theta_initial: float
@@ -224,6 +227,7 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
     flush_edges: list[int] = []
     f_hat = geo.n + mu_c * geo.w
     status = "step_limit"
+    stalled = 0
 
     def record(kind: str, detail: str) -> None:
         events.append(FenceEvent(push, kind, detail))
@@ -288,6 +292,12 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
                 if (pen >= -tol_c and d_n <= tol_c) or h <= s.min_step * a:
                     break
                 h *= 0.5
+            stalled = stalled + 1 if h <= s.min_step * a else 0
+            if stalled >= s.stall_steps:
+                status = "stalled"
+                record("stalled", f"{stalled} steps of {h:.3g} in mode {mode}: the contact cannot advance "
+                       "(two contacts at once or a vertex at the fence's end are not simulated)")
+                break
             cm, theta = cm_n, th_n
             push += h
             pushes.append(push)
