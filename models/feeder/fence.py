@@ -41,6 +41,18 @@ meeting a fence") and checked in tests/models/feeder/test_fence.py:
    cone edge n_e + mu_c e (the slipping motions toward the upstream end, 4.1), here the
    locus of the circumscribing disk (ch. 3), or 0 when only sticking (or no such slip) is
    possible. The final orientation lies between B and A.
+6. Reach (book 1.8.6: "the required length of each fence ... can be easily computed from
+   the results of Chapter 4"): the map assumes an edge is flush before the fence's end
+   reaches the part. Given the fence's reach beyond the first contact, the orientations
+   for which that is not certain are reported (``unaligned``: the map bounds nothing
+   there). While a vertex turns on the face, the part's slip toward the end per radian of
+   turn is linear in the COR, (r - c) . J g with g as in phase 5 on the face (the same
+   contact kinematics, 4.3); slipping toward the end needs the cone edge n + mu_c sgn(gamma) t,
+   so its largest value is taken on that force's frictionless disk locus (ch. 3), and
+   sticking gives 0. Its integral over the turn to flush (and over the pivots to the edge
+   that stays), plus the flush edge's length up to u_X, is the reach needed. Where that
+   cone edge passes through the CM the part can slide without turning: the reach needed
+   grows without bound toward such an orientation, so no fence aligns every orientation.
 """
 
 from __future__ import annotations
@@ -82,6 +94,8 @@ class FeederTolerances:
         b_margin: radians taken off B to cover that integration's error (docs/benchmarks.md:
             at the default steps B errs by up to 0.09 deg on the narrow side of FINE, over
             a mu_c interval, and more on the wide, safe side near the friction angle).
+        reach_cells: cells per piece of a contact interval in the reach integral (phase 6),
+            crowded toward both ends (where the slip rate can grow without bound).
     """
 
     collinear_rel: float = 1e-12
@@ -90,6 +104,7 @@ class FeederTolerances:
     grazing_margin: float = 1e-6
     mu_samples: int = 3
     b_margin: float = 2e-3
+    reach_cells: int = 32
 
 
 DEFAULT = FeederTolerances()
@@ -156,14 +171,17 @@ class Part:
 
 @dataclass(frozen=True)
 class Fence:
-    """One fence: angle gamma (module docstring) and the interval of mu_c against the part."""
+    """One fence: angle gamma (module docstring), the interval of mu_c against the part, and
+    optionally its reach: how far it extends beyond the part's first contact toward its
+    free end (the least over where parts meet it; the part's units; phase 6)."""
 
     angle: float
     mu_low: float
     mu_high: float
+    reach: float | None = None
 
     @classmethod
-    def create(cls, angle: float, mu_c: float | tuple[float, float]) -> Fence:
+    def create(cls, angle: float, mu_c: float | tuple[float, float], reach: float | None = None) -> Fence:
         g = float(angle)
         if not (math.isfinite(g) and abs(g) < 0.5 * math.pi and g != 0.0):
             raise InvalidInput("fence_angle", "must be in (-pi/2, pi/2) and not 0 (a fence square to "
@@ -172,7 +190,9 @@ class Fence:
         lo, hi = float(lo), float(hi)
         if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 <= lo <= hi):
             raise InvalidInput("mu_c", "must be finite with 0 <= low <= high")
-        return cls(angle=g, mu_low=lo, mu_high=hi)
+        if reach is not None and not (math.isfinite(reach) and reach > 0.0):
+            raise InvalidInput("reach", "must be a finite length > 0")
+        return cls(angle=g, mu_low=lo, mu_high=hi, reach=None if reach is None else float(reach))
 
     @property
     def sign(self) -> float:
@@ -339,6 +359,166 @@ def max_slip_rate(a: float, c: np.ndarray, psi: float, mu: float, n_points: int)
     return max(rate, 0.0), ccw
 
 
+def face_slip_rate(a: float, c: np.ndarray, fence: Fence, mu: float, n_points: int) -> float:
+    """Largest slip of the part toward the fence's end per radian of turn (either sense)
+    over the disk's motions, with the part's vertex at c (CM frame, world axes) on the
+    fence's face (phase 6); inf where the slipping force passes through the CM (the part
+    can slide without turning).
+
+    Slip of the part along the face toward the end, w = -sgn(gamma) t, is the fence's slip
+    along sgn(gamma) t relative to the part: per CCW radian (r - c) . J g with
+    g = (d . t / d . n) n - t (phase 5's rate with the face as the contact line). It needs
+    the cone edge n + mu sgn(gamma) t, whose frictionless motions all turn one sense s;
+    per radian of |turn| the slip toward the end is s sgn(gamma) (r - c) . J g."""
+    t = np.array([math.cos(fence.angle), math.sin(fence.angle)])
+    n = perp(t)
+    scene = PushScene.create(a, c, fence.angle, PUSH_ANGLE)
+    turned, m_sign = force_scene(scene, -fence.sign * math.atan(mu))
+    if m_sign == 0:
+        return math.inf
+    sense = -float(m_sign)  # a positive moment arm turns the part CW (max_slip_rate)
+    g = float(PUSH @ t) / float(PUSH @ n) * n - t
+    boundary = disk_cor_locus(turned, outputs=["boundary"], n_points=n_points).boundary
+    return max(float(np.max(sense * fence.sign * ((boundary - c) @ perp(g)))), 0.0)
+
+
+def _face_rate_over_mu(part: Part, k: int, theta: float, fence: Fence, tol: FeederTolerances) -> float:
+    """face_slip_rate at vertex k and orientation theta, the largest over the fence's mu_c
+    interval: inf when some mu_c in it puts the cone edge through the CM."""
+    c = rotation(theta) @ part.hull[k]
+    lo, hi = fence.mu_low, fence.mu_high
+    if hi > lo:
+        n = fence.normal
+        t = np.array([math.cos(fence.angle), math.sin(fence.angle)])  # perp(t) = n
+        ct = float(c[0] * t[1] - c[1] * t[0])
+        if ct != 0.0:  # c x (n + mu sgn(gamma) t) = 0 at mu*
+            star = -float(c[0] * n[1] - c[1] * n[0]) / (fence.sign * ct)
+            if lo <= star <= hi:
+                return math.inf
+    mus = [lo] if hi <= lo else list(np.linspace(lo, hi, max(2, tol.mu_samples)))
+    return max(face_slip_rate(part.radius, c, fence, float(m), tol.locus_points) for m in mus)
+
+
+def _reach_nodes(lo: float, hi: float, cells: int) -> np.ndarray:
+    """Offsets from lo to hi crowded toward both ends (smoothstep of an even grid: the cells
+    at the ends are about 3/cells^2 of the span)."""
+    u = np.linspace(0.0, 1.0, cells + 1)
+    return lo + (hi - lo) * u * u * (3.0 - 2.0 * u)
+
+
+@dataclass(frozen=True)
+class Piece:
+    """Initial orientations [start, start + width] in which hull vertex ``vertex`` touches
+    first and the part turns in ``sense`` ("ccw" brings edge vertex - 1 flush at the end
+    of the vertex's contact interval, "cw" edge ``vertex`` at its start): phases 1-2."""
+
+    vertex: int
+    start: float
+    width: float
+    sense: str
+
+    @property
+    def flushed_edge(self) -> int:
+        return self.vertex - 1 if self.sense == "ccw" else self.vertex
+
+
+def _reach_after_flush(part: Part, fence: Fence, j: int, pivot_slip: Callable[[int, str], float]) -> float:
+    """Reach needed once edge j is flush until E meets u_X of the edge that stays (phase 6),
+    the largest over the edges it may stay on (phase 4's chains): the pivots on the way
+    (onto edge e - 1 about vertex e turning CCW, onto e + 1 about vertex e + 1 turning CW,
+    each bounded over that vertex's whole contact interval), then at most the length of the
+    edge that stays from its upstream end back to u_X."""
+    mu = fence.sliding_mu()
+    assert mu is not None
+    need = 0.0
+    for step in (-1, 1):
+        e, slip = j % part.m, 0.0
+        for _ in range(part.m):
+            length = part.edge(e)[1]
+            u = sorted(crossing(part, e, x, fence.sign) for x in mu)
+            if u[1] >= 0.0 and u[0] <= length:  # e may stay: slide until E meets u_X
+                ell0 = min(_canonical_edge(part, e, fence, float(x))[3] for x in mu)
+                need = max(need, slip + length - ell0)
+            if step < 0 and u[0] < 0.0:
+                slip += pivot_slip(e, "ccw")
+                e = (e - 1) % part.m
+            elif step > 0 and u[1] > length:
+                slip += pivot_slip((e + 1) % part.m, "cw")
+                e = (e + 1) % part.m
+            else:
+                break
+    return need
+
+
+def unaligned_orientations(part: Part, fence: Fence, pieces: list[Piece], tol: FeederTolerances = DEFAULT,
+                           checkpoint: Callable[[str], None] | None = None) -> Arcs:
+    """Initial orientations from which the fence's ``reach`` may not be enough for an edge
+    to come flush and slide until the end meets u_X (phase 6): in each piece, cells of
+    orientation whose bound on the slip toward the end exceeds the reach. The bound on a
+    cell is an upper sum graded toward where the turn starts (upper_sum), exact when R x is
+    monotone on the cell; a cell touching an orientation where the part can
+    slide without turning is always unaligned."""
+    reach = fence.reach
+    if reach is None or fence.sliding_mu() is None:
+        return Arcs.empty()
+    rates: dict[tuple[int, float], float] = {}
+
+    def rate(k: int, theta: float) -> float:
+        key = (k, theta)
+        if key not in rates:
+            rates[key] = _face_rate_over_mu(part, k, theta, fence, tol)
+        return rates[key]
+
+    def upper_sum(k: int, nodes: np.ndarray) -> np.ndarray:
+        """Cumulative slip bound from nodes[0] to each node; nodes[-1] is where the turn
+        starts (a piece's far end, or a pivot's first orientation), which may be a balance
+        where the rate grows like K / x, x the distance to it. A cell bounds the integral by
+        max(R x) ln(x_i / x_i+1), near exact where R x tends to K (a plain upper sum
+        overshoots there by about K per cell: measured, 11.5 against 8.7 part units for a
+        pivot); the last cell, touching nodes[-1], by its width times the larger rate (inf
+        at a balance)."""
+        r = np.array([rate(k, float(x)) for x in nodes])
+        x = np.abs(nodes - nodes[-1])
+        with np.errstate(invalid="ignore"):
+            rx = np.where(np.isinf(r), np.inf, r * x)
+        inner = np.maximum(rx[:-2], rx[1:-1]) * np.log(x[:-2] / x[1:-1])
+        last = abs(float(nodes[-1] - nodes[-2])) * max(float(r[-2]), float(r[-1]))
+        return np.concatenate([[0.0], np.cumsum(np.append(inner, last))])
+
+    totals: dict[tuple[int, str], float] = {}
+
+    def pivot_slip(k: int, sense: str) -> float:
+        if (k, sense) not in totals:
+            start, width = contact_interval(part, k, fence.angle)
+            nodes = start + _reach_nodes(0.0, width, tol.reach_cells)
+            totals[(k, sense)] = float(upper_sum(k, nodes if sense == "cw" else nodes[::-1])[-1])
+        return totals[(k, sense)]
+
+    out = []
+    for piece in pieces:
+        if checkpoint is not None:
+            checkpoint(f"the reach needed from vertex {piece.vertex} turning {piece.sense}")
+        k = piece.vertex
+        j = piece.flushed_edge % part.m
+        after = _reach_after_flush(part, fence, j, pivot_slip)
+        c_start, c_width = contact_interval(part, k, fence.angle)
+        off = wrap(piece.start - c_start)
+        if piece.sense == "cw":  # to flush_k at offset 0: the turn passes [0, off] first
+            before = float(upper_sum(k, c_start + _reach_nodes(0.0, off, tol.reach_cells))[-1]) if off > 0.0 else 0.0
+            nodes = piece.start + _reach_nodes(0.0, piece.width, tol.reach_cells)
+        else:  # to flush_{k-1} at the interval's end
+            rest = c_width - off - piece.width
+            before = (float(upper_sum(k, (c_start + _reach_nodes(off + piece.width, c_width, tol.reach_cells))[::-1])[-1])
+                      if rest > 0.0 else 0.0)
+            nodes = (piece.start + _reach_nodes(0.0, piece.width, tol.reach_cells))[::-1]
+        need = before + after + upper_sum(k, nodes)
+        for i in range(len(nodes) - 1):
+            if need[i + 1] > reach:  # the cell's far end bounds every orientation in it
+                lo = min(float(nodes[i]), float(nodes[i + 1]))
+                out.append((lo, abs(float(nodes[i + 1] - nodes[i]))))
+    return Arcs.of(out)
+
+
 def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFAULT) -> EndpointTurn:
     """Extremes A and B of leaving the fence's end on edge j (phase 5), with the disk bound.
 
@@ -423,16 +603,18 @@ def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT,
     gamma = fence.angle
     finals_of_flush = {j: final_edges(part, j, fence) for j in range(part.m)}
     kernels: dict[int, list[tuple[float, float]]] = {}
+    pieces: list[Piece] = []
     for k in range(part.m):
         start, width = contact_interval(part, k, gamma)
         cuts = sorted({0.0, width} | {d for b in vote_breakpoints(part, k, fence)
                                       if 0.0 < (d := wrap(b - start)) < width})
         for a, b in zip(cuts[:-1], cuts[1:]):
             senses = senses_at(part, k, start + 0.5 * (a + b), fence)
-            flushed = ({(k - 1) % part.m} if "ccw" in senses else set()) | ({k} if "cw" in senses else set())
-            for j in flushed:
-                for f in finals_of_flush[j]:
-                    kernels.setdefault(f, []).append((start + a, b - a))
+            for sense in sorted(senses):
+                piece = Piece(vertex=k, start=start + a, width=b - a, sense=sense)
+                pieces.append(piece)
+                for f in finals_of_flush[piece.flushed_edge % part.m]:
+                    kernels.setdefault(f, []).append((piece.start, piece.width))
     edges = tuple(sorted(kernels))
     turns_made = []
     for j in edges:
@@ -452,5 +634,11 @@ def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT,
     if fence.may_jam():
         notes.append(f"mu_c up to {fence.mu_high:g} >= |tan(fence_angle)| = {fence.jam_threshold:g}: "
                      "a flush part may jam on this fence (6.4)")
-    cmap = ConfigurationMap(bands=tuple(bands), kernels=tuple(Arcs.of(kernels[j]) for j in edges), jam=jam)
+    unaligned = unaligned_orientations(part, fence, pieces, tol, checkpoint)
+    if not unaligned.is_empty:
+        notes.append(f"a reach of {fence.reach:g} may be too short for {math.degrees(unaligned.measure):.3g} degrees "
+                     "of initial orientations: the part may meet the fence's end before an edge is flush, and the "
+                     "map bounds nothing there (1.8.6, ch. 4)")
+    cmap = ConfigurationMap(bands=tuple(bands), kernels=tuple(Arcs.of(kernels[j]) for j in edges), jam=jam,
+                            unaligned=unaligned)
     return FenceMap(map=cmap, final_edges=edges, turns=turns, fence=fence, part=part, notes=tuple(notes))

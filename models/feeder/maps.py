@@ -16,8 +16,10 @@ M2 are M1's final bands, and they must meet M2's kernels (docs/architecture.md, 
 the book is wrong"; tests/models/feeder/test_maps.py proves the printed rule misses
 outcomes of the matrix product (5.1)). Further products use the code sets only (5.5).
 
-Orientations a map cannot follow (a part that jams on a fence and never leaves it) are
-kept as ``jam``, a set of initial orientations, carried through products.
+Orientations a map cannot follow are kept as sets of initial orientations carried through
+products: ``jam`` (a part that jams on a fence and never leaves it, 6.4) and ``unaligned``
+(a fence that may be too short for an edge to come flush, 1.8.6: any final orientation is
+possible, so the matrix holds the whole column).
 """
 
 from __future__ import annotations
@@ -32,7 +34,8 @@ from models.feeder.arcs import Arcs
 
 @dataclass(frozen=True)
 class ConfigurationMap:
-    """U_j kernels[j] x bands[j] (5.3), and the initial orientations that may jam.
+    """U_j kernels[j] x bands[j] (5.3), the initial orientations that may jam, and those
+    the map does not bound (``unaligned``: every final orientation may follow).
 
     ``code_sets``, when the map is a product, holds for each band j the indices of the
     first operation's kernels whose union is kernel j (5.4)."""
@@ -40,6 +43,7 @@ class ConfigurationMap:
     bands: tuple[Arcs, ...]
     kernels: tuple[Arcs, ...]
     jam: Arcs = Arcs.empty()
+    unaligned: Arcs = Arcs.empty()
     code_sets: tuple[frozenset[int], ...] | None = None
 
     def __post_init__(self) -> None:
@@ -52,6 +56,7 @@ class ConfigurationMap:
         m = np.zeros((n, n), dtype=bool)
         for band, kernel in zip(self.bands, self.kernels):
             m |= np.outer(band.cells(n), kernel.cells(n))
+        m[:, self.unaligned.cells(n)] = True
         return m
 
     def jam_cells(self, n: int) -> np.ndarray:
@@ -66,13 +71,20 @@ class ConfigurationMap:
         kernels = tuple(_union(self.kernels[k] for k in sorted(c)) for c in codes)
         jam = self.jam.union(_union(self.kernels[k] for k, band in enumerate(self.bands)
                                     if band.intersects(second.jam)))
-        return ConfigurationMap(bands=second.bands, kernels=kernels, jam=jam, code_sets=codes)
+        # an unaligned part may leave the first fence in any orientation: it may then meet
+        # anything the second does
+        unaligned = self.unaligned.union(_union(self.kernels[k] for k, band in enumerate(self.bands)
+                                                if band.intersects(second.unaligned)))
+        if not second.jam.is_empty:
+            jam = jam.union(self.unaligned)
+        return ConfigurationMap(bands=second.bands, kernels=kernels, jam=jam, unaligned=unaligned, code_sets=codes)
 
     def allows(self, theta_initial: float, theta_final: float, slack: float = 0.0) -> bool:
         """True when the map holds (theta_initial, theta_final): a band within ``slack``
-        of theta_final whose kernel holds theta_initial."""
-        return any(k.contains(theta_initial) and b.contains(theta_final, slack)
-                   for b, k in zip(self.bands, self.kernels))
+        of theta_final whose kernel holds theta_initial, or an initial orientation the map
+        does not bound (``unaligned``)."""
+        return self.unaligned.contains(theta_initial) or any(
+            k.contains(theta_initial) and b.contains(theta_final, slack) for b, k in zip(self.bands, self.kernels))
 
     def final_bands(self) -> tuple[Arcs, ...]:
         """The bands reached from some initial orientation (non-empty kernel)."""

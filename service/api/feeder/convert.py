@@ -44,13 +44,20 @@ def fence_of(f: FeederFenceIn, i: int) -> Fence:
     else:
         raise FieldError(("fences", i, "mu_c"), "give exactly one of mu_c or mu_c_range")
     with located(rename={"fence_angle": ("fences", i, "angle"),
-                         "mu_c": ("fences", i, "mu_c" if f.mu_c is not None else "mu_c_range")}):
-        return Fence.create(f.angle, mu)
+                         "mu_c": ("fences", i, "mu_c" if f.mu_c is not None else "mu_c_range"),
+                         "reach": ("fences", i, "reach")}):
+        return Fence.create(f.angle, mu, reach=f.reach)
+
+
+def map_fence_of(f: FeederFenceIn, i: int, part: Part) -> Fence:
+    if f.reach is not None and f.reach > FEEDER_MAX_FENCE_LENGTH_RADII * part.radius:
+        raise FieldError(("fences", i, "reach"), f"must be at most {FEEDER_MAX_FENCE_LENGTH_RADII:g} part radii")
+    return fence_of(f, i)
 
 
 def map_problem(req: FeederMapRequest) -> FeederMapProblem:
     part = part_of(req.part)
-    return FeederMapProblem(part, tuple(fence_of(f, i) for i, f in enumerate(req.fences)), req.resolution)
+    return FeederMapProblem(part, tuple(map_fence_of(f, i, part) for i, f in enumerate(req.fences)), req.resolution)
 
 
 def arcs_out(a: Arcs) -> list[list[float]]:
@@ -65,6 +72,7 @@ def fence_map_out(fm: FenceMap) -> FeederFenceMapOut:
                                   contact_lost=turn.contact_lost))
     return FeederFenceMapOut(angle=fm.fence.angle, mu_c_range=[fm.fence.mu_low, fm.fence.mu_high],
                        jams_possible=fm.fence.may_jam(), bands=bands, jam=arcs_out(fm.map.jam),
+                       reach=fm.fence.reach, unaligned=arcs_out(fm.map.unaligned), notes=list(fm.notes),
                        locus_evaluations=sum(t.locus_evaluations for t in fm.turns))
 
 
@@ -75,7 +83,7 @@ def map_response(res: FeederMapResult, elapsed_ms: float) -> FeederMapResponse:
         product = FeederProductOut(
             bands=[FeederProductBandOut(band=arcs_out(b), kernel=arcs_out(k), code_set=sorted(c))
                    for b, k, c in zip(res.product.bands, res.product.kernels, codes)],
-            jam=arcs_out(res.product.jam))
+            jam=arcs_out(res.product.jam), unaligned=arcs_out(res.product.unaligned))
     matrix = None
     if res.matrix is not None:
         rows = ["".join("1" if x else "0" for x in row) for row in res.matrix]

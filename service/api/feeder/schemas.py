@@ -38,6 +38,11 @@ class FeederFenceIn(Strict):
     mu_c: MuC | None = Field(default=None, description="Contact friction between part and fence.")
     mu_c_range: Annotated[list[MuC], Field(min_length=2, max_length=2)] | None = Field(
         default=None, description="An interval [low, high] of mu_c instead of one value (maps only).")
+    reach: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0)] | None = Field(
+        default=None, description="How far the fence extends beyond the part's first contact toward its free end "
+                                  "(the least over where parts meet it; the part's units; maps only). Given, the map "
+                                  f"reports the initial orientations for which it may be too short (book 1.8.6); at "
+                                  f"most {FEEDER_MAX_FENCE_LENGTH_RADII:g} part radii.")
 
 
 Fences = Annotated[list[FeederFenceIn], Field(min_length=1, max_length=FEEDER_MAX_FENCES)]
@@ -79,6 +84,11 @@ class FeederFenceMapOut(Strict):
     jams_possible: bool = Field(description="|tan gamma| <= the highest mu_c: a flush part may jam (6.4).")
     bands: list[FeederFenceBandOut]
     jam: list[Arc] = Field(description="Initial orientations that may jam on this fence.")
+    reach: float | None = Field(description="The reach asked for (null: not checked).")
+    unaligned: list[Arc] = Field(description="Initial orientations from which the reach may be too short for an edge to "
+                                             "come flush: the map bounds nothing there (every final orientation may "
+                                             "follow). Empty when no reach was given.")
+    notes: list[str]
     locus_evaluations: int
 
 
@@ -89,6 +99,7 @@ class FeederProductBandOut(FeederBandOut):
 class FeederProductOut(Strict):
     bands: list[FeederProductBandOut]
     jam: list[Arc]
+    unaligned: list[Arc] = Field(description="Initial orientations that may meet a fence too short to align them.")
 
 
 class FeederMatrixOut(Strict):
@@ -152,7 +163,7 @@ class FeederEventOut(Strict):
 
 
 class FeederFenceRunOut(Strict):
-    status: str = Field(description="left, missed (never touched the fence), jammed, step_limit or time_limit.")
+    status: str = Field(description="left, missed (never touched the fence), jammed, step_limit, stalled (a contact the simulator cannot advance) or time_limit.")
     flushed: bool = Field(description="Whether an edge came flush on the fence; the maps assume it does (a fence too "
                                       "short for the part to finish turning lets it leave still turning).")
     theta_initial: float

@@ -1,4 +1,4 @@
-"""One fence across a belt: phases 1-5 of models/feeder/fence.py (book 5.1, 5.2, 6.4-6.6)."""
+"""One fence across a belt: phases 1-6 of models/feeder/fence.py (book 5.1, 5.2, 6.4-6.6, 1.8.6)."""
 
 import math
 
@@ -16,6 +16,7 @@ from models.feeder.fence import (
     fence_map,
     final_edges,
 )
+from models.feeder.maps import matrix_product
 
 SQUARE = [[-1, -1], [1, -1], [1, 1], [-1, 1]]
 RECT = [[0, 0], [4, 0], [4, 1], [0, 1]]  # long edges 0 and 2
@@ -165,3 +166,57 @@ def test_extreme_b_rises_with_mu_c_so_an_interval_takes_its_low_end_5_1():
             assert np.all(np.diff(bs) > 0.0), (deg, j, bs)
             interval = endpoint_turn(part, j, Fence.create(math.radians(deg), (0.0, 0.5)))
             assert interval.least == pytest.approx(bs[0], abs=1e-12)
+
+
+def test_reach_phase_6_1_8_6():
+    """The orientations a fence's reach may not align (phase 6): none without a reach; fewer
+    as the reach grows, nearly all for a reach of a tenth of the part; never empty for a
+    point mu_c (near each unstable balance the part can slide without turning); the same
+    orientations when part and reach scale together; mirrored with the part and fence."""
+    verts, cm = PENTAGON
+    part = Part.create(verts, cm)
+    a = part.radius
+    assert fence_map(part, Fence.create(0.7, 0.25)).map.unaligned.is_empty
+    previous = None
+    for reach in (0.1, 1.0, 3.0, 10.0, 100.0):
+        got = fence_map(part, Fence.create(0.7, 0.25, reach=reach * a)).map.unaligned
+        assert not got.is_empty
+        if previous is not None:
+            assert got.measure <= previous.measure
+            assert all(previous.contains(s) and previous.contains(s + w) for s, w in got.arcs)
+        previous = got
+        if reach == 0.1:
+            assert got.measure > math.radians(350)
+    assert previous.measure < math.radians(5)
+    for scale in (1e-6, 1e6):
+        ref = fence_map(part, Fence.create(-0.9, 0.15, reach=2.0 * a)).map.unaligned
+        big = fence_map(Part.create(np.array(verts) * scale, np.array(cm) * scale),
+                        Fence.create(-0.9, 0.15, reach=2.0 * a * scale)).map.unaligned
+        assert np.allclose(np.array(big.arcs), np.array(ref.arcs), atol=1e-9)
+    m1 = fence_map(part, Fence.create(0.6, 0.2, reach=2.0 * a)).map
+    m2 = fence_map(Part.create(mirrored(verts), [-cm[0], cm[1]]), Fence.create(-0.6, 0.2, reach=2.0 * a)).map
+    c1, c2 = m1.unaligned.cells(N), m2.unaligned.cells(N)
+    flip = (-np.arange(N) - 1) % N
+    assert np.array_equal(c1, c2[flip])
+
+
+def test_unaligned_orientations_allow_everything_and_pass_through_products_5_4():
+    """An orientation the map does not bound allows every outcome: its column of the matrix
+    is full, and a product marks every initial orientation that may reach it."""
+    part = Part.create(*PENTAGON)
+    short = fence_map(part, Fence.create(0.7, 0.25, reach=1.0 * part.radius)).map
+    full = fence_map(part, Fence.create(-0.9, 0.15)).map
+    assert not short.unaligned.is_empty and full.unaligned.is_empty
+    cols = short.unaligned.cells(N)
+    assert short.matrix(N)[:, cols].all()
+    theta = short.unaligned.arcs[0][0] + 0.5 * short.unaligned.arcs[0][1]
+    assert all(short.allows(theta, f) for f in np.linspace(0, TWO_PI, 13))
+    first_short = short.then(full)
+    assert first_short.unaligned.contains(theta)
+    second_short = full.then(short)
+    reach_short = [k for k, b in enumerate(full.bands) if b.intersects(short.unaligned)]
+    assert reach_short  # some band of the first fence meets the unaligned set
+    for k in reach_short:
+        s, w = full.kernels[k].arcs[0]
+        assert second_short.unaligned.contains(s + 0.5 * w)
+    assert not (matrix_product(short.matrix(N), full.matrix(N)) & ~second_short.matrix(N)).any()

@@ -1,11 +1,12 @@
-"""The extreme-B slip rate of phase 5 (models/feeder/fence.py, book 5.1) against an
-independent computation: forward minimum-power solves of random supports in the disk."""
+"""The slip rates of phase 5 (extreme B, book 5.1) and phase 6 (the reach, 1.8.6) of
+models/feeder/fence.py against an independent computation: forward minimum-power solves of
+random supports in the disk."""
 
 import math
 
 import numpy as np
 
-from models.feeder.fence import Fence, Part, crossing, max_slip_rate, rotation
+from models.feeder.fence import Fence, Part, contact_interval, crossing, face_slip_rate, max_slip_rate, rotation
 from models.mpp import perp
 from models.scene import PushScene
 from solver import solve_forward_batch
@@ -43,3 +44,34 @@ def test_no_support_slips_faster_than_extreme_b_5_1():
         rates = np.concatenate(rates)
         assert np.all(rates <= bound * (1 + 1e-6) + 1e-9)
         assert rates.max() >= 0.999 * bound  # measured: within 1e-5
+
+
+def test_no_support_slips_toward_the_end_faster_than_the_reach_bound_1_8_6():
+    """Phase 6 (book 1.8.6, ch. 4): while a vertex turns on the fence's face, the part's slip
+    toward the fence's end per radian of turn, -sgn(gamma) slip / |omega| of every forward
+    solve, stays below face_slip_rate, and dipods come close to it."""
+    part = Part.create([[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], [1.4, 1.0])
+    rng = np.random.default_rng(186)
+    mu = 0.25
+    checked = 0
+    for deg, k, frac in ((40, 1, 0.6), (-52, 3, 0.3), (40, 0, 0.35), (-52, 4, 0.8)):
+        fence = Fence.create(math.radians(deg), mu)
+        start, width = contact_interval(part, k, fence.angle)
+        theta = start + frac * width
+        c = rotation(theta) @ part.hull[k]
+        bound = face_slip_rate(part.radius, c, fence, mu, 2048)
+        assert math.isfinite(bound)
+        scene = PushScene.create(part.radius, c, fence.angle, math.pi / 2)
+        rates = []
+        for kind in ("tripod", "rim", "dipod"):
+            pts, wts = random_supports(rng, 400, part.radius, kind=kind)
+            res = solve_forward_batch(scene, pts, wts, mu_c=mu)
+            ok = res.converged & (np.abs(res.omega) > 0)
+            assert ok.mean() > 0.95
+            rates.append(-fence.sign * res.slip[ok] / np.abs(res.omega[ok]))
+        rates = np.concatenate(rates)
+        assert np.all(rates <= bound * (1 + 1e-6) + 1e-9)
+        if bound > 0.0:
+            assert rates.max() >= 0.99 * bound
+            checked += 1
+    assert checked >= 2  # the bound is reached, not only respected

@@ -15,7 +15,10 @@ All seeded:
 * jams: a flush part with |tan gamma| <= mu_c stops (6.4);
 * symmetry: the mirror image of part, support, fence and start gives the mirrored final
   orientation; scaling the part by 1e-3 and 1e3 changes nothing;
-* a run cut short by its step limit says so (no final orientation, not complete).
+* a run cut short by its step limit says so (no final orientation, not complete);
+* the reach (1.8.6): parts started near a short fence's end come flush and land in their
+  bands unless the map flags their orientation as unaligned, and every part that leaves
+  unflushed was flagged.
 """
 
 from __future__ import annotations
@@ -201,3 +204,65 @@ def test_a_part_that_never_touches_the_fence_is_missed():
     body, wts = random_support(np.random.default_rng(5), "square")
     run = simulate_fence(square, Fence.create(0.7, 0.2), 0.2, body, wts, 0.4, start_along=-0.5)
     assert run.status == "missed" and run.complete and run.theta_final == 0.4 and not run.flushed
+
+
+def first_contact_reach(the_part, fence, run):
+    """How far the fence reaches beyond the run's first contact toward its end (None when the
+    first contact is not a vertex on the face)."""
+    cm, theta = run.cms[1], run.thetas[1]
+    hull = cm + the_part.hull @ np.array([[math.cos(theta), math.sin(theta)], [-math.sin(theta), math.cos(theta)]])
+    z = hull @ fence.normal
+    along = float(hull[int(np.argmin(z))] @ (fence.sign * np.array([math.cos(fence.angle), math.sin(fence.angle)])))
+    return along if z.min() <= 1e-9 * the_part.radius and along > 0.0 else None
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, gamma, mu_c", [("pentagon", 0.7, 0.25), ("rectangle", -0.6, 0.2)])
+def test_a_part_the_reach_is_sure_to_align_comes_flush_and_lands_in_its_band_1_8_6(name, gamma, mu_c):
+    """Phase 6 against simulation: parts start near a short fence's end (random support,
+    orientation, place). With the map made for a reach no longer than the run's (from its
+    first contact to the end), every run whose initial orientation the map does not flag as
+    unaligned comes flush and ends in its band, and every run that leaves without coming
+    flush was flagged. Seen with seed 186: 8 of 32 runs (pentagon) and 5 of 30 (rectangle)
+    leave unflushed; a few stall (a vertex at the fence's end, which the simulator does not advance)."""
+    the_part = part(name)
+    a = the_part.radius
+    reaches = [x * a for x in (0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 2.5)]
+    maps = {r: fence_map(the_part, Fence.create(gamma, mu_c, reach=r)).map for r in reaches}
+    fence = Fence.create(gamma, mu_c)
+    rng = np.random.default_rng(186)
+    unflushed = checked = 0
+    for _ in range(40):
+        body, wts = random_support(rng, name)
+        theta = float(rng.uniform(-math.pi, math.pi))
+        run = simulate_fence(the_part, fence, mu_c, body, wts, theta, fence_length=3.0 * a,
+                             start_along=float(rng.uniform(0.05, 0.6)))
+        if run.status != "left":
+            assert run.status in ("stalled", "missed"), run.message
+            continue
+        reach = first_contact_reach(the_part, fence, run)
+        if reach is None or reach < reaches[0]:
+            continue
+        cmap = maps[max(r for r in reaches if r <= reach)]
+        checked += 1
+        if run.flushed:
+            assert cmap.allows(theta, run.theta_final, SLACK), (theta, reach, run.theta_final)
+        else:
+            unflushed += 1
+            assert cmap.unaligned.contains(theta), (theta, reach, [e.detail for e in run.events])
+    assert checked >= 25 and unflushed >= 3
+
+
+def test_a_contact_the_simulator_cannot_advance_stops_at_once_as_stalled():
+    """A pentagon started near a short fence's end turns until an edge lies along the face
+    with one end past the fence's end (seed 7, run 21 of the reach experiment): the steps
+    shrink to nothing there. The run stops after stall_steps such steps, says so, and gives
+    no final orientation, instead of spending its 20,000 steps."""
+    the_part = part("pentagon")
+    body = [[-0.8404173878438121, 0.109846635030036], [-0.5757222468072696, -0.6418082265097688],
+            [1.6583100419768, -0.13988285789584798]]
+    wts = [0.6317887112091901, 0.035649556108578326, 0.33256173268223155]
+    run = simulate_fence(the_part, Fence.create(0.7, 0.25), 0.25, body, wts, -0.5572214545379439,
+                         fence_length=3.0 * the_part.radius, start_along=0.29751214884635924)
+    assert run.status == "stalled" and run.theta_final is None and not run.complete
+    assert len(run.pushes) < 1000 and run.events[-1].kind == "stalled"

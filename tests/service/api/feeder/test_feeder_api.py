@@ -67,7 +67,27 @@ def test_a_step_limit_is_an_incomplete_answer(client):
     assert out["runs"][0]["in_map"] is None
 
 
+def test_a_reach_reports_the_orientations_it_may_not_align_1_8_6(client):
+    """The map of a fence given a reach carries the model's unaligned orientations, per fence
+    and through the product; without a reach none are reported."""
+    body = {"part": PENTAGON, "fences": [{"angle": 0.7, "mu_c": 0.25, "reach": 3.0}, {"angle": -0.9, "mu_c": 0.15}],
+            "resolution": 36}
+    out = client.post("/v1/feeder/map", json=body).json()
+    part = Part.create(PENTAGON["vertices"], PENTAGON["center_of_mass"])
+    ref = fence_map(part, Fence.create(0.7, 0.25, reach=3.0)).map
+    first, second = out["fences"]
+    assert first["reach"] == 3.0 and np.allclose(first["unaligned"], ref.unaligned.arcs) and first["unaligned"]
+    assert any("reach" in note for note in first["notes"])
+    assert second["reach"] is None and second["unaligned"] == []
+    product = sequence([ref, fence_map(part, Fence.create(-0.9, 0.15)).map])
+    assert np.allclose(out["product"]["unaligned"], product.unaligned.arcs)
+    rows = np.array([[c == "1" for c in row] for row in out["matrix"]["rows"]])
+    assert rows[:, product.unaligned.cells(36)].all()
+
+
 @pytest.mark.parametrize(("fence", "loc"), [
+    ({"angle": 0.5, "mu_c": 0.2, "reach": 0.0}, ["body", "fences", 0, "reach"]),
+    ({"angle": 0.5, "mu_c": 0.2, "reach": 1e9}, ["body", "fences", 0, "reach"]),
     ({"angle": 2.0, "mu_c": 0.2}, ["body", "fences", 0, "angle"]),
     ({"angle": 0.0, "mu_c": 0.2}, ["body", "fences", 0, "angle"]),
     ({"angle": 0.5}, ["body", "fences", 0, "mu_c"]),
