@@ -481,7 +481,8 @@ def unaligned_orientations(part: Part, fence: Fence, pieces: list[Piece], tol: F
         x = np.abs(nodes - nodes[-1])
         with np.errstate(invalid="ignore"):
             rx = np.where(np.isinf(r), np.inf, r * x)
-        inner = np.maximum(rx[:-2], rx[1:-1]) * np.log(x[:-2] / x[1:-1])
+        with np.errstate(divide="ignore", invalid="ignore"):  # nodes closer than rounding: no bound, the safe side
+            inner = np.nan_to_num(np.maximum(rx[:-2], rx[1:-1]) * np.log(x[:-2] / x[1:-1]), nan=np.inf)
         last = abs(float(nodes[-1] - nodes[-2])) * max(float(r[-2]), float(r[-1]))
         return np.concatenate([[0.0], np.cumsum(np.append(inner, last))])
 
