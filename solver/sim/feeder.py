@@ -56,6 +56,9 @@ PUSH_ANGLE = 0.5 * math.pi
 GRAZING = 1e-9
 """|sin| of the angle between an edge under E and the belt's motion at which E stops pushing
 (the scene's own grazing test, models.tolerances.Tolerances.grazing_sin)."""
+E_ON_EDGE = 2.0
+"""E this many contact tolerances from an edge next to a vertex on the face makes that edge
+flush (a step accepted at the tolerance can leave E just beyond it)."""
 
 
 MODE_TEXT = {
@@ -319,13 +322,15 @@ def _mode(geo: _Geometry, oracle: MotionOracle, cm: np.ndarray, theta: float, hu
     E's distance to each edge."""
     m = geo.part.m
     edge_e = int(np.argmin(gaps))  # used when no vertex is on the face: E is on this edge
-    # an edge is flush when both its ends are on the face's line, one on the fence and the
-    # other on it too or past E (E then lies on the edge)
-    on_line = np.abs(geo.heights(hull)) <= tol_c
+    # an edge is flush when both its ends touch the fence's face, or one does and E lies on
+    # the edge away from it (two points of the edge on the face's line; the other end, past
+    # E, may dip below that line by the contact tolerance times the edge's length over its
+    # distance from E, so it is not asked to lie on it)
     flush = None
+    sig = geo.along(hull)
     for v in touching:
         for j, o in (((v - 1) % m, (v - 1) % m), (v, (v + 1) % m)):
-            if on_line[o] and (o in touching or gaps[j] <= tol_c):
+            if o in touching or (gaps[j] <= E_ON_EDGE * tol_c and abs(float(sig[v])) > tol_c):
                 flush = j
     if flush is not None:
         ends = sorted(((float(geo.along(hull[v][None])[0]), v) for v in (flush, (flush + 1) % m)))

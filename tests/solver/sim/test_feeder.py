@@ -253,16 +253,36 @@ def test_a_part_the_reach_is_sure_to_align_comes_flush_and_lands_in_its_band_1_8
     assert checked >= 25 and unflushed >= 3
 
 
-def test_a_contact_the_simulator_cannot_advance_stops_at_once_as_stalled():
-    """A pentagon started near a short fence's end turns until an edge lies along the face
-    with one end past the fence's end (seed 7, run 21 of the reach experiment): the steps
-    shrink to nothing there. The run stops after stall_steps such steps, says so, and gives
-    no final orientation, instead of spending its 20,000 steps."""
+def test_an_edge_along_the_face_with_one_end_past_the_end_turns_off_it():
+    """A pentagon started near a short fence's end turns on a vertex until an edge lies along
+    the face with its other end past E (seed 7, run 21 of the reach experiment; its far end
+    dips below the face's line by more than the contact tolerance): that edge is recognised
+    along the face with E on it, the force line misses the supported part, and the part
+    turns off E and leaves (it once stalled there)."""
     the_part = part("pentagon")
     body = [[-0.8404173878438121, 0.109846635030036], [-0.5757222468072696, -0.6418082265097688],
             [1.6583100419768, -0.13988285789584798]]
     wts = [0.6317887112091901, 0.035649556108578326, 0.33256173268223155]
-    run = simulate_fence(the_part, Fence.create(0.7, 0.25), 0.25, body, wts, -0.5572214545379439,
+    theta = -0.5572214545379439
+    fence = Fence.create(0.7, 0.25)
+    run = simulate_fence(the_part, fence, 0.25, body, wts, theta,
                          fence_length=3.0 * the_part.radius, start_along=0.29751214884635924)
+    assert run.status == "left" and [e.kind for e in run.events][-2:] == ["end", "left"]
+    assert fence_map(the_part, fence).map.allows(theta, run.theta_final, SLACK)
+
+
+def test_a_contact_the_simulator_cannot_advance_stops_at_once_as_stalled():
+    """An edge comes flush with E already past u_X (the reach was too short), and the turn
+    off E alone would push the edge's other end into the face: the motion needs both
+    contacts, which the simulator does not solve (the first stalled run of seed 20261126 in
+    the reach benchmark's pentagon case). The steps shrink to nothing; the run stops after stall_steps such steps,
+    says so, and gives no final orientation, instead of spending its 20,000 steps."""
+    the_part = part("pentagon")
+    body = [[-0.12626105018592337, -0.4097681415689577], [-0.9201117231123987, 0.6575124391929066],
+            [1.604756486308196, 0.00033015158083182783]]
+    wts = [0.4857029776336326, 0.30258851200486553, 0.21170851036150187]
+    run = simulate_fence(the_part, Fence.create(0.7, 0.25), 0.25, body, wts, -0.2664426255082293,
+                         fence_length=3.0 * the_part.radius, start_along=0.3555560591083008)
     assert run.status == "stalled" and run.theta_final is None and not run.complete
     assert len(run.pushes) < 1000 and run.events[-1].kind == "stalled"
+    assert "mode end" in run.events[-1].detail and "flush" in [e.kind for e in run.events]
