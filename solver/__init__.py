@@ -40,7 +40,7 @@ from solver.motion.particle import ParticleProblem, ParticleSolution, particle
 from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure, solve_motion
 from solver.motion.statistics import HistogramQuery, TripodStatistics, TripodStatisticsProblem, tripod_statistics
 from solver.motion.tripod_search import ExtremeCorResult, extreme_cor_search
-from solver.sim.feeder import FeederSimSettings, FenceEvent, FenceRun, simulate_fence
+from solver.sim.feeder import DEFAULT_FENCE_LENGTH_RADII, FeederSimSettings, FenceEvent, FenceRun, simulate_fence
 from solver.sim.push import (
     BatchSimulation,
     PushSimulation,
@@ -77,6 +77,7 @@ ENTRY_POINTS = (
 """The workflows the service calls: each ``(problem, budget) -> Outcome``."""
 
 __all__ = [
+    "DEFAULT_FENCE_LENGTH_RADII",
     "ENTRY_POINTS",
     "FeederMapProblem",
     "FeederMapResult",

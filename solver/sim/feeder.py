@@ -56,6 +56,8 @@ PUSH_ANGLE = 0.5 * math.pi
 GRAZING = 1e-9
 """|sin| of the angle between an edge under E and the belt's motion at which E stops pushing
 (the scene's own grazing test, models.tolerances.Tolerances.grazing_sin)."""
+DEFAULT_FENCE_LENGTH_RADII = 40.0
+"""A fence's length when a run is given none, in part radii."""
 E_ON_EDGE = 2.0
 """E this many contact tolerances from an edge next to a vertex on the face makes that edge
 flush (a step accepted at the tolerance can leave E just beyond it)."""
@@ -216,7 +218,7 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
         raise InvalidInput("mu_c", "must lie in the fence's mu_c interval")
     pts, w = _check(np.asarray(support_points, dtype=float), np.asarray(weights, dtype=float))
     a = part.radius
-    geo = _Geometry(part, fence, 40.0 * a if fence_length is None else float(fence_length))
+    geo = _Geometry(part, fence, DEFAULT_FENCE_LENGTH_RADII * a if fence_length is None else float(fence_length))
     oracle = MotionOracle(pts, w, a, mu_c, tol=tol, budget=budget)
     s = settings
     tol_c = s.contact_tol * a

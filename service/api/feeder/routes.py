@@ -8,23 +8,26 @@ Each route hands its job to a solver worker: request -> problem
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Request
+from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
 from service.api.feeder.convert import map_problem, map_response, simulate_problem, simulate_response
+from service.api.feeder.render import render_maps_svg, render_runs_svg
 from service.api.feeder.schemas import (
     FeederMapRequest,
     FeederMapResponse,
     FeederSimulateRequest,
     FeederSimulateResponse,
 )
+from service.common.fields import ResponseFormat
 from service.common.inputs import located
-from service.common.responses import IN_WORKER
+from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
-from solver import feeder_map, feeder_simulate
+from solver import DEFAULT_FENCE_LENGTH_RADII, feeder_map, feeder_simulate
 
 router = APIRouter(tags=["feeder"])
+FORMAT = Query("json", alias="format", description="`json` (default) or `svg` for a picture.")
 
 
 @router.post(
@@ -32,21 +35,30 @@ router = APIRouter(tags=["feeder"])
     operation_id="feeder_map",
     summary="Configuration maps of fences on a belt and their product (book 5.1-5.2)",
     response_model=FeederMapResponse,
-    responses=IN_WORKER,
+    responses={**json_or_svg("JSON (default) or, with `format=svg`, the maps as figure 1-8 and their product "
+                             "as figure 5-2."), **IN_WORKER},
 )
-async def feeder_map_route(req: FeederMapRequest, request: Request) -> Response:
+async def feeder_map_route(req: FeederMapRequest, request: Request,
+                           response_format: ResponseFormat = FORMAT) -> Response:
     """For each fence, every final orientation possible from each initial one over all
     pressure distributions (bands and kernels, bounded with the part's circumscribing
-    disk), the orientations that may jam (6.4), and the map of the whole sequence with its
-    code sets (5.4, 5.5); optionally the product's boolean matrix (5.1)."""
-    return await runner(request).expensive_job(request, map_job, req, time_limit_s=req.time_limit_s)
+    disk), the orientations that may jam (6.4) or that a short fence may not align (1.8.6),
+    and the map of the whole sequence with its code sets (5.4, 5.5); optionally the
+    product's boolean matrix (5.1)."""
+    return await runner(request).expensive_job(request, map_job, req, response_format == "svg",
+                                               time_limit_s=req.time_limit_s)
 
 
-def map_job(req: FeederMapRequest, deadline: Deadline) -> FeederMapResponse:
+def map_job(req: FeederMapRequest, svg: bool, deadline: Deadline) -> FeederMapResponse | Response:
     budget = deadline.budget()
     problem = map_problem(req)
     with located():
         result = feeder_map(problem, budget)
+    if svg and result.maps:
+        title = (f"Configuration maps (5.1-5.2), bounded with the circumscribing disk"
+                 f"{'' if result.complete else ' (time limit: ' + str(len(result.maps)) + ' of ' + str(len(problem.fences)) + ' fences)'}")
+        return Response(content=render_maps_svg(problem.part, result.maps, result.product, title),
+                        media_type=SVG_MEDIA_TYPE)
     return map_response(result, budget.elapsed() * 1e3)
 
 
@@ -55,19 +67,27 @@ def map_job(req: FeederMapRequest, deadline: Deadline) -> FeederMapResponse:
     operation_id="feeder_simulate",
     summary="One part with a known support through a sequence of fences (book 5.1, 6.5)",
     response_model=FeederSimulateResponse,
-    responses=IN_WORKER,
+    responses={**json_or_svg("JSON (default) or, with `format=svg`, a top view of each fence's run."), **IN_WORKER},
 )
-async def feeder_simulate_route(req: FeederSimulateRequest, request: Request) -> Response:
+async def feeder_simulate_route(req: FeederSimulateRequest, request: Request,
+                                response_format: ResponseFormat = FORMAT) -> Response:
     """The part drifts with the belt onto each fence, turns on a vertex, slides flush or
     jams, and turns off the fence's end, each motion from the forward minimum-power solve
     (3.7, 4.1); the final orientation of one fence is the initial one of the next. Events,
     a sampled trajectory, and whether each outcome lies in its fence's map."""
-    return await runner(request).expensive_job(request, simulate_job, req, time_limit_s=req.time_limit_s)
+    return await runner(request).expensive_job(request, simulate_job, req, response_format == "svg",
+                                               time_limit_s=req.time_limit_s)
 
 
-def simulate_job(req: FeederSimulateRequest, deadline: Deadline) -> FeederSimulateResponse:
+def simulate_job(req: FeederSimulateRequest, svg: bool, deadline: Deadline) -> FeederSimulateResponse | Response:
     budget = deadline.budget()
     problem = simulate_problem(req)
     with located():
         result = feeder_simulate(problem, budget)
+    if svg and result.runs:
+        length = problem.fence_length or DEFAULT_FENCE_LENGTH_RADII * problem.part.radius
+        fences = [f for f, _ in problem.fences[:len(result.runs)]]
+        return Response(content=render_runs_svg(problem.part, result.runs, fences, length,
+                                                f"A part through {len(fences)} fence{'s' if len(fences) > 1 else ''}: "
+                                                f"{result.message}"), media_type=SVG_MEDIA_TYPE)
     return simulate_response(req, result, budget.elapsed() * 1e3)

@@ -85,6 +85,24 @@ def test_a_reach_reports_the_orientations_it_may_not_align_1_8_6(client):
     assert rows[:, product.unaligned.cells(36)].all()
 
 
+def test_maps_and_runs_as_svg_pictures_figures_1_8_5_2(client):
+    """format=svg draws the maps (one panel per fence and the product, figure 1-8 / 5-2) and
+    the runs (a top view per fence); the same request gives the same bytes."""
+    body = {"part": PENTAGON, "fences": [{"angle": -1.0472, "mu_c": 0.25, "reach": 3.0}, {"angle": 1.0472, "mu_c": 0.25}]}
+    r = client.post("/v1/feeder/map?format=svg", json=body)
+    assert r.status_code == 200 and r.headers["content-type"].startswith("image/svg+xml")
+    assert r.text.lstrip().startswith("<?xml") and "<svg" in r.text
+    assert r.text.count("<g id=\"axes_") == 3  # two fences and their product
+    assert client.post("/v1/feeder/map?format=svg", json=body).content == r.content
+    sim = {"part": SQUARE, "support": SUPPORT, "fences": [{"angle": 0.7, "mu_c": 0.25}, {"angle": -0.8, "mu_c": 0.25}],
+           "theta_initial": 0.3, "fence_length": 6.0}
+    r = client.post("/v1/feeder/simulate?format=svg", json=sim)
+    assert r.status_code == 200 and r.headers["content-type"].startswith("image/svg+xml")
+    assert r.text.count("<g id=\"axes_") == 2
+    assert client.post("/v1/feeder/simulate?format=json", json=sim).json()["status"] == "left"
+    assert client.post("/v1/feeder/map?format=png", json=body).status_code == 422
+
+
 @pytest.mark.parametrize(("fence", "loc"), [
     ({"angle": 0.5, "mu_c": 0.2, "reach": 0.0}, ["body", "fences", 0, "reach"]),
     ({"angle": 0.5, "mu_c": 0.2, "reach": 1e9}, ["body", "fences", 0, "reach"]),

@@ -1,0 +1,176 @@
+"""SVG pictures of the feeder (book ch. 5), matplotlib object API only.
+
+As in :mod:`service.common.svg`: no pyplot, one throw-away ``Figure`` on an SVG canvas per
+call, text drawn as paths, no date, so equal inputs give equal bytes.
+
+* :func:`render_maps_svg` -- figure 1-8 for each fence and, for a sequence, figure 5-2's
+  product beside them: initial orientation across, final orientation up (degrees), each
+  band B_j over its kernel K_j shaded, the initial orientations that may jam hatched and
+  those the map does not bound (a reach too short) tinted; outlines of the part at eight
+  orientations along the bottom, as in figure 1-8.
+* :func:`render_runs_svg` -- a top view of each fence's run (figure 1-9's motion, one
+  panel per fence, in the fence's frame: its free end E at the origin, the belt moving
+  down): the fence, the path of the centre of mass, and outlines of the part at evenly
+  spaced steps, the first and the last bold.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from matplotlib.patches import Polygon as PolygonPatch
+from matplotlib.patches import Rectangle
+
+from models.feeder.arcs import TWO_PI, Arcs
+from models.feeder.fence import Fence, FenceMap, Part, rotation
+from models.feeder.maps import ConfigurationMap
+from service.common.svg import COLORS as LOCUS_COLORS
+from service.common.svg import FIGSIZE_IN, SquareView, axis_label, clip_polygon_to_box, new_figure, svg_bytes
+from service.errors import NonFiniteResult
+from solver import FenceRun
+
+PANEL_IN = 0.8 * FIGSIZE_IN
+"""Width of one map panel, inches."""
+OUTLINE_STRIP_DEG = 50.0
+"""Height of the strip of part outlines under a map, in the map's degrees."""
+OUTLINE_HALF_DEG = 18.0
+"""Half the size of an outline there (the part's circumscribing radius), degrees."""
+OUTLINE_ORIENTATIONS = 8
+"""Outlines drawn under a map, at evenly spaced orientations."""
+RUN_OUTLINES = 9
+"""Outlines of the part drawn along a run (evenly over its steps, first and last included)."""
+
+COLORS = {
+    "band": LOCUS_COLORS["workpiece"],
+    "jam": LOCUS_COLORS["disk"],
+    "unaligned": LOCUS_COLORS["push"],
+    "outline": LOCUS_COLORS["disk"],
+    "fence": LOCUS_COLORS["edge"],
+    "path": LOCUS_COLORS["locus_edge"],
+    "part": LOCUS_COLORS["workpiece"],
+}
+
+
+def degree_spans(arcs: Arcs) -> list[tuple[float, float]]:
+    """The arcs as (start, width) in degrees within [0, 360], an arc across 0 split in two."""
+    out = []
+    for s, w in arcs.arcs:
+        if not (math.isfinite(s) and math.isfinite(w)):
+            raise NonFiniteResult("an orientation arc")
+        s = s % TWO_PI
+        first = min(w, TWO_PI - s)
+        out.append((math.degrees(s), math.degrees(first)))
+        if w > first:
+            out.append((0.0, math.degrees(w - first)))
+    return out
+
+
+def _draw_map(ax, cmap: ConfigurationMap, hull_unit: np.ndarray, label: str) -> None:
+    for band, kernel in zip(cmap.bands, cmap.kernels):
+        for ks, kw in degree_spans(kernel):
+            for bs, bw in degree_spans(band):
+                # a band narrower than a pixel still shows: its rectangle is outlined
+                ax.add_patch(Rectangle((ks, bs), kw, bw, facecolor=COLORS["band"], edgecolor=COLORS["band"],
+                                       linewidth=0.6, alpha=0.85))
+    for s, w in degree_spans(cmap.jam):
+        ax.add_patch(Rectangle((s, 0.0), w, 360.0, facecolor="none", edgecolor=COLORS["jam"], hatch="//",
+                               linewidth=0.0))
+    for s, w in degree_spans(cmap.unaligned):
+        ax.add_patch(Rectangle((s, 0.0), w, 360.0, facecolor=COLORS["unaligned"], edgecolor="none", alpha=0.25))
+    for i in range(OUTLINE_ORIENTATIONS):
+        theta = TWO_PI * (i + 0.5) / OUTLINE_ORIENTATIONS
+        pts = (rotation(theta) @ hull_unit.T).T * OUTLINE_HALF_DEG
+        pts = pts + np.array([math.degrees(theta), -0.5 * OUTLINE_STRIP_DEG])
+        ax.add_patch(PolygonPatch(pts, closed=True, facecolor="none", edgecolor=COLORS["outline"], linewidth=0.8))
+    ax.axhline(0.0, color="black", linewidth=0.6)
+    ax.set_xlim(0.0, 360.0)
+    ax.set_ylim(-OUTLINE_STRIP_DEG, 360.0)
+    ax.set_aspect("equal")
+    ticks = np.arange(0.0, 361.0, 90.0)
+    ax.set_xticks(ticks)
+    ax.set_yticks(ticks)
+    ax.set_xlabel("initial orientation θ_i (deg)")
+    ax.set_ylabel("final orientation θ_f (deg)")
+    ax.set_title(label, fontsize=9)
+
+
+def map_label(fm: FenceMap) -> str:
+    f = fm.fence
+    mu = f"μ_c = {f.mu_low:g}" if f.mu_high <= f.mu_low else f"μ_c ∈ [{f.mu_low:g}, {f.mu_high:g}]"
+    return f"fence γ = {math.degrees(f.angle):+.1f}°, {mu}"
+
+
+def render_maps_svg(part: Part, maps: Sequence[FenceMap], product: ConfigurationMap | None, title: str) -> str:
+    """Figure 1-8 per fence, and the product (figure 5-2) when there are several; SVG text."""
+    panels = [(map_label(fm), fm.map) for fm in maps]
+    if product is not None and len(maps) > 1:
+        panels.append((f"product of the {len(maps)} fences (5.4, 5.5)", product))
+    if not panels:
+        raise ValueError("no map to draw")
+    hull_unit = part.hull / part.radius
+    if not np.all(np.isfinite(hull_unit)):
+        raise NonFiniteResult("the part's outline")
+    fig = new_figure(PANEL_IN * len(panels), PANEL_IN * 1.1)
+    axes = fig.subplots(1, len(panels), squeeze=False)[0]
+    for ax, (label, cmap) in zip(axes, panels):
+        _draw_map(ax, cmap, hull_unit, label)
+    handles = [Rectangle((0, 0), 1, 1, facecolor=COLORS["band"], alpha=0.85, label="band B_j over kernel K_j"),
+               Rectangle((0, 0), 1, 1, facecolor="none", edgecolor=COLORS["jam"], hatch="//", label="may jam (6.4)"),
+               Rectangle((0, 0), 1, 1, facecolor=COLORS["unaligned"], alpha=0.25,
+                         label="not bounded: reach too short (1.8.6)")]
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=8, frameon=False)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout(rect=(0.0, 0.05, 1.0, 0.95))
+    return svg_bytes(fig, " ".join(title.split())).decode("utf-8")
+
+
+def _run_outline(part: Part, run: FenceRun, k: int) -> np.ndarray:
+    return run.cms[k] + (rotation(float(run.thetas[k])) @ part.hull.T).T
+
+
+def render_runs_svg(part: Part, runs: Sequence[FenceRun], fences: Sequence[Fence], length: float, title: str) -> str:
+    """A top view of each run in its fence's frame (E at the origin, the fence along
+    w = sgn(gamma) t for ``length``, the belt moving in -y); SVG text."""
+    if not runs:
+        raise ValueError("no run to draw")
+    fig = new_figure(PANEL_IN * len(runs), PANEL_IN * 1.05)
+    axes = fig.subplots(1, len(runs), squeeze=False)[0]
+    for ax, run, fence, i in zip(axes, runs, fences, range(len(runs))):
+        n = len(run.pushes)
+        idx = sorted(set(np.linspace(0, n - 1, min(RUN_OUTLINES, n)).round().astype(int).tolist()))
+        outlines = [_run_outline(part, run, k) for k in idx]
+        pts = np.vstack([*outlines, run.cms, np.zeros((1, 2))])
+        if not np.all(np.isfinite(pts)):
+            raise NonFiniteResult("the part's trajectory")
+        centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+        view = SquareView.around([pts - centre], centre)
+        lo, hi = view.centre - view.half, view.centre + view.half
+        w = fence.sign * np.array([math.cos(fence.angle), math.sin(fence.angle)])
+        seg = view.to_drawing(np.array([[0.0, 0.0], length * w]))
+        ax.plot(seg[:, 0], seg[:, 1], color=COLORS["fence"], linewidth=3.0, solid_capstyle="butt", label="fence")
+        e = view.to_drawing(np.zeros(2))
+        ax.plot([e[0]], [e[1]], marker="o", color=COLORS["fence"], markersize=4)
+        path = view.to_drawing(run.cms)
+        ax.plot(path[:, 0], path[:, 1], color=COLORS["path"], linewidth=1.0, label="centre of mass")
+        for j, (k, outline) in enumerate(zip(idx, outlines)):
+            poly = clip_polygon_to_box(view.to_drawing(outline), lo, hi)
+            if len(poly) < 3:
+                continue
+            bold = j in (0, len(idx) - 1)
+            ax.add_patch(PolygonPatch(poly, closed=True, facecolor=COLORS["part"] if bold else "none",
+                                      alpha=0.35 if bold else 1.0, edgecolor=COLORS["part"],
+                                      linewidth=1.2 if bold else 0.6))
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
+        ax.set_aspect("equal")
+        ax.set_xlabel(axis_label("x", float(view.origin[0]), view.unit_exp))
+        ax.set_ylabel(axis_label("y", float(view.origin[1]), view.unit_exp))
+        final = "—" if run.theta_final is None else f"{math.degrees(run.theta_final) % 360.0:.2f}°"
+        ax.set_title(f"fence {i}: {run.status}, θ {math.degrees(run.theta_initial) % 360.0:.2f}° → {final}"
+                     f"{'' if run.flushed else ' (never flush)'}", fontsize=9)
+        ax.legend(loc="upper right", fontsize=7)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.95))
+    return svg_bytes(fig, " ".join(title.split())).decode("utf-8")
