@@ -133,14 +133,44 @@ class BatchResult(_newton.BatchConvergence):
 # Normalised problem data
 
 
-def _length_scale(scene: PushScene, w_rel: np.ndarray) -> np.ndarray:
+@dataclass(frozen=True)
+class SceneArrays:
+    """The geometry of one push scene per problem of a batch (CM frame): the contact c
+    (B, 2), the edge's normal n and direction alpha_hat (B, 2), the push direction (B, 2)
+    and sin(alpha) (B,). One scene repeated, or a scene per problem (the same part at
+    different poses, as a simulator steps many parts together)."""
+
+    contact_rel: np.ndarray
+    normal: np.ndarray
+    alpha_hat: np.ndarray
+    push_hat: np.ndarray
+    sin_alpha: np.ndarray
+
+    @classmethod
+    def repeat(cls, scene: PushScene, b: int) -> SceneArrays:
+        def rows(v: np.ndarray) -> np.ndarray:
+            return np.broadcast_to(np.asarray(v, dtype=float), (b, 2)).copy()
+
+        return cls(rows(scene.contact_rel), rows(scene.normal), rows(scene.alpha_hat), rows(scene.push_hat),
+                   np.full(b, float(scene.sin_alpha)))
+
+    @classmethod
+    def stack(cls, scenes: list[PushScene]) -> SceneArrays:
+        return cls(np.array([sc.contact_rel for sc in scenes], dtype=float),
+                   np.array([sc.normal for sc in scenes], dtype=float),
+                   np.array([sc.alpha_hat for sc in scenes], dtype=float),
+                   np.array([sc.push_hat for sc in scenes], dtype=float),
+                   np.array([sc.sin_alpha for sc in scenes], dtype=float))
+
+
+def _length_scale(contact_rel: np.ndarray, w_rel: np.ndarray) -> np.ndarray:
     """L per problem: the largest distance of a support point or the contact from the CM.
 
     L = 0 (every support point and the contact at the CM) leaves the rotation free: the
     motion is not determined, which is refused as an input error."""
     # hypot, not norm: the squares of lengths below ~1e-154 underflow to zero
     lw = np.max(np.hypot(w_rel[..., 0], w_rel[..., 1]), axis=-1)
-    ell = np.maximum(lw, math.hypot(float(scene.contact_rel[0]), float(scene.contact_rel[1])))
+    ell = np.maximum(lw, np.hypot(contact_rel[:, 0], contact_rel[:, 1]))
     if not np.all(ell > 0.0):
         raise InvalidInput(
             "points",
@@ -150,12 +180,12 @@ def _length_scale(scene: PushScene, w_rel: np.ndarray) -> np.ndarray:
 
 
 def _rows_frictionless(direction: np.ndarray, c_n: np.ndarray) -> np.ndarray:
-    """(B, 1, 3) contact rows (d, d . J c) for unit force directions d (2,) and c/L (B, 2)."""
+    """(B, 1, 3) contact rows (d, d . J c) for unit force directions d (B, 2) and c/L (B, 2)."""
     jc = perp(c_n)
     b = c_n.shape[0]
     row = np.empty((b, 1, 3))
     row[:, 0, :2] = direction
-    row[:, 0, 2] = jc @ direction
+    row[:, 0, 2] = np.einsum("bi,bi->b", jc, direction)
     return row
 
 
@@ -359,16 +389,20 @@ def _backend(method: str, polish: bool) -> _Backend:
 # Modes (4.1)
 
 
-def _solve_normalised(scene: PushScene, w_rel, p, mu_c: float, backend: _Backend, tol: SolverTolerances):
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.einsum("bi,bi->b", a, b)
+
+
+def _solve_normalised(geo: SceneArrays, w_rel, p, mu_c: float, backend: _Backend, tol: SolverTolerances):
     """Solve a batch in normalised units. Returns a dict of arrays (world-frame vectors)."""
     b = w_rel.shape[0]
-    ell = _length_scale(scene, w_rel)
+    ell = _length_scale(geo.contact_rel, w_rel)
     w_n = w_rel / ell[:, None, None]
-    c_n = scene.contact_rel[None, :] / ell[:, None]
-    n = scene.normal
-    t = scene.alpha_hat
-    push = scene.push_hat
-    sin_a = scene.sin_alpha
+    c_n = geo.contact_rel / ell[:, None]
+    n = geo.normal
+    t = geo.alpha_hat
+    push = geo.push_hat
+    sin_a = geo.sin_alpha
 
     x = np.zeros((b, 3))
     force = np.zeros((b, 2))
@@ -385,14 +419,14 @@ def _solve_normalised(scene: PushScene, w_rel, p, mu_c: float, backend: _Backend
         xs, mult, k_, vtx, its, rw = backend.solve(w_n[idx], p[idx], rows, q, tol)
         # Scale so that the contact keeps up with the pusher: n . v(c) = n . p (3.3).
         vc = xs[:, :2] + xs[:, 2:3] * perp(c_n[idx])
-        kappa = sin_a / (vc @ n)
+        kappa = sin_a[idx] / _dot(vc, n[idx])
         return xs * kappa[:, None], mult[:, 0], kappa, k_, vtx, its, rw
 
     if mu_c == 0.0:
         idx = np.arange(b)
         xs, lam, kappa, k_, vtx, its, rw = frictionless(idx, n)
         x[:], kkt[:], vertex[:], iters[:] = xs, k_, vtx, its
-        force[:] = lam[:, None] * n[None, :]
+        force[:] = lam[:, None] * n
         consistent &= kappa > 0.0
         if rw is not None:
             raw[:] = rw
@@ -400,7 +434,7 @@ def _solve_normalised(scene: PushScene, w_rel, p, mu_c: float, backend: _Backend
     else:
         idx = np.arange(b)
         m = _rows_sticking(c_n)
-        q = np.broadcast_to(push, (b, 2)).copy()
+        q = push.copy()
         # With the COR on a support point the contact force is a set: the Newton step
         # reports its member deepest in the cone (IPOPT's dual gives one member only).
         if hasattr(backend, "cone"):
@@ -408,8 +442,8 @@ def _solve_normalised(scene: PushScene, w_rel, p, mu_c: float, backend: _Backend
         xs, mult, k_, vtx, its, rw = backend.solve(w_n, p, m, q, tol)
         if hasattr(backend, "cone"):
             backend.cone = None
-        fn = mult @ n
-        ft = mult @ t
+        fn = _dot(mult, n)
+        ft = _dot(mult, t)
         in_cone = (fn > 0.0) & (np.abs(ft) <= mu_c * fn * (1.0 + tol.kkt))
         x[:], force[:], kkt[:], vertex[:], iters[:] = xs, mult, k_, vtx, its
         if rw is not None:
@@ -424,17 +458,17 @@ def _solve_normalised(scene: PushScene, w_rel, p, mu_c: float, backend: _Backend
                 sel = out[sigma == sg]
                 if sel.size == 0:
                     continue
-                d = (n + sg * mu_c * t) / math.hypot(1.0, mu_c)
+                d = (n[sel] + sg * mu_c * t[sel]) / math.hypot(1.0, mu_c)
                 xs2, lam, kappa, k2, vtx2, its2, rw2 = frictionless(sel, d)
                 vc = xs2[:, :2] + xs2[:, 2:3] * perp(c_n[sel])
-                rel = (push[None, :] - vc) @ t  # pusher relative to the part, along t
+                rel = _dot(push[sel] - vc, t[sel])  # pusher relative to the part, along t
                 # Friction on the part points along the pusher's relative slip.
                 ok = (kappa > 0.0) & (lam > 0.0) & (np.sign(rel) == sg)
                 x[sel], kkt[sel], vertex[sel], iters[sel] = xs2, k2, vtx2, its2 + iters[sel]
-                force[sel] = lam[:, None] * d[None, :]
+                force[sel] = lam[:, None] * d
                 if rw2 is not None:
                     raw[sel] = rw2
-                up = (vc - push[None, :]) @ perp(push) > 0.0
+                up = _dot(vc - push[sel], perp(push[sel])) > 0.0
                 mode[sel] = np.where(up, 2, 3)
                 consistent[sel] = ok
     # Back to world units: v is dimensionless already (per unit push); omega = x3 / L.
@@ -468,7 +502,7 @@ def solve_forward(
     w_rel = (support.points - scene.center_of_mass)[None]
     p = support.weights[None]
     t0 = time.perf_counter()
-    out = _solve_normalised(scene, w_rel, p, float(mu_c), backend, tol)
+    out = _solve_normalised(SceneArrays.repeat(scene, 1), w_rel, p, float(mu_c), backend, tol)
     elapsed = time.perf_counter() - t0
     return _single_result(scene, out, w_rel, p, backend.name, tol, elapsed)
 
@@ -525,8 +559,34 @@ def solve_forward_batch(
     each centroid must be the CM unless ``check_centroid`` is False.
     """
     w = np.asarray(points, dtype=float)
+    if w.ndim != 3 or w.shape[2] != 2:
+        raise InvalidInput("points", "need points of shape (batch, k, 2) and weights (batch, k)")
+    cms = np.broadcast_to(np.asarray(scene.center_of_mass, dtype=float), (w.shape[0], 2))
+    return _solve_batch(SceneArrays.repeat(scene, w.shape[0]), cms, w, weights, mu_c, tol, check_centroid)
+
+
+def solve_forward_scenes(
+    scenes: list[PushScene],
+    points,
+    weights,
+    mu_c: float = 0.0,
+    tol: SolverTolerances = SOLVER_DEFAULT,
+    check_centroid: bool = True,
+) -> BatchResult:
+    """Like :func:`solve_forward_batch`, with a scene per support: ``scenes[i]`` pushes the
+    support ``points[i]`` (world frame, its centroid that scene's CM), so many parts at
+    different poses (a simulator stepping them together) are solved in one batch."""
+    w = np.asarray(points, dtype=float)
+    if w.ndim != 3 or w.shape[2] != 2 or len(scenes) != w.shape[0]:
+        raise InvalidInput("points", "need points of shape (batch, k, 2), weights (batch, k) and one scene per support")
+    cms = np.array([sc.center_of_mass for sc in scenes], dtype=float).reshape(-1, 2)
+    return _solve_batch(SceneArrays.stack(scenes), cms, w, weights, mu_c, tol, check_centroid)
+
+
+def _solve_batch(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, weights, mu_c: float, tol: SolverTolerances,
+                 check_centroid: bool) -> BatchResult:
     p = np.asarray(weights, dtype=float)
-    if w.ndim != 3 or w.shape[2] != 2 or p.shape != w.shape[:2]:
+    if p.shape != w.shape[:2]:
         raise InvalidInput("points", "need points of shape (batch, k, 2) and weights (batch, k)")
     if not (np.all(np.isfinite(w)) and np.all(np.isfinite(p))) or np.any(p < 0.0):
         raise InvalidInput("weights", "must be finite and non-negative, points finite")
@@ -536,7 +596,7 @@ def solve_forward_batch(
     if np.any(tot <= 0.0):
         raise InvalidInput("weights", "every support needs a positive total weight")
     p = p / tot[:, None]
-    w_rel = w - scene.center_of_mass
+    w_rel = w - cms[:, None, :]
     if check_centroid:
         ell = np.max(np.linalg.norm(w_rel, axis=2), axis=1)
         off = np.linalg.norm(np.einsum("bk,bki->bi", p, w_rel), axis=1)
@@ -545,14 +605,14 @@ def solve_forward_batch(
             raise InvalidInput("weights", f"support {int(bad[0])} does not have its centroid at the centre of mass")
     t0 = time.perf_counter()
     backend = _NewtonBackend()
-    out = _solve_normalised(scene, w_rel, p, float(mu_c), backend, tol)
+    out = _solve_normalised(geo, w_rel, p, float(mu_c), backend, tol)
     elapsed = time.perf_counter() - t0
     v, omega = out["v"], out["omega"]
     translation = np.abs(omega) * out["ell"] <= tol.translation_omega * np.linalg.norm(v, axis=1)
     cor = np.full(v.shape, np.nan)
     rot = ~translation
-    cor[rot] = scene.center_of_mass + perp(v[rot]) / omega[rot, None]
-    vc = v + omega[:, None] * perp(scene.contact_rel)[None, :]
+    cor[rot] = cms[rot] + perp(v[rot]) / omega[rot, None]
+    vc = v + omega[:, None] * perp(geo.contact_rel)
     power = _power_world(v, omega, w_rel, p)
     return BatchResult(
         cor=cor,
@@ -565,7 +625,7 @@ def solve_forward_batch(
         cor_on_support=out["vertex"],
         converged=(out["kkt"] <= tol.kkt_accept) & out["consistent"],
         solve_time_s=elapsed,
-        slip=(scene.push_hat[None, :] - vc) @ scene.alpha_hat,
+        slip=_dot(geo.push_hat - vc, geo.alpha_hat),
         gap=power - np.einsum("bi,bi->b", out["force"], vc),
         iterations=out["iters"],
         fallbacks=backend.fallbacks,

@@ -356,7 +356,8 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None, cone=None) -
     w: (B, k, 2) support points / L (CM at the origin; no two coincident), p: (B, k)
     weights summing to 1, m: (B, rows, 3) constraint rows (rows = 1 or 2), q: (B, rows).
     ``x0``: optional starting twists (B, 3), used by the one-row Newton iteration.
-    ``cone``: (n, t, mu_c) of a sticking contact (two rows: v(c) = p, M = [I, J c]): where
+    ``cone``: (n, t, mu_c) of a sticking contact (two rows: v(c) = p, M = [I, J c]; n and t
+    (2,) or one per problem (B, 2)): where
     the COR sits on a support point the contact force is a set, and the member deepest
     inside the friction cone is reported (:func:`_vertex_contact_force`).
     """
@@ -496,8 +497,11 @@ def _vertex_contact_force(w, p, m, x, vertex, mult, cone):
     w_j - c, z0 across it, |tau| |e| <= sqrt(P_j^2 - |z0|^2). Among those forces, the one
     with the largest friction-cone margin mu_c F . n - |F . t| (concave, piecewise linear in
     tau: its maximum is at an end or where F . t = 0) is written into ``mult``. In place."""
-    n, t, mu_c = cone
+    n_all, t_all, mu_c = cone  # (2,) or one row per problem (B, 2)
+    n_all, t_all = np.asarray(n_all, dtype=float), np.asarray(t_all, dtype=float)
     for b in np.nonzero(vertex >= 0)[0]:
+        n = n_all[b] if n_all.ndim == 2 else n_all
+        t = t_all[b] if t_all.ndim == 2 else t_all
         j = int(vertex[b])
         wx, wy = w[b, :, 0][None], w[b, :, 1][None]
         pj = p[b].copy()

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Generator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -44,9 +45,11 @@ from numpy.typing import ArrayLike
 from models.errors import InvalidInput
 from models.feeder.fence import Fence, Part
 from models.mpp import perp
+from models.scene import PushScene
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import TimeLimitReached
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
+from solver.motion.forward import solve_forward_scenes
 from solver.sim.contacts import onto_line
 from solver.sim.kinematics import Twist, advance, body_to_world
 from solver.sim.stepper import MotionOracle, SolveCounts
@@ -145,6 +148,7 @@ class _Geometry:
         self.w = fence.sign * self.t
         self.n = fence.normal
         self.e = np.zeros(2)  # the free end E
+        self.next_vertex = (np.arange(part.m) + 1) % part.m
 
     def hull(self, cm: np.ndarray, theta: float) -> np.ndarray:
         return body_to_world(cm, theta, self.part.hull)
@@ -161,13 +165,13 @@ class _Geometry:
     def end_contact(self, pts: np.ndarray) -> tuple[float, np.ndarray]:
         """Where E is against the part: (its depth inside (> 0 only when inside), its
         distance to each edge)."""
-        q = np.roll(pts, -1, axis=0)
-        e = q - pts
-        ln2 = np.einsum("ij,ij->i", e, e)
-        r = self.e - pts
-        d = (r[:, 1] * e[:, 0] - r[:, 0] * e[:, 1]) / np.sqrt(ln2)  # inward distance to each edge line
-        u = np.clip(np.einsum("ij,ij->i", r, e) / ln2, 0.0, 1.0)
-        gap = np.hypot(*(r - u[:, None] * e).T)
+        e = pts[self.next_vertex] - pts
+        ex, ey = e[:, 0], e[:, 1]
+        ln2 = ex * ex + ey * ey
+        rx, ry = self.e[0] - pts[:, 0], self.e[1] - pts[:, 1]
+        d = (ry * ex - rx * ey) / np.sqrt(ln2)  # inward distance to each edge line
+        u = np.clip((rx * ex + ry * ey) / ln2, 0.0, 1.0)
+        gap = np.hypot(rx - u * ex, ry - u * ey)
         depth = float(np.min(d)) if np.all(d > 0.0) else 0.0
         return depth, gap
 
@@ -204,6 +208,28 @@ def _check(part_support: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, n
     return pts, w / w.sum()
 
 
+@dataclass(frozen=True)
+class TwistRequest:
+    """What a run needs next: the forward solve of its part at pose (cm, theta) pushed at
+    ``contact`` on an edge at ``edge_angle`` (world, belt frame), the push along +y; the
+    driver answers with that solve's (velocity of the CM, omega) per unit push."""
+
+    cm: np.ndarray
+    theta: float
+    contact: np.ndarray
+    edge_angle: float
+
+
+RunSteps = Generator[TwistRequest, tuple[np.ndarray, float], "FenceRun"]
+
+
+def _validated(part: Part, fence: Fence, mu_c: float, support_points: ArrayLike,
+               weights: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    if not (fence.mu_low <= mu_c <= fence.mu_high):
+        raise InvalidInput("mu_c", "must lie in the fence's mu_c interval")
+    return _check(np.asarray(support_points, dtype=float), np.asarray(weights, dtype=float))
+
+
 def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayLike, weights: ArrayLike,
                    theta_initial: float, fence_length: float | None = None, start_along: float = 0.7,
                    settings: FeederSimSettings = DEFAULT_SIM, tol: SolverTolerances = SOLVER_DEFAULT,
@@ -212,14 +238,94 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
     centroid must be the CM) at orientation ``theta_initial`` onto ``fence`` with contact
     friction ``mu_c`` until it has left the fence's end, jammed, or ``max_steps``.
     The part starts above the fence at ``start_along`` of its length (default fence length:
-    40 part radii)."""
+    40 part radii). One forward solve at a time (:func:`simulate_fence_batch` runs many
+    parts together)."""
     t0 = time.perf_counter()
-    if not (fence.mu_low <= mu_c <= fence.mu_high):
-        raise InvalidInput("mu_c", "must lie in the fence's mu_c interval")
-    pts, w = _check(np.asarray(support_points, dtype=float), np.asarray(weights, dtype=float))
+    pts, w = _validated(part, fence, mu_c, support_points, weights)
+    oracle = MotionOracle(pts, w, part.radius, mu_c, tol=tol, budget=budget)
+    steps = _fence_run(part, fence, mu_c, theta_initial, fence_length, start_along, settings, oracle.counts, t0)
+    answer = None
+    while True:
+        try:
+            req = steps.send(answer) if answer is not None else next(steps)
+        except StopIteration as done:
+            return done.value
+        try:
+            tw = oracle.twist(req.cm, req.theta, req.contact, req.edge_angle, PUSH_ANGLE)
+        except TimeLimitReached as exc:
+            try:
+                steps.throw(exc)
+            except StopIteration as done:
+                return done.value
+            raise AssertionError("a run went on past its time limit") from exc
+        answer = (tw.velocity, tw.omega)
+
+
+def simulate_fence_batch(part: Part, fence: Fence, mu_c: float, supports: list[tuple[ArrayLike, ArrayLike]],
+                         thetas_initial: ArrayLike, fence_length: float | None = None,
+                         start_along: ArrayLike | float = 0.7, settings: FeederSimSettings = DEFAULT_SIM,
+                         tol: SolverTolerances = SOLVER_DEFAULT, budget: Budget = UNLIMITED) -> list[FenceRun]:
+    """Many parts (one support and initial orientation each) through one fence, stepped
+    together: each round, every run still going asks for its next forward solve and they
+    are solved in one batch per support size (solver.motion.forward.solve_forward_scenes).
+    Each run follows exactly the steps :func:`simulate_fence` takes (the same events, the
+    same motions to rounding); its ``solve_time_s`` is the time from the batch's start
+    until it finished. Past the budget every run still going ends with "time_limit"."""
+    t0 = time.perf_counter()
+    thetas = np.atleast_1d(np.asarray(thetas_initial, dtype=float))
+    if len(thetas) != len(supports):
+        raise InvalidInput("thetas_initial", "need one initial orientation per support")
+    along = np.broadcast_to(np.asarray(start_along, dtype=float), thetas.shape)
+    checked = [_validated(part, fence, mu_c, pts, w) for pts, w in supports]
+    counts = [SolveCounts() for _ in supports]
+    runs: list[FenceRun | None] = [None] * len(supports)
+    gens: dict[int, RunSteps] = {}
+    pending: dict[int, TwistRequest] = {}
+
+    def advance_run(i: int, answer: tuple[np.ndarray, float] | None) -> None:
+        try:
+            pending[i] = gens[i].send(answer) if answer is not None else next(gens[i])
+        except StopIteration as done:
+            runs[i] = done.value
+            del gens[i]
+            pending.pop(i, None)
+
+    for i in range(len(supports)):
+        gens[i] = _fence_run(part, fence, mu_c, float(thetas[i]), fence_length, float(along[i]), settings,
+                             counts[i], t0)
+        advance_run(i, None)
+    try:
+        while pending:
+            budget.checkpoint(f"a batch of {len(pending)} forward solves")
+            for k in sorted({len(checked[i][0]) for i in pending}):
+                ids = [i for i in pending if len(checked[i][0]) == k]
+                scenes = [PushScene.create(part.radius, pending[i].contact, pending[i].edge_angle, PUSH_ANGLE,
+                                           pending[i].cm) for i in ids]
+                world = np.array([body_to_world(pending[i].cm, pending[i].theta, checked[i][0]) for i in ids])
+                res = solve_forward_scenes(scenes, world, np.array([checked[i][1] for i in ids]), mu_c, tol)
+                for row, (i, scene) in enumerate(zip(ids, scenes)):
+                    counts[i].record_values(res.MODES[int(res.mode[row])], float(res.kkt_residual[row]),
+                                            bool(res.converged[row]), res.contact_force[row], scene)
+                    advance_run(i, (res.velocity_cm[row].copy(), float(res.omega[row])))
+    except TimeLimitReached as exc:
+        for i in list(gens):
+            try:
+                gens[i].throw(exc)
+            except StopIteration as done:
+                runs[i] = done.value
+    out = [r for r in runs if r is not None]
+    if len(out) != len(runs):  # pragma: no cover - every generator ends in a FenceRun
+        raise AssertionError("a run of the batch did not finish")
+    return out
+
+
+def _fence_run(part: Part, fence: Fence, mu_c: float, theta_initial: float, fence_length: float | None,
+               start_along: float, settings: FeederSimSettings, counts: SolveCounts, t0: float) -> RunSteps:
+    """The run of :func:`simulate_fence` as a generator: it yields a :class:`TwistRequest`
+    whenever it needs a forward solve and is sent back (velocity, omega); a
+    TimeLimitReached thrown in ends it with status "time_limit". Returns the FenceRun."""
     a = part.radius
     geo = _Geometry(part, fence, DEFAULT_FENCE_LENGTH_RADII * a if fence_length is None else float(fence_length))
-    oracle = MotionOracle(pts, w, a, mu_c, tol=tol, budget=budget)
     s = settings
     tol_c = s.contact_tol * a
     theta = float(theta_initial)
@@ -263,7 +369,12 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
                     record("contact", "first contact" if not events else "contact again")
                 continue
             # What moves the part (module docstring).
-            mode, twist = _mode(geo, oracle, cm, theta, hull, touching, gaps, f_hat, mu_c, tol_c)
+            mode, need = _mode(geo, cm, theta, hull, touching, gaps, f_hat, mu_c, tol_c)
+            if isinstance(need, TwistRequest):
+                velocity, omega = yield need
+                twist = Twist(velocity - D, omega, cm.copy())
+            else:
+                twist = need
             if mode == "along":
                 status = "left"
                 record("left", f"the edge under the fence's end lies along the belt at orientation {theta:.9g}")
@@ -313,15 +424,15 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
         record("time_limit", str(exc))
     return FenceRun(theta_initial=float(theta_initial), theta_final=theta if status in ("left", "missed") else None,
                     status=status, events=events, pushes=np.array(pushes), cms=np.array(cms),
-                    thetas=np.array(thetas), counts=oracle.counts, solve_time_s=time.perf_counter() - t0,
+                    thetas=np.array(thetas), counts=counts, solve_time_s=time.perf_counter() - t0,
                     flush_edges=flush_edges)
 
 
-def _mode(geo: _Geometry, oracle: MotionOracle, cm: np.ndarray, theta: float, hull: np.ndarray,
+def _mode(geo: _Geometry, cm: np.ndarray, theta: float, hull: np.ndarray,
           touching: list[int], gaps: np.ndarray, f_hat: np.ndarray, mu_c: float,
-          tol_c: float) -> tuple[str, Twist]:
-    """(mode, motion per unit push in the fence's frame) at a pose in contact; ``gaps``:
-    E's distance to each edge."""
+          tol_c: float) -> tuple[str, Twist | TwistRequest]:
+    """(mode, motion per unit push in the fence's frame, or the forward solve a point
+    contact needs) at a pose in contact; ``gaps``: E's distance to each edge."""
     m = geo.part.m
     edge_e = int(np.argmin(gaps))  # used when no vertex is on the face: E is on this edge
     # an edge is flush when both its ends touch the fence's face, or one does and E lies on
@@ -358,26 +469,24 @@ def _mode(geo: _Geometry, oracle: MotionOracle, cm: np.ndarray, theta: float, hu
             touching, edge_e = [], flush
     if touching:
         mode = f"vertex:{touching[0]}"
-        return mode, _point_twist(geo, oracle, mode, cm, theta)
+        return mode, _point_request(geo, mode, cm, theta)
     q = hull[(edge_e + 1) % m] - hull[edge_e]
     if abs(float(perp(q) @ D)) <= GRAZING * math.hypot(float(q[0]), float(q[1])):
         return "along", Twist(-D, 0.0, cm.copy())  # the edge lies along the belt: E no longer pushes
     mode = f"end:{edge_e}"
-    return mode, _point_twist(geo, oracle, mode, cm, theta)
+    return mode, _point_request(geo, mode, cm, theta)
 
 
-def _point_twist(geo: _Geometry, oracle: MotionOracle, mode: str, cm: np.ndarray, theta: float) -> Twist:
-    """The motion per unit push (fence's frame) of a point contact: vertex i on the face
-    ("vertex:i") or E on edge i ("end:i"), by the forward solve in the belt's frame."""
+def _point_request(geo: _Geometry, mode: str, cm: np.ndarray, theta: float) -> TwistRequest:
+    """The forward solve (in the belt's frame) of a point contact: vertex i on the face
+    ("vertex:i") or E on edge i ("end:i")."""
     kind, idx = mode.split(":")
     i = int(idx)
     hull = geo.hull(cm, theta)
     if kind == "vertex":
-        res = oracle.twist(cm, theta, hull[i], geo.fence.angle, PUSH_ANGLE)
-    else:
-        q = hull[(i + 1) % geo.part.m] - hull[i]
-        res = oracle.twist(cm, theta, geo.e.copy(), math.atan2(float(q[1]), float(q[0])), PUSH_ANGLE)
-    return Twist(res.velocity - D, res.omega, cm.copy())
+        return TwistRequest(cm.copy(), theta, hull[i].copy(), geo.fence.angle)
+    q = hull[(i + 1) % geo.part.m] - hull[i]
+    return TwistRequest(cm.copy(), theta, geo.e.copy(), math.atan2(float(q[1]), float(q[0])))
 
 
 def _flush_distance(geo: _Geometry, cm: np.ndarray, theta: float, twist: Twist, edge: int,

@@ -50,12 +50,17 @@ class SolveCounts:
     max_force_angle: float = 0.0
 
     def record(self, res: ForwardResult, scene: PushScene) -> None:
+        self.record_values(res.mode, res.kkt_residual, res.status == "optimal", res.contact_force, scene)
+
+    def record_values(self, mode: str, kkt: float, optimal: bool, force: np.ndarray, scene: PushScene) -> None:
+        """One solve's mode, KKT residual, whether it was optimal, and its contact force (a
+        single solve, or one row of a batched one)."""
         self.solves += 1
-        self.modes[res.mode] += 1
-        self.max_kkt = max(self.max_kkt, res.kkt_residual)
-        self.not_optimal += res.status != "optimal"
-        fn = float(res.contact_force @ scene.normal)
-        ft = float(res.contact_force @ scene.alpha_hat)
+        self.modes[mode] += 1
+        self.max_kkt = max(self.max_kkt, float(kkt))
+        self.not_optimal += not optimal
+        fn = float(force @ scene.normal)
+        ft = float(force @ scene.alpha_hat)
         self.max_force_angle = max(self.max_force_angle, math.atan2(abs(ft), fn))
 
 

@@ -4,7 +4,8 @@
 Writes its section of docs/benchmarks.md: the map's time against the extreme-B
 integration's steps and the error of its band edges against FINE; the boolean matrix's
 time against the orientation resolution; simulated parts per second, how many outcomes
-fall inside their maps, and how much of each band they fill. Run with
+fall inside their maps, and how much of each band they fill; the batched simulator's
+throughput. Run with
 `pytest tests/benchmarks/test_bench_feeder.py --run-benchmarks`."""
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ import pytest
 
 from models.feeder.arcs import ccw_distance
 from models.feeder.fence import FINE, FeederTolerances, Fence, fence_map
-from solver.sim.feeder import FeederSimSettings, simulate_fence
+from solver.sim.feeder import FeederSimSettings, simulate_fence, simulate_fence_batch
 from tests.benchmarks._docs import write_section
 from tests.feeder_cases import PARTS, part, random_encounter
 
@@ -69,7 +70,7 @@ def matrix_rows():
 
 def sim_rows(rng):
     rows = []
-    totals = {"runs": 0, "inside": 0, "time": 0.0, "solves": 0}
+    totals = {"runs": 0, "inside": 0, "time": 0.0, "batch_time": 0.0, "solves": 0}
     for name in PARTS:
         the_part = part(name)
         for deg, mu in SIM_FENCES:
@@ -79,11 +80,16 @@ def sim_rows(rng):
             inside = jams = cut = 0
             t_sim = 0.0
             solves = 0
-            for _ in range(RUNS):
-                enc = random_encounter(rng, name)
+            encounters = [random_encounter(rng, name) for _ in range(RUNS)]
+            t0 = time.perf_counter()
+            batch = simulate_fence_batch(the_part, fence, mu, [(e.body, e.weights) for e in encounters],
+                                         [e.theta for e in encounters])
+            t_batch = time.perf_counter() - t0
+            for enc, twin in zip(encounters, batch):
                 t0 = time.perf_counter()
                 run = simulate_fence(the_part, fence, mu, enc.body, enc.weights, enc.theta)
                 t_sim += time.perf_counter() - t0
+                assert twin.status == run.status and twin.theta_final == run.theta_final
                 solves += run.counts.solves
                 if run.status == "jammed":
                     jams += 1
@@ -101,12 +107,31 @@ def sim_rows(rng):
                         where.setdefault(j, []).append(d / w if w > 0 else 0.0)
             spans = [f"{min(v):.2f}–{max(v):.2f}" for _, v in sorted(where.items()) if len(v) >= 2]
             rows.append(f"| {name} | {deg:+.0f}° | {mu:g} | {RUNS} | {inside} | {jams} | {cut} | "
-                        f"{RUNS / t_sim:.1f} | {solves / RUNS:.0f} | {', '.join(spans) or '–'} |")
+                        f"{RUNS / t_sim:.1f} | {RUNS / t_batch:.1f} | {solves / RUNS:.0f} | {', '.join(spans) or '–'} |")
             totals["runs"] += RUNS
             totals["inside"] += inside
             totals["time"] += t_sim
+            totals["batch_time"] += t_batch
             totals["solves"] += solves
     return rows, totals
+
+
+def throughput_rows(rng):
+    """Parts per second against the batch's size (pentagon, gamma = 0.7, mu_c = 0.25)."""
+    the_part = part("pentagon")
+    fence = Fence.create(0.7, 0.25)
+    encounters = [random_encounter(rng, "pentagon") for _ in range(200)]
+    rows = []
+    t0 = time.perf_counter()
+    for enc in encounters[:20]:
+        simulate_fence(the_part, fence, 0.25, enc.body, enc.weights, enc.theta)
+    rows.append(f"| one at a time | {20 / (time.perf_counter() - t0):.1f} |")
+    for size in (10, 50, 200):
+        t0 = time.perf_counter()
+        simulate_fence_batch(the_part, fence, 0.25, [(e.body, e.weights) for e in encounters[:size]],
+                             [e.theta for e in encounters[:size]])
+        rows.append(f"| batch of {size} | {size / (time.perf_counter() - t0):.1f} |")
+    return rows
 
 
 def step_rows(rng):
@@ -134,6 +159,7 @@ def test_bench_feeder():
     x_rows = matrix_rows()
     s_rows, tot = sim_rows(rng)
     st_rows = step_rows(rng)
+    tp_rows = throughput_rows(rng)
     assert tot["inside"] == tot["runs"]
     lines = [
         f"`tests/benchmarks/test_bench_feeder.py`, seed {SEED}, {platform.python_version()}, one core. "
@@ -158,18 +184,25 @@ def test_bench_feeder():
         "",
         "Simulated parts (`simulate_fence`, one random balanced tripod in the part and a random "
         "initial orientation per run): inside = final orientation in a band whose kernel holds "
-        "the initial one (slack 1e-6 rad), or a jam where the map allows one; cut = step limit; "
+        "the initial one (slack 1e-6 rad), or a jam where the map allows one; cut = step limit or stalled; "
         "fill = where in its band the outcomes fell, from its clockwise end (0) to its "
         "counter-clockwise end (1), per band with two or more outcomes (γ > 0: 0 is B and 1 is A; "
         "γ < 0: 0 is A and 1 is B).",
         "",
-        "| part | γ | μ_c | runs | inside | jams | cut | parts/s | solves/part | fill per band |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| part | γ | μ_c | runs | inside | jams | cut | parts/s | batched | solves/part | fill per band |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
         *s_rows,
         "",
-        f"All {tot['runs']} outcomes inside their maps; {tot['runs'] / tot['time']:.1f} parts/s overall, "
-        f"{tot['solves'] / tot['runs']:.0f} forward solves per part (one support at a time: the batched "
-        "simulator is not built yet).",
+        f"All {tot['runs']} outcomes inside their maps; {tot['runs'] / tot['time']:.1f} parts/s overall one at a "
+        f"time, {tot['runs'] / tot['batch_time']:.1f} batched ({RUNS} parts per batch, `simulate_fence_batch`: "
+        f"the same runs, equal to the last bit), {tot['solves'] / tot['runs']:.0f} forward solves per part.",
+        "",
+        "Throughput against the batch's size (pentagon, γ = 0.7, μ_c = 0.25; the forward solves of a round "
+        "are one Newton batch, what remains is each run's own geometry in Python):",
+        "",
+        "| runs | parts/s |",
+        "|---|---|",
+        *tp_rows,
         "",
         "The simulator's step against the error of the final orientation (eight runs: four parts, "
         "γ = 0.7 with μ_c 0.25 and γ = −0.9 with μ_c 0.15, against step 0.0025 a): first order; the "

@@ -19,7 +19,7 @@ from models.support import Support, random_balanced_tripods, uniform_disk_suppor
 from solver.core.errors import BackendNotFound, NotConverged, SolverError
 from solver.core.outcome import Outcome
 from solver.core.tolerances import SolverTolerances
-from solver.motion.forward import METHODS, solve_forward, solve_forward_batch
+from solver.motion.forward import METHODS, solve_forward, solve_forward_batch, solve_forward_scenes
 from tests.scenes import SEED, distance_to_polyline, point_in_polygon, scene_for_mu
 
 MUS = (0.05, 0.3, 0.9, 1.5)
@@ -354,6 +354,36 @@ def test_batch_reports_slip_gap_and_iterations_like_single_solves():
             assert math.isclose(br.slip[i], r.slip, rel_tol=1e-9, abs_tol=1e-12)
             assert abs(br.gap[i]) <= 1e-9 * br.power[i] and abs(r.gap) <= 1e-9 * r.power
             assert br.iterations[i] == r.iterations
+
+
+@pytest.mark.parametrize("mu_c", [0.0, 0.3, 2.0])
+def test_a_scene_per_support_equals_one_solve_each(mu_c):
+    """solve_forward_scenes (one scene per support: contact, edge, push and CM all differ,
+    as when a simulator steps many parts) gives each support the motion its own single
+    solve gives, in every mode (4.1), with the slip and the power."""
+    rng = np.random.default_rng(SEED + 31)
+    b = 36
+    pts, wts = random_balanced_tripods(rng, b, 1.0)
+    scenes, world = [], []
+    for i in range(b):
+        cm = rng.uniform(-5.0, 5.0, 2)
+        ang = rng.uniform(0.0, 2.0 * math.pi)
+        contact = cm + rng.uniform(0.4, 1.0) * np.array([math.cos(ang), math.sin(ang)])
+        edge = ang + 0.5 * math.pi + rng.uniform(-0.4, 0.4)  # the part lies on the edge's inner side
+        push = edge + 0.5 * math.pi + rng.uniform(-1.0, 1.0) + math.pi
+        scenes.append(PushScene.create(1.0, contact, edge, push, cm))
+        world.append(pts[i] + cm)
+    br = solve_forward_scenes(scenes, np.array(world), wts, mu_c=mu_c)
+    assert br.converged.all()
+    modes = set()
+    for i in range(b):
+        r = solve_forward(scenes[i], Support.create(world[i], wts[i], scenes[i].center_of_mass), mu_c=mu_c)
+        modes.add(r.mode)
+        assert r.mode == br.MODES[br.mode[i]]
+        assert np.linalg.norm(np.r_[r.velocity_cm - br.velocity_cm[i], r.omega - br.omega[i]]) <= 1e-9
+        assert math.isclose(br.slip[i], r.slip, rel_tol=1e-9, abs_tol=1e-12)
+        assert math.isclose(br.power[i], r.power, rel_tol=1e-12)
+    assert len(modes) >= (2 if mu_c == 0.3 else 1)  # mu_c 0.3: sticking and slipping both seen
 
 
 def test_undetermined_motion_is_refused():
