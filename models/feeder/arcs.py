@@ -100,6 +100,23 @@ class Arcs:
                     return True
         return False
 
+    def issubset(self, other: Arcs, slack: float = 0.0) -> bool:
+        """True when every arc lies within an arc of ``other`` widened by ``slack`` at both
+        ends (``other`` is merged, so a contiguous arc lies within one of its arcs)."""
+        return all(any(ccw_distance(s2 - slack, s) + w <= w2 + 2.0 * slack for s2, w2 in other.arcs)
+                   for s, w in self.arcs)
+
+    def distance(self, other: Arcs) -> float:
+        """The smallest angle between a point of one and a point of the other (0 when they
+        meet; inf when either is empty)."""
+        best = math.inf
+        for s1, w1 in self.arcs:
+            for s2, w2 in other.arcs:
+                if ccw_distance(s1, s2) <= w1 or ccw_distance(s2, s1) <= w2:
+                    return 0.0
+                best = min(best, ccw_distance(s1 + w1, s2), ccw_distance(s2 + w2, s1))
+        return best
+
     def shifted(self, angle: float) -> Arcs:
         """Every arc turned by ``angle``."""
         return Arcs.of((s + angle, w) for s, w in self.arcs)

@@ -10,17 +10,7 @@ import numpy as np
 
 from models.feeder.fence import Fence
 from solver import Budget, FeederMapProblem, FeederSimProblem, feeder_map, feeder_simulate
-from tests.feeder_cases import part, random_support
-
-
-class Clock:
-    """Time stands still until ``run_out`` is set; then it is far past any deadline."""
-
-    def __init__(self) -> None:
-        self.run_out = False
-
-    def __call__(self) -> float:
-        return 1e9 if self.run_out else 0.0
+from tests.feeder_cases import Clock, part, random_support
 
 
 def test_map_of_a_sequence_and_an_expired_budget():
