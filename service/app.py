@@ -48,6 +48,7 @@ OPERATION_ORDER = (
     "spiral_schedule",
     "feeder_map",
     "feeder_simulate",
+    "feeder_design",
 )
 """The order of the operations in the OpenAPI document (openapi.yaml, stable for clients
 who diff it): the order in which they were published, not the resources' order."""

@@ -265,3 +265,9 @@ FEEDER_MAX_TRAJECTORY_POINTS = 2000
 """Trajectory samples returned per fence."""
 FEEDER_MAX_FENCE_LENGTH_RADII = 1e4
 """fence_length, in part radii."""
+FEEDER_MAX_CANDIDATES = 180
+"""Candidate fences of one design (both sides together: a map each)."""
+FEEDER_MAX_DESIGN_DEPTH = 20
+"""Fences in a design (the book searched one part to depth 20, 5.4.1)."""
+FEEDER_MAX_VALIDATION_PARTS = 500
+"""Simulated parts that validate a design (each runs through every fence)."""

@@ -12,6 +12,7 @@ from solver.core.errors import BackendNotFound, Infeasible, NotConverged, Solver
 from solver.core.outcome import Outcome
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
+from solver.feeder.design import FeederDesignProblem, FeederDesignResult, feeder_design
 from solver.feeder.workflow import (
     FeederMapProblem,
     FeederMapResult,
@@ -73,12 +74,15 @@ ENTRY_POINTS = (
     critical_radii,
     feeder_map,
     feeder_simulate,
+    feeder_design,
 )
 """The workflows the service calls: each ``(problem, budget) -> Outcome``."""
 
 __all__ = [
     "DEFAULT_FENCE_LENGTH_RADII",
     "ENTRY_POINTS",
+    "FeederDesignProblem",
+    "FeederDesignResult",
     "FeederMapProblem",
     "FeederMapResult",
     "FeederSimProblem",
@@ -86,6 +90,7 @@ __all__ = [
     "FeederSimSettings",
     "FenceEvent",
     "FenceRun",
+    "feeder_design",
     "feeder_map",
     "feeder_simulate",
     "simulate_fence",

@@ -69,3 +69,14 @@ class Clock:
 
     def __call__(self) -> float:
         return 1e9 if self.run_out else 0.0
+
+
+class CountingClock:
+    """Time stands still for ``calls`` readings, then is far past any deadline."""
+
+    def __init__(self, calls: int) -> None:
+        self.calls = calls
+
+    def __call__(self) -> float:
+        self.calls -= 1
+        return 0.0 if self.calls >= 0 else 1e9

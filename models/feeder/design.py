@@ -99,13 +99,18 @@ class DesignGraph:
     orbit: tuple[tuple[int, ...], ...]
 
     @classmethod
-    def build(cls, part: Part, maps: Sequence[FenceMap], tol: DesignTolerances = DESIGN_DEFAULT) -> DesignGraph:
+    def build(cls, part: Part, maps: Sequence[FenceMap], tol: DesignTolerances = DESIGN_DEFAULT,
+              checkpoint: Callable[[str], None] | None = None) -> DesignGraph:
+        """The relations of every pair of candidates; ``checkpoint`` (a deadline) is called
+        before each candidate's row."""
         if not maps:
             raise InvalidInput("fences", "need at least one candidate fence")
         k = rotational_symmetry(part, tol)
         step = part.m // k
         meets, gap, bad, bad_gap = [], [], [], []
-        for g in maps:
+        for row, g in enumerate(maps):
+            if checkpoint is not None:
+                checkpoint(f"the design graph's row {row} of {len(maps)}")
             row_m, row_g, row_b, row_bg = [], [], [], []
             for f in maps:
                 stop = f.map.jam.union(f.map.unaligned)
@@ -206,8 +211,8 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                   progress: Progress | None = None) -> SearchResult:
     """Breadth-first search for the shortest design (module docstring) up to ``max_depth``
     fences; consecutive fences on opposite sides of the belt when ``alternate``.
-    ``checkpoint`` (a deadline: it raises to stop) is called before each depth and every
-    thousand nodes; ``progress`` then holds what was established."""
+    ``checkpoint`` (a deadline: it raises to stop) is called before each depth and each
+    node's children; ``progress`` then holds what was established."""
     if max_depth < 1:
         raise InvalidInput("max_depth", "must be at least 1")
     t0 = time.perf_counter()
@@ -238,8 +243,8 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
         if checkpoint is not None:
             checkpoint(f"depth {depth + 1} of the design search ({nodes} nodes so far)")
         nxt: list[_Node] = []
-        for count, node in enumerate(frontier):
-            if checkpoint is not None and count % 1000 == 999:
+        for node in frontier:
+            if checkpoint is not None:
                 progress.nodes, progress.pruned = nodes, pruned
                 checkpoint(f"depth {depth + 1} of the design search ({nodes} nodes so far)")
             for f in range(n):

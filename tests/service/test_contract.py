@@ -13,7 +13,8 @@ valid n_nodes and n_points are cut to the minimum and their time budget to
 CONTRACT_GROSS_TIME_LIMIT_S, which admits one exact bound of 6 small sketches (~0.5 s) and
 refuses more by the service's cost model (a documented 422). The spiral endpoints get
 CONTRACT_SPIRAL_TIME_LIMIT_S and at most one simulated support; the feeder endpoints
-CONTRACT_FEEDER_TIME_LIMIT_S and at most CONTRACT_FEEDER_MAX_STEPS steps per fence.
+CONTRACT_FEEDER_TIME_LIMIT_S, at most CONTRACT_FEEDER_MAX_STEPS steps per fence and
+CONTRACT_FEEDER_MAX_VALIDATION simulated parts per design.
 Everything else is as generated.
 """
 
@@ -32,7 +33,7 @@ from schemathesis.specs.openapi.checks import (
 )
 
 from service.app import app
-from service.limits import GROSS_MAX_N_NODES, GROSS_MIN_N_NODES, MAX_TIME_LIMIT_S, MIN_N_POINTS, SKETCH_MAX_N_POINTS
+from service.limits import FEEDER_MAX_VALIDATION_PARTS, GROSS_MAX_N_NODES, GROSS_MIN_N_NODES, MAX_TIME_LIMIT_S, MIN_N_POINTS, SKETCH_MAX_N_POINTS
 
 MAX_EXAMPLES = int(os.environ.get("CONTRACT_MAX_EXAMPLES", "40"))
 """Per operation and generation mode; raise it (e.g. CONTRACT_MAX_EXAMPLES=400) for a
@@ -43,7 +44,8 @@ CONTRACT_GROSS_TIME_LIMIT_S = 0.7
 GROSS_PATHS = ("/v1/push/align", "/v1/push/disk-encounter")
 SPIRAL_PATHS = ("/v1/spiral/critical-radius", "/v1/spiral/schedule")
 CONTRACT_SPIRAL_TIME_LIMIT_S = 0.3
-FEEDER_PATHS = ("/v1/feeder/map", "/v1/feeder/simulate")
+FEEDER_PATHS = ("/v1/feeder/map", "/v1/feeder/simulate", "/v1/feeder/design")
+CONTRACT_FEEDER_MAX_VALIDATION = 2
 CONTRACT_FEEDER_TIME_LIMIT_S = 0.3
 CONTRACT_FEEDER_MAX_STEPS = 200
 
@@ -69,7 +71,8 @@ def test_every_operation_is_covered() -> None:
     ids = {op.ok().definition.raw.get("operationId") for op in schema.get_all_operations()}
     assert ids == {"healthz", "readyz", "cor_locus", "cor_solve", "cor_membership", "cor_tripod_statistics", "mpp_particle",
                    "push_quasistatic", "cor_sketch", "push_align", "push_disk_encounter",
-                   "spiral_critical_radius", "spiral_schedule", "feeder_map", "feeder_simulate"}
+                   "spiral_critical_radius", "spiral_schedule", "feeder_map", "feeder_simulate",
+                   "feeder_design"}
 
 
 def contract_settings(max_examples: int) -> hypothesis.settings:
@@ -136,8 +139,12 @@ def _cap_gross(body: dict) -> None:
 def _cap_feeder(body: dict, simulate: bool) -> None:
     """A valid (or absent) time budget at most CONTRACT_FEEDER_TIME_LIMIT_S (a map or a
     run cut short answers what it finished, status time_limit) and a simulation's valid
-    max_steps at most CONTRACT_FEEDER_MAX_STEPS."""
+    max_steps at most CONTRACT_FEEDER_MAX_STEPS, a design's valid validation_parts at most
+    CONTRACT_FEEDER_MAX_VALIDATION."""
     _cap_limit(body, CONTRACT_FEEDER_TIME_LIMIT_S)
+    parts = body.get("validation_parts", 0)
+    if _is_int(parts) and CONTRACT_FEEDER_MAX_VALIDATION < parts <= FEEDER_MAX_VALIDATION_PARTS:
+        body["validation_parts"] = CONTRACT_FEEDER_MAX_VALIDATION
     steps = body.get("max_steps", CONTRACT_FEEDER_MAX_STEPS + 1)
     if simulate and _is_int(steps) and steps > CONTRACT_FEEDER_MAX_STEPS:
         body["max_steps"] = CONTRACT_FEEDER_MAX_STEPS

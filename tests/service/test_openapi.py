@@ -88,6 +88,7 @@ def test_stable_operation_ids():
         ("/v1/spiral/schedule", "post"): "spiral_schedule",
         ("/v1/feeder/map", "post"): "feeder_map",
         ("/v1/feeder/simulate", "post"): "feeder_simulate",
+        ("/v1/feeder/design", "post"): "feeder_design",
     }
 
 

@@ -2,11 +2,18 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from models.feeder.arcs import Arcs
 from models.feeder.fence import Fence, FenceMap, Part
 from service.api.feeder.schemas import (
+    FeederCpSatOut,
+    FeederDesignFenceOut,
+    FeederDesignOut,
+    FeederDesignRequest,
+    FeederDesignResponse,
     FeederEventOut,
     FeederFenceBandOut,
     FeederFenceIn,
@@ -20,11 +27,21 @@ from service.api.feeder.schemas import (
     FeederProductOut,
     FeederSimulateRequest,
     FeederSimulateResponse,
+    FeederValidationOut,
 )
 from service.common.inputs import located
 from service.errors import FieldError
-from service.limits import FEEDER_MAX_FENCE_LENGTH_RADII
-from solver import FeederMapProblem, FeederMapResult, FeederSimProblem, FeederSimResult, FeederSimSettings, FenceRun
+from service.limits import FEEDER_MAX_CANDIDATES, FEEDER_MAX_FENCE_LENGTH_RADII
+from solver import (
+    FeederDesignProblem,
+    FeederDesignResult,
+    FeederMapProblem,
+    FeederMapResult,
+    FeederSimProblem,
+    FeederSimResult,
+    FeederSimSettings,
+    FenceRun,
+)
 
 CENTROID_REL = 1e-6
 """The support's weighted centroid must lie this close (times the part's radius) to the CM."""
@@ -129,3 +146,57 @@ def simulate_response(req: FeederSimulateRequest, res: FeederSimResult, elapsed_
     return FeederSimulateResponse(runs=[run_out(r, v, req.trajectory_points) for r, v in zip(res.runs, res.in_map)],
                                   theta_final=res.theta_final, status=res.status, complete=res.complete,
                                   message=res.message, solve_time_ms=res.solve_time_s * 1e3, elapsed_ms=elapsed_ms)
+
+
+def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
+    part = part_of(req.part)
+    a = req.angles
+    if a.max < a.min:
+        raise FieldError(("angles", "max"), "must be at least angles.min")
+    count = 2 * (int(math.floor((a.max - a.min) / a.step + 1e-9)) + 1)
+    if count > FEEDER_MAX_CANDIDATES:
+        raise FieldError(("angles", "step"), f"gives {count} candidate fences; at most {FEEDER_MAX_CANDIDATES} "
+                         "(both sides together)")
+    if (req.mu_c is None) == (req.mu_c_range is None):
+        raise FieldError(("mu_c",), "give exactly one of mu_c or mu_c_range")
+    mu = (req.mu_c, req.mu_c) if req.mu_c is not None else (req.mu_c_range[0], req.mu_c_range[1])  # type: ignore[index]
+    if not mu[0] <= mu[1]:
+        raise FieldError(("mu_c_range",), "must be [low, high] with low <= high")
+    return FeederDesignProblem(
+        part=part, angle_min=a.min, angle_max=a.max, angle_step=a.step, mu_c=(float(mu[0]), float(mu[1])),
+        max_depth=req.max_depth, alternate=req.alternate, prove_with_cp_sat=req.prove_with_cp_sat,
+        validation_parts=req.validation_parts, seed=req.seed,
+        vertices=tuple((float(x), float(y)) for x, y in req.part.vertices),
+        center_of_mass=(float(req.part.center_of_mass[0]), float(req.part.center_of_mass[1])))
+
+
+def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignResponse:
+    design = None
+    d = res.design
+    if d is not None and res.final_set is not None:
+        last = res.maps[d.fences[-1]]
+        design = FeederDesignOut(
+            fences=[FeederDesignFenceOut(angle=res.maps[f].fence.angle, side=res.maps[f].fence.side) for f in d.fences],
+            final_band=arcs_out(res.final_set), final_edges=sorted(last.final_edges[j] for j in d.final_bands),
+            margin=d.margin if math.isfinite(d.margin) else math.pi)
+    cp = None
+    if res.cp_sat is not None:
+        cp = FeederCpSatOut(depth_proven=res.cp_sat.depth_proven, statuses=list(res.cp_sat.statuses),
+                            complete=res.cp_sat.complete, solve_time_ms=res.cp_sat.solve_time_s * 1e3)
+    val = None
+    if res.validation is not None:
+        v = res.validation
+        val = FeederValidationOut(parts=v.parts, in_band=v.in_band, outside=v.outside, unflushed=v.unflushed,
+                                  unfinished=v.unfinished, rate=None if math.isnan(v.rate) else v.rate)
+    search = res.search
+    progress = res.progress
+    return FeederDesignResponse(
+        design=design,
+        depth_proven=search.depth_proven if search is not None else (progress.depth_proven if progress else 0),
+        exhausted=bool(search is not None and search.exhausted),
+        candidates=len(res.maps),
+        nodes=search.nodes if search is not None else (progress.nodes if progress else 0),
+        pruned=search.pruned if search is not None else (progress.pruned if progress else 0),
+        cp_sat=cp, validation=val, timings_ms={k: v * 1e3 for k, v in res.timings.items()},
+        status=res.status, complete=res.complete, message=res.message,
+        solve_time_ms=res.solve_time_s * 1e3, elapsed_ms=elapsed_ms)

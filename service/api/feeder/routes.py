@@ -1,9 +1,10 @@
-"""``POST /v1/feeder/map`` (configuration maps of fences and their product, book 5.1-5.2)
-and ``POST /v1/feeder/simulate`` (one part through the fences, quasi-statically).
+"""``POST /v1/feeder/map`` (configuration maps of fences and their product, book 5.1-5.2),
+``POST /v1/feeder/simulate`` (one part through the fences, quasi-statically) and
+``POST /v1/feeder/design`` (the shortest sequence of fences that orients a part, 5.3-5.4).
 
 Each route hands its job to a solver worker: request -> problem
 (:mod:`service.api.feeder.convert`) -> one solver call (:func:`solver.feeder_map`,
-:func:`solver.feeder_simulate`) with the request's budget -> response.
+:func:`solver.feeder_simulate`, :func:`solver.feeder_design`) with the request's budget -> response.
 """
 
 from __future__ import annotations
@@ -11,9 +12,18 @@ from __future__ import annotations
 from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
-from service.api.feeder.convert import map_problem, map_response, simulate_problem, simulate_response
+from service.api.feeder.convert import (
+    design_problem,
+    design_response,
+    map_problem,
+    map_response,
+    simulate_problem,
+    simulate_response,
+)
 from service.api.feeder.render import render_maps_svg, render_runs_svg
 from service.api.feeder.schemas import (
+    FeederDesignRequest,
+    FeederDesignResponse,
     FeederMapRequest,
     FeederMapResponse,
     FeederSimulateRequest,
@@ -24,7 +34,7 @@ from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
-from solver import DEFAULT_FENCE_LENGTH_RADII, feeder_map, feeder_simulate
+from solver import DEFAULT_FENCE_LENGTH_RADII, feeder_design, feeder_map, feeder_simulate
 
 router = APIRouter(tags=["feeder"])
 FORMAT = Query("json", alias="format", description="`json` (default) or `svg` for a picture.")
@@ -91,3 +101,27 @@ def simulate_job(req: FeederSimulateRequest, svg: bool, deadline: Deadline) -> F
                                                 f"A part through {len(fences)} fence{'s' if len(fences) > 1 else ''}: "
                                                 f"{result.message}"), media_type=SVG_MEDIA_TYPE)
     return simulate_response(req, result, budget.elapsed() * 1e3)
+
+
+@router.post(
+    "/v1/feeder/design",
+    operation_id="feeder_design",
+    summary="The shortest sequence of fences that brings a part to one orientation (book 5.3-5.4)",
+    response_model=FeederDesignResponse,
+    responses=IN_WORKER,
+)
+async def feeder_design_route(req: FeederDesignRequest, request: Request) -> Response:
+    """The maps of candidate fences (both sides of the belt, a range of angles), the
+    shortest design by a breadth-first search over their code sets with exact pruning,
+    the most robust of the shortest (the largest margin, 1.8.6), optionally proven again by
+    CP-SAT, and optionally validated by simulated parts. Past the time limit: what was
+    established (the depth proven, the design if found)."""
+    return await runner(request).expensive_job(request, design_job, req, time_limit_s=req.time_limit_s)
+
+
+def design_job(req: FeederDesignRequest, deadline: Deadline) -> FeederDesignResponse:
+    budget = deadline.budget()
+    problem = design_problem(req)
+    with located():
+        result = feeder_design(problem, budget)
+    return design_response(result, budget.elapsed() * 1e3)

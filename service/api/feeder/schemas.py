@@ -13,7 +13,9 @@ from pydantic import ConfigDict, Field
 
 from service.common.fields import Angle, MuC, Point, Strict, TimeLimit
 from service.limits import (
+    FEEDER_MAX_DESIGN_DEPTH,
     FEEDER_MAX_FENCE_LENGTH_RADII,
+    FEEDER_MAX_VALIDATION_PARTS,
     FEEDER_MAX_FENCES,
     FEEDER_MAX_RESOLUTION,
     FEEDER_MAX_STEPS,
@@ -185,3 +187,82 @@ class FeederSimulateResponse(Strict):
     elapsed_ms: float
 
 
+
+
+class FeederAnglesIn(Strict):
+    min: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, lt=1.5707963267948966)] = Field(
+        description="Smallest |angle| of a candidate fence, radians.")
+    max: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, lt=1.5707963267948966)] = Field(
+        description="Largest |angle|, radians (at least min).")
+    step: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0)] = Field(
+        description="Step between candidate angles, radians; both sides of the belt are tried.")
+
+
+class FeederDesignRequest(Strict):
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"examples": [{
+            "part": {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]},
+            "angles": {"min": 0.349, "max": 1.222, "step": 0.0873},
+            "mu_c": 0.25, "alternate": False, "validation_parts": 20,
+        }]},
+    )
+
+    part: FeederPartIn
+    angles: FeederAnglesIn
+    mu_c: MuC | None = Field(default=None, description="Contact friction between part and fences.")
+    mu_c_range: Annotated[list[MuC], Field(min_length=2, max_length=2)] | None = Field(
+        default=None, description="An interval [low, high] of mu_c instead: the design must work for all of it.")
+    max_depth: Annotated[int, Field(strict=True, ge=1, le=FEEDER_MAX_DESIGN_DEPTH)] = Field(
+        default=8, description="The most fences a design may have.")
+    alternate: bool = Field(default=True, description="Consecutive fences on opposite sides of the belt.")
+    prove_with_cp_sat: bool = Field(default=False, description="Prove the least number of fences again with CP-SAT.")
+    validation_parts: Annotated[int, Field(strict=True, ge=0, le=FEEDER_MAX_VALIDATION_PARTS)] = Field(
+        default=0, description="Simulated parts (random support, orientation, mu_c) run through the design.")
+    seed: Annotated[int, Field(strict=True, ge=0, le=2**63 - 1)] = 0
+    time_limit_s: TimeLimit | None = None
+
+
+class FeederDesignFenceOut(Strict):
+    angle: float = Field(description="Fence angle gamma, radians.")
+    side: str = Field(description="The side of the belt it hangs from: right (gamma > 0) or left.")
+
+
+class FeederDesignOut(Strict):
+    fences: list[FeederDesignFenceOut] = Field(description="In the order the part meets them.")
+    final_band: list[Arc] = Field(description="The orientations the part leaves the last fence in.")
+    final_edges: list[int] = Field(description="The hull edges flush on the last fence (one, or one per symmetry).")
+    margin: float = Field(description="Radians every band edge may move without the design failing (1.8.6).")
+
+
+class FeederCpSatOut(Strict):
+    depth_proven: int = Field(description="Every design depth up to this proven impossible.")
+    statuses: list[str] = Field(description="CP-SAT's status per depth tried, from 1.")
+    complete: bool
+    solve_time_ms: float
+
+
+class FeederValidationOut(Strict):
+    parts: int
+    in_band: int = Field(description="Parts that ended in the promised band.")
+    outside: int = Field(description="Parts that came flush on every fence and ended elsewhere (a failure).")
+    unflushed: int = Field(description="Parts that left some fence without an edge flush (too short a fence).")
+    unfinished: int = Field(description="Parts that jammed, stalled or ran out of steps or time.")
+    rate: float | None = Field(description="in_band / (in_band + outside).")
+
+
+class FeederDesignResponse(Strict):
+    design: FeederDesignOut | None
+    depth_proven: int = Field(description="No design has this many fences or fewer (complete depths only).")
+    exhausted: bool = Field(description="No design exists with these candidate fences at any depth.")
+    candidates: int = Field(description="Candidate fences whose maps were made.")
+    nodes: int
+    pruned: int
+    cp_sat: FeederCpSatOut | None
+    validation: FeederValidationOut | None
+    timings_ms: dict[str, float]
+    status: str = Field(description="ok, or time_limit (what was finished is returned).")
+    complete: bool
+    message: str
+    solve_time_ms: float
+    elapsed_ms: float

@@ -33,7 +33,7 @@ from models.feeder.fence import Fence, Part, fence_map
 from models.feeder.maps import sequence
 from solver import Budget
 from solver.sim.feeder import FeederSimSettings, simulate_fence, simulate_fence_batch
-from tests.feeder_cases import PARTS, part, random_encounter, random_fence, random_support
+from tests.feeder_cases import PARTS, CountingClock, part, random_encounter, random_fence, random_support
 
 SLACK = 1e-6  # radians: the run's final orientation against a band's edge
 
@@ -317,17 +317,6 @@ def test_a_batch_of_parts_takes_exactly_the_steps_of_one_by_one_runs():
                 assert abs(got.theta_final - alone.theta_final) <= 1e-12
         statuses = {r.status for r in batch}
         assert "missed" in statuses and ("jammed" in statuses or name != "square")
-
-
-class CountingClock:
-    """Time stands still for ``calls`` readings, then is far past any deadline."""
-
-    def __init__(self, calls: int) -> None:
-        self.calls = calls
-
-    def __call__(self) -> float:
-        self.calls -= 1
-        return 0.0 if self.calls >= 0 else 1e9
 
 
 def test_a_batch_past_its_budget_ends_every_run_still_going():

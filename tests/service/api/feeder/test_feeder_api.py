@@ -130,3 +130,38 @@ def test_bad_parts_and_supports_are_422_at_their_field(client):
     r = client.post("/v1/feeder/simulate", json={"part": SQUARE, "support": {"points": [[0.5, 0.5]], "weights": [1, 2]},
                                                  "fences": [{"angle": 0.7, "mu_c": 0.25}], "theta_initial": 0.3})
     assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "support", "weights"]
+
+
+def test_a_design_for_the_pentagon_is_found_proven_and_validated_5_4(client):
+    body = {"part": PENTAGON, "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(10)},
+            "mu_c": 0.25, "alternate": False, "prove_with_cp_sat": True, "validation_parts": 8, "max_depth": 10}
+    r = client.post("/v1/feeder/design", json=body)
+    assert r.status_code == 200, r.text
+    out = r.json()
+    assert out["complete"] and out["status"] == "ok" and out["candidates"] == 12
+    d = out["design"]
+    assert d is not None and len(d["fences"]) == out["depth_proven"] + 1
+    assert out["cp_sat"]["depth_proven"] == out["depth_proven"] and out["cp_sat"]["statuses"][-1] == "OPTIMAL"
+    v = out["validation"]
+    assert v["parts"] == 8 and v["in_band"] + v["unflushed"] + v["unfinished"] == 8 and v["outside"] == 0
+    assert len(d["final_edges"]) == 1 and d["margin"] > 0.0
+    assert {"maps", "search", "cp_sat", "validation"} <= set(out["timings_ms"])
+
+
+@pytest.mark.parametrize(("patch", "loc"), [
+    ({"angles": {"min": 0.9, "max": 0.5, "step": 0.1}}, ["body", "angles", "max"]),
+    ({"angles": {"min": 0.1, "max": 1.5, "step": 0.001}}, ["body", "angles", "step"]),
+    ({"angles": {"min": 0.1, "max": 1.6, "step": 0.1}}, ["body", "angles", "max"]),
+    ({"mu_c": None}, ["body", "mu_c"]),
+    ({"mu_c_range": [0.1, 0.2]}, ["body", "mu_c"]),
+    ({"max_depth": 0}, ["body", "max_depth"]),
+    ({"validation_parts": 10_000}, ["body", "validation_parts"]),
+])
+def test_bad_design_requests_are_422_at_their_field(client, patch, loc):
+    body = {"part": SQUARE, "angles": {"min": 0.4, "max": 1.0, "step": 0.2}, "mu_c": 0.2}
+    body.update(patch)
+    if body.get("mu_c") is None:
+        body.pop("mu_c")
+    r = client.post("/v1/feeder/design", json=body)
+    assert r.status_code == 422, r.text
+    assert r.json()["detail"][0]["loc"][:len(loc)] == loc

@@ -1,0 +1,186 @@
+"""Designing a parts feeder end to end (issue 13; book 5.3, 5.4, 1.8.6): the maps of the
+candidate fences, the shortest design by the breadth-first search of
+models/feeder/design.py (optionally proven again by CP-SAT, solver/feeder/design_cpsat.py),
+and its validation by simulation: random parts (support, orientation, mu_c in the interval)
+through the designed fences (solver/sim/feeder.py, batched), each of which must end in the
+promised bands. Under a budget: past the deadline the answer says how far it got (maps
+made, depth proven, the design if one was found, the parts simulated).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from models.feeder.arcs import Arcs
+from models.feeder.design import DESIGN_DEFAULT, Design, DesignGraph, DesignTolerances, Progress, SearchResult, search_design
+from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, Part, fence_map
+from models.footprint import Footprint
+from models.support import random_balanced_tripods
+from solver.core.budget import UNLIMITED, Budget
+from solver.core.errors import TimeLimitReached
+from solver.feeder.design_cpsat import CpSatDesign, shortest_design_cpsat
+from solver.sim.feeder import simulate_fence_batch
+
+VALIDATION_MU_VALUES = 5
+"""mu_c values, evenly over the interval, among which each validation part draws its own."""
+VALIDATION_SLACK = 1e-6
+"""Radians: a simulated final orientation this close to a promised band counts as in it."""
+
+
+@dataclass(frozen=True)
+class FeederDesignProblem:
+    """The part, the candidate fences (|angle| from ``angle_min`` to ``angle_max`` in steps
+    of ``angle_step``, radians, on both sides of the belt), mu_c (a value or an interval),
+    the deepest design sought, whether consecutive fences alternate sides, whether CP-SAT
+    proves the depth again, and how many simulated parts validate the design (seeded)."""
+
+    part: Part
+    angle_min: float
+    angle_max: float
+    angle_step: float
+    mu_c: tuple[float, float]
+    max_depth: int = 8
+    alternate: bool = True
+    prove_with_cp_sat: bool = False
+    validation_parts: int = 0
+    seed: int = 0
+    vertices: tuple[tuple[float, float], ...] = ()  # the outline, for the validation supports
+    center_of_mass: tuple[float, float] = (0.0, 0.0)
+    tol: FeederTolerances = DEFAULT
+    design_tol: DesignTolerances = DESIGN_DEFAULT
+
+    def angles(self) -> list[float]:
+        n = int(math.floor((self.angle_max - self.angle_min) / self.angle_step + 1e-9)) + 1
+        mags = [self.angle_min + i * self.angle_step for i in range(n)]
+        return [s * g for s in (1.0, -1.0) for g in mags]
+
+
+@dataclass(frozen=True)
+class Validation:
+    """Simulated parts through the design: how many ran to the end, ended in the promised
+    bands, left a fence without an edge flush (a fence too short for them: outside the
+    maps' assumption), or did not finish (jammed, stalled, step limit, time limit)."""
+
+    parts: int
+    in_band: int
+    outside: int
+    unflushed: int
+    unfinished: int
+    solve_time_s: float
+
+    @property
+    def rate(self) -> float:
+        done = self.in_band + self.outside
+        return self.in_band / done if done else math.nan
+
+
+@dataclass(frozen=True)
+class FeederDesignResult:
+    maps: tuple[FenceMap, ...]  # the candidates' maps made
+    search: SearchResult | None
+    cp_sat: CpSatDesign | None
+    final_set: Arcs | None  # the orientations the design leaves the part in
+    validation: Validation | None
+    status: str  # "ok" | "time_limit"
+    solve_time_s: float
+    timings: dict[str, float] = field(default_factory=dict)
+    progress: Progress | None = None
+
+    @property
+    def design(self) -> Design | None:
+        return None if self.search is None else self.search.design
+
+    @property
+    def complete(self) -> bool:
+        return self.status == "ok"
+
+    @property
+    def message(self) -> str:
+        if self.search is None:
+            got = self.progress.depth_proven if self.progress is not None else 0
+            return (f"stopped after {len(self.maps)} candidate maps; no design shorter than {got + 1} fences "
+                    "exists among them" if got else f"stopped after {len(self.maps)} candidate maps")
+        if self.design is None:
+            return ("no design exists with these fences" if self.search.exhausted else
+                    f"no design of {self.search.depth_proven} fences or fewer")
+        return (f"a design of {len(self.design.fences)} fences, none shorter "
+                f"(searched {self.search.nodes} nodes)")
+
+
+def _validate(problem: FeederDesignProblem, fences: list[Fence], final: Arcs, budget: Budget) -> Validation:
+    t0 = time.perf_counter()
+    rng = np.random.default_rng(problem.seed)
+    part = problem.part
+    n = problem.validation_parts
+    footprint = Footprint.create(problem.vertices, problem.center_of_mass)
+    pts, wts = random_balanced_tripods(rng, n, part.radius, footprint=footprint)
+    body = pts - np.asarray(problem.center_of_mass, dtype=float)
+    lo, hi = problem.mu_c
+    mus = np.linspace(lo, hi, VALIDATION_MU_VALUES) if hi > lo else np.array([lo])
+    mu_of = mus[rng.integers(0, len(mus), n)]
+    theta = rng.uniform(-math.pi, math.pi, n)
+    finished = np.ones(n, dtype=bool)
+    unflushed = np.zeros(n, dtype=bool)
+    for fence in fences:
+        for mu in mus:
+            ids = [i for i in range(n) if mu_of[i] == mu and finished[i]]
+            if not ids:
+                continue
+            runs = simulate_fence_batch(part, Fence.create(fence.angle, float(mu)), float(mu),
+                                        [(body[i], wts[i]) for i in ids], theta[ids], budget=budget)
+            for i, run in zip(ids, runs):
+                if run.status != "left" or run.theta_final is None:
+                    finished[i] = False
+                    continue
+                unflushed[i] |= not run.flushed
+                theta[i] = run.theta_final
+    ok = finished & ~unflushed
+    in_band = int(sum(final.contains(float(theta[i]), VALIDATION_SLACK) for i in np.nonzero(ok)[0]))
+    return Validation(parts=n, in_band=in_band, outside=int(ok.sum()) - in_band, unflushed=int((finished & unflushed).sum()),
+                      unfinished=int((~finished).sum()), solve_time_s=time.perf_counter() - t0)
+
+
+def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> FeederDesignResult:
+    t0 = time.perf_counter()
+    timings: dict[str, float] = {}
+    maps: list[FenceMap] = []
+    progress = Progress()
+    search = None
+    cp = None
+    final = None
+    validation = None
+    status = "ok"
+    try:
+        t = time.perf_counter()
+        for g in problem.angles():
+            budget.checkpoint(f"the map of the fence at {math.degrees(g):+.1f} degrees")
+            maps.append(fence_map(problem.part, Fence.create(g, problem.mu_c), problem.tol,
+                                  checkpoint=budget.checkpoint))
+        timings["maps"] = time.perf_counter() - t
+        t = time.perf_counter()
+        graph = DesignGraph.build(problem.part, maps, problem.design_tol, checkpoint=budget.checkpoint)
+        search = search_design(graph, problem.max_depth, problem.alternate, problem.design_tol,
+                               checkpoint=budget.checkpoint, progress=progress)
+        timings["search"] = time.perf_counter() - t
+        design = search.design
+        if problem.prove_with_cp_sat:
+            t = time.perf_counter()
+            depth = problem.max_depth if design is None else len(design.fences)
+            cp = shortest_design_cpsat(graph, depth, problem.alternate, budget)
+            timings["cp_sat"] = time.perf_counter() - t
+            if not cp.complete:
+                status = "time_limit"
+        if design is not None:
+            final = graph.occupied_set(design.fences[-1], design.final_bands)
+            if problem.validation_parts > 0:
+                t = time.perf_counter()
+                validation = _validate(problem, [maps[f].fence for f in design.fences], final, budget)
+                timings["validation"] = time.perf_counter() - t
+    except TimeLimitReached:
+        status = "time_limit"
+    return FeederDesignResult(tuple(maps), search, cp, final, validation, status, time.perf_counter() - t0,
+                              timings, progress)
