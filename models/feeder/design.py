@@ -56,11 +56,14 @@ class DesignTolerances:
         subset_slack: radians by which a set may stick out of another and still count as
             within it (dominance).
         max_goals: shortest designs compared for their margin before the best is kept.
+        mask_cells: cells of the circle in each node's bit mask, a quick necessary test of
+            dominance (a set within another touches only cells the other touches).
     """
 
     symmetry_rel: float = 1e-9
     subset_slack: float = 1e-12
     max_goals: int = 2000
+    mask_cells: int = 1440
 
 
 DESIGN_DEFAULT = DesignTolerances()
@@ -204,6 +207,21 @@ class _Node:
     arcs: Arcs
     margin: float
     path: tuple[int, ...]
+    mask: int = 0
+
+
+def _mask(arcs: Arcs, cells: int) -> int:
+    """The cells the set touches, as the bits of an integer."""
+    bits = np.packbits(arcs.cells(cells).astype(np.uint8), bitorder="little")
+    return int.from_bytes(bits.tobytes(), "little")
+
+
+def _dominated(seen: list[_Node], arcs: Arcs, mask: int, margin: float, slack: float) -> bool:
+    """A node already reached whose set lies within ``arcs`` at no smaller margin."""
+    for old in seen:
+        if old.margin >= margin and old.mask & ~mask == 0 and old.arcs.issubset(arcs, slack):
+            return True
+    return False
 
 
 def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
@@ -222,11 +240,14 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
     for f in range(n):
         if graph.first_ok[f]:
             occ = graph.start[f]
-            frontier.append(_Node(f, occ, graph.occupied_set(f, occ), math.inf, (f,)))
+            arcs = graph.occupied_set(f, occ)
+            frontier.append(_Node(f, occ, arcs, math.inf, (f,), _mask(arcs, tol.mask_cells)))
     nodes = len(frontier)
     pruned = 0
     per_depth = [len(frontier)]
     seen: dict[float, list[_Node]] = {}
+    sets: dict[tuple[int, frozenset[int]], tuple[Arcs, int]] = {}  # (fence, code set) -> its set and mask
+    best_margin: dict[tuple[float, int, frozenset[int]], float] = {}  # the same state reached before
     for node in frontier:
         seen.setdefault(graph.side(node.fence) if alternate else 0.0, []).append(node)
     depth = 1
@@ -255,12 +276,19 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                     continue
                 occ, m = got
                 margin = min(node.margin, m)
-                arcs = graph.occupied_set(f, occ)
                 key = graph.side(f) if alternate else 0.0
-                if any(old.margin >= margin and old.arcs.issubset(arcs, tol.subset_slack) for old in seen.get(key, [])):
+                if best_margin.get((key, f, occ), -math.inf) >= margin:  # the very state, no worse
                     pruned += 1
                     continue
-                child = _Node(f, occ, arcs, margin, node.path + (f,))
+                if (f, occ) not in sets:
+                    arcs = graph.occupied_set(f, occ)
+                    sets[(f, occ)] = (arcs, _mask(arcs, tol.mask_cells))
+                arcs, mask = sets[(f, occ)]
+                if _dominated(seen.get(key, []), arcs, mask, margin, tol.subset_slack):
+                    pruned += 1
+                    continue
+                best_margin[(key, f, occ)] = margin
+                child = _Node(f, occ, arcs, margin, node.path + (f,), mask)
                 seen.setdefault(key, []).append(child)
                 nxt.append(child)
                 nodes += 1

@@ -16,8 +16,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from models.feeder.arcs import Arcs
-from models.feeder.design import DESIGN_DEFAULT, Design, DesignGraph, DesignTolerances, Progress, SearchResult, search_design
+from models.feeder.design import (
+    DESIGN_DEFAULT,
+    Design,
+    DesignGraph,
+    DesignTolerances,
+    Progress,
+    SearchResult,
+    search_design,
+)
 from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, Part, fence_map
+from models.feeder.maps import ConfigurationMap, sequence
 from models.footprint import Footprint
 from models.support import random_balanced_tripods
 from solver.core.budget import UNLIMITED, Budget
@@ -84,6 +93,7 @@ class FeederDesignResult:
     search: SearchResult | None
     cp_sat: CpSatDesign | None
     final_set: Arcs | None  # the orientations the design leaves the part in
+    product: ConfigurationMap | None  # the map of the design's fences (5.4, 5.5)
     validation: Validation | None
     status: str  # "ok" | "time_limit"
     solve_time_s: float
@@ -152,6 +162,7 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
     search = None
     cp = None
     final = None
+    product = None
     validation = None
     status = "ok"
     try:
@@ -176,11 +187,12 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
                 status = "time_limit"
         if design is not None:
             final = graph.occupied_set(design.fences[-1], design.final_bands)
+            product = sequence([maps[f].map for f in design.fences])
             if problem.validation_parts > 0:
                 t = time.perf_counter()
                 validation = _validate(problem, [maps[f].fence for f in design.fences], final, budget)
                 timings["validation"] = time.perf_counter() - t
     except TimeLimitReached:
         status = "time_limit"
-    return FeederDesignResult(tuple(maps), search, cp, final, validation, status, time.perf_counter() - t0,
+    return FeederDesignResult(tuple(maps), search, cp, final, product, validation, status, time.perf_counter() - t0,
                               timings, progress)

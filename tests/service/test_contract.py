@@ -33,7 +33,14 @@ from schemathesis.specs.openapi.checks import (
 )
 
 from service.app import app
-from service.limits import FEEDER_MAX_VALIDATION_PARTS, GROSS_MAX_N_NODES, GROSS_MIN_N_NODES, MAX_TIME_LIMIT_S, MIN_N_POINTS, SKETCH_MAX_N_POINTS
+from service.limits import (
+    FEEDER_MAX_VALIDATION_PARTS,
+    GROSS_MAX_N_NODES,
+    GROSS_MIN_N_NODES,
+    MAX_TIME_LIMIT_S,
+    MIN_N_POINTS,
+    SKETCH_MAX_N_POINTS,
+)
 
 MAX_EXAMPLES = int(os.environ.get("CONTRACT_MAX_EXAMPLES", "40"))
 """Per operation and generation mode; raise it (e.g. CONTRACT_MAX_EXAMPLES=400) for a

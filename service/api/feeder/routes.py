@@ -108,20 +108,28 @@ def simulate_job(req: FeederSimulateRequest, svg: bool, deadline: Deadline) -> F
     operation_id="feeder_design",
     summary="The shortest sequence of fences that brings a part to one orientation (book 5.3-5.4)",
     response_model=FeederDesignResponse,
-    responses=IN_WORKER,
+    responses={**json_or_svg("JSON (default) or, with `format=svg`, the design's maps fence by fence and their "
+                             "product, as in figure 5-4."), **IN_WORKER},
 )
-async def feeder_design_route(req: FeederDesignRequest, request: Request) -> Response:
+async def feeder_design_route(req: FeederDesignRequest, request: Request,
+                              response_format: ResponseFormat = FORMAT) -> Response:
     """The maps of candidate fences (both sides of the belt, a range of angles), the
     shortest design by a breadth-first search over their code sets with exact pruning,
     the most robust of the shortest (the largest margin, 1.8.6), optionally proven again by
     CP-SAT, and optionally validated by simulated parts. Past the time limit: what was
     established (the depth proven, the design if found)."""
-    return await runner(request).expensive_job(request, design_job, req, time_limit_s=req.time_limit_s)
+    return await runner(request).expensive_job(request, design_job, req, response_format == "svg",
+                                               time_limit_s=req.time_limit_s)
 
 
-def design_job(req: FeederDesignRequest, deadline: Deadline) -> FeederDesignResponse:
+def design_job(req: FeederDesignRequest, svg: bool, deadline: Deadline) -> FeederDesignResponse | Response:
     budget = deadline.budget()
     problem = design_problem(req)
     with located():
         result = feeder_design(problem, budget)
+    design = result.design
+    if svg and design is not None:
+        maps = [result.maps[f] for f in design.fences]
+        title = f"A feeder of {len(maps)} fence{'s' if len(maps) > 1 else ''} (5.4): each fence's map and their product"
+        return Response(content=render_maps_svg(problem.part, maps, result.product, title), media_type=SVG_MEDIA_TYPE)
     return design_response(result, budget.elapsed() * 1e3)

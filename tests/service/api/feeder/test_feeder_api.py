@@ -146,6 +146,10 @@ def test_a_design_for_the_pentagon_is_found_proven_and_validated_5_4(client):
     assert v["parts"] == 8 and v["in_band"] + v["unflushed"] + v["unfinished"] == 8 and v["outside"] == 0
     assert len(d["final_edges"]) == 1 and d["margin"] > 0.0
     assert {"maps", "search", "cp_sat", "validation"} <= set(out["timings_ms"])
+    body.update(validation_parts=0, prove_with_cp_sat=False)
+    r = client.post("/v1/feeder/design?format=svg", json=body)
+    assert r.status_code == 200 and r.headers["content-type"].startswith("image/svg+xml")
+    assert r.text.count("<g id=\"axes_") == len(d["fences"]) + 1  # each fence and the product (figure 5-4)
 
 
 @pytest.mark.parametrize(("patch", "loc"), [
