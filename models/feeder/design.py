@@ -22,8 +22,10 @@ sides must alternate. The book prunes (1) among fences with equal code sets all 
 steepest, whose bands lie inside the others' (a fact of the physics), and (2) a node whose
 set is a superset of a set reached at smaller depth by the same fence angle. Both follow
 from one exact rule used here: if X is within Y, every sequence that works from Y works
-from X (maps are monotone), so a node whose set contains one already reached at no greater
-depth, with no smaller margin, is dropped; it needs no assumption on the physics.
+from X through at least one more fence (maps are monotone; the goal is then judged on the
+same last fence), so a node whose set contains one already reached at no greater depth, with
+no smaller margin, is dropped unless it is a goal itself (a set within it may hold two bands
+of its own fence inside one band of another); it needs no assumption on the physics.
 
 Robustness (1.8.6). The margin of a step is how far the occupied set X stays from every
 kernel it does not meet and from the fence's jam and unaligned sets: band edges may move
@@ -277,14 +279,17 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                 occ, m = got
                 margin = min(node.margin, m)
                 key = graph.side(f) if alternate else 0.0
-                if best_margin.get((key, f, occ), -math.inf) >= margin:  # the very state, no worse
+                # a goal is never pruned: a set within it need not be a goal by its own
+                # fence's bands (two bands of one fence inside one band of another)
+                goal = graph.is_goal(f, occ)
+                if not goal and best_margin.get((key, f, occ), -math.inf) >= margin:  # the very state, no worse
                     pruned += 1
                     continue
                 if (f, occ) not in sets:
                     arcs = graph.occupied_set(f, occ)
                     sets[(f, occ)] = (arcs, _mask(arcs, tol.mask_cells))
                 arcs, mask = sets[(f, occ)]
-                if _dominated(seen.get(key, []), arcs, mask, margin, tol.subset_slack):
+                if not goal and _dominated(seen.get(key, []), arcs, mask, margin, tol.subset_slack):
                     pruned += 1
                     continue
                 best_margin[(key, f, occ)] = margin
