@@ -1,4 +1,5 @@
-"""Designing a parts feeder end to end (issue 13; book 5.3, 5.4, 1.8.6): the maps of the
+"""Designing a parts feeder end to end (issue 13; book 5.3, 5.4, 1.8.6): the baseline push
+plan of a frictionless pusher for the same part (models/feeder/pushplan.py), the maps of the
 candidate fences, the shortest design by the breadth-first search of
 models/feeder/design.py (optionally proven again by CP-SAT, solver/feeder/design_cpsat.py),
 and its validation by simulation: random parts (support, orientation, mu_c in the interval)
@@ -27,6 +28,7 @@ from models.feeder.design import (
 )
 from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, Part, fence_map
 from models.feeder.maps import ConfigurationMap, sequence
+from models.feeder.pushplan import PushPlan, plan_pushes
 from models.footprint import Footprint
 from models.support import random_balanced_tripods
 from solver.core.budget import UNLIMITED, Budget
@@ -95,6 +97,7 @@ class FeederDesignResult:
     final_set: Arcs | None  # the orientations the design leaves the part in
     product: ConfigurationMap | None  # the map of the design's fences (5.4, 5.5)
     validation: Validation | None
+    baseline: PushPlan | None  # Goldberg's frictionless push plan for the same part, for comparison
     status: str  # "ok" | "time_limit"
     solve_time_s: float
     timings: dict[str, float] = field(default_factory=dict)
@@ -164,8 +167,12 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
     final = None
     product = None
     validation = None
+    baseline = None
     status = "ok"
     try:
+        t = time.perf_counter()
+        baseline = plan_pushes(problem.part, problem.max_depth, problem.design_tol, checkpoint=budget.checkpoint)
+        timings["push_plan"] = time.perf_counter() - t
         t = time.perf_counter()
         for g in problem.angles():
             budget.checkpoint(f"the map of the fence at {math.degrees(g):+.1f} degrees")
@@ -194,5 +201,5 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
                 timings["validation"] = time.perf_counter() - t
     except TimeLimitReached:
         status = "time_limit"
-    return FeederDesignResult(tuple(maps), search, cp, final, product, validation, status, time.perf_counter() - t0,
-                              timings, progress)
+    return FeederDesignResult(tuple(maps), search, cp, final, product, validation, baseline, status,
+                              time.perf_counter() - t0, timings, progress)

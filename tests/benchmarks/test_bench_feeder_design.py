@@ -16,6 +16,7 @@ import pytest
 from models.feeder.fence import Part
 from solver import FeederDesignProblem, feeder_design
 from tests.benchmarks._docs import write_section
+from models.feeder.pushplan import plan_pushes
 from tests.feeder_cases import PARTS
 
 pytestmark = pytest.mark.benchmark
@@ -24,8 +25,19 @@ SEED = 20261126
 VALIDATION = 100
 
 
+EXTRA_PARTS = {
+    # four more outlines for the comparison with the push baseline (CM: the plate's centroid,
+    # except pentagon 2: a CM inside it)
+    "scalene triangle": ([[0, 0], [3, 0], [0.8, 1.6]], [1.2667, 0.5333]),
+    "trapezoid": ([[0, 0], [4, 0], [3, 1.5], [1, 1.5]], [2.0, 0.6667]),
+    "long rectangle": ([[0, 0], [6, 0], [6, 1], [0, 1]], [3.0, 0.5]),
+    "pentagon 2": ([[0, 0], [2.5, -0.3], [3.2, 1.2], [1.4, 2.2], [-0.4, 1.4]], [1.3, 0.8]),
+}
+ALL_PARTS = {**PARTS, **EXTRA_PARTS}
+
+
 def problem(name, step_deg=5.0, mu=(0.25, 0.25), alternate=True, validation=0, cp_sat=True, max_depth=10):
-    v, cm = PARTS[name]
+    v, cm = ALL_PARTS[name]
     return FeederDesignProblem(Part.create(v, cm), math.radians(20), math.radians(70), math.radians(step_deg), mu,
                                max_depth=max_depth, alternate=alternate, prove_with_cp_sat=cp_sat,
                                validation_parts=validation, seed=SEED, vertices=tuple(map(tuple, v)),
@@ -57,6 +69,22 @@ def part_rows():
     return rows
 
 
+def baseline_rows():
+    rows = []
+    for name in ALL_PARTS:
+        res = feeder_design(problem(name, alternate=False, cp_sat=False))
+        alt = feeder_design(problem(name, alternate=True, cp_sat=False))
+        plan = res.baseline
+        t = res.timings
+        pushes = "–" if plan.alphas is None else str(1 + len(plan.alphas))
+        tol = "–" if plan.alphas is None or not plan.alphas else f"{math.degrees(plan.tolerance):.2f}"
+        d, da = res.design, alt.design
+        rows.append(f"| {name} | {pushes} | {tol} | {1e3 * plan.solve_time_s:.1f} | "
+                    f"{'–' if d is None else len(d.fences)} | {'–' if da is None else len(da.fences)} | "
+                    f"{1e3 * (t['maps'] + t['search']):.0f} |")
+    return rows
+
+
 def step_rows():
     rows = []
     for step in (10.0, 5.0, 2.5, 1.0):
@@ -82,6 +110,7 @@ def mu_rows():
 
 def test_bench_feeder_design():
     p_rows = part_rows()
+    b_rows = baseline_rows()
     s_rows = step_rows()
     m_rows = mu_rows()
     lines = [
@@ -97,6 +126,16 @@ def test_bench_feeder_design():
         "CP-SAT ms | proven | validation |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
         *p_rows,
+        "",
+        "The baseline users would otherwise pick (Goldberg 1993): a frictionless single pusher, its push "
+        "function and shortest plan (`models/feeder/pushplan.py`; pushes, the least tolerance of its turns, "
+        "planning time) against the fence design on a belt with μ_c = 0.25 (fences without and with "
+        "alternating sides; time of maps and search). – : none (for fences: none to depth 10 or none at "
+        "any depth).",
+        "",
+        "| part | pushes | push tolerance (deg) | plan ms | fences | fences alternating | design ms |",
+        "|---|---|---|---|---|---|---|",
+        *b_rows,
         "",
         "The pentagon (not alternating) against the step of the candidate angles:",
         "",

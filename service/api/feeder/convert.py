@@ -25,6 +25,7 @@ from service.api.feeder.schemas import (
     FeederPartIn,
     FeederProductBandOut,
     FeederProductOut,
+    FeederPushPlanOut,
     FeederSimulateRequest,
     FeederSimulateResponse,
     FeederValidationOut,
@@ -188,6 +189,13 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
         v = res.validation
         val = FeederValidationOut(parts=v.parts, in_band=v.in_band, outside=v.outside, unflushed=v.unflushed,
                                   unfinished=v.unfinished, rate=None if math.isnan(v.rate) else v.rate)
+    base = None
+    if res.baseline is not None:
+        b = res.baseline
+        base = FeederPushPlanOut(pushes=None if b.alphas is None else 1 + len(b.alphas),
+                                 alphas=None if b.alphas is None else list(b.alphas),
+                                 tolerance=b.tolerance if math.isfinite(b.tolerance) and b.alphas else None,
+                                 solve_time_ms=b.solve_time_s * 1e3)
     search = res.search
     progress = res.progress
     return FeederDesignResponse(
@@ -197,6 +205,6 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
         candidates=len(res.maps),
         nodes=search.nodes if search is not None else (progress.nodes if progress else 0),
         pruned=search.pruned if search is not None else (progress.pruned if progress else 0),
-        cp_sat=cp, validation=val, timings_ms={k: v * 1e3 for k, v in res.timings.items()},
+        cp_sat=cp, validation=val, push_plan_baseline=base, timings_ms={k: v * 1e3 for k, v in res.timings.items()},
         status=res.status, complete=res.complete, message=res.message,
         solve_time_ms=res.solve_time_s * 1e3, elapsed_ms=elapsed_ms)

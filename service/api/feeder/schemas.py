@@ -251,6 +251,13 @@ class FeederValidationOut(Strict):
     rate: float | None = Field(description="in_band / (in_band + outside).")
 
 
+class FeederPushPlanOut(Strict):
+    pushes: int | None = Field(description="Pushes of the shortest plan (null: none up to max_depth).")
+    alphas: list[float] | None = Field(description="Turns of the push direction between pushes, radians.")
+    tolerance: float | None = Field(description="How far each turn may err, radians (null: no turn needed).")
+    solve_time_ms: float
+
+
 class FeederDesignResponse(Strict):
     design: FeederDesignOut | None
     depth_proven: int = Field(description="No design has this many fences or fewer (complete depths only).")
@@ -260,6 +267,9 @@ class FeederDesignResponse(Strict):
     pruned: int
     cp_sat: FeederCpSatOut | None
     validation: FeederValidationOut | None
+    push_plan_baseline: FeederPushPlanOut | None = Field(
+        description="For comparison: the shortest sensorless plan of a frictionless single pusher for the same part "
+                    "(Goldberg 1993), no belt, no friction.")
     timings_ms: dict[str, float]
     status: str = Field(description="ok, or time_limit (what was finished is returned).")
     complete: bool

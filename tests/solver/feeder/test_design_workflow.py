@@ -40,5 +40,5 @@ def test_an_expired_budget_answers_what_was_established():
     assert res.status == "time_limit" and not res.complete and res.maps == () and res.search is None
     assert res.design is None and "stopped after 0 candidate maps" in res.message
     # a budget that runs out during the maps keeps the maps made
-    res = feeder_design(problem("pentagon"), Budget.of(5.0, clock=CountingClock(8)))
+    res = feeder_design(problem("pentagon"), Budget.of(5.0, clock=CountingClock(20)))
     assert res.status == "time_limit" and 0 < len(res.maps) < 12 and res.search is None

@@ -145,7 +145,9 @@ def test_a_design_for_the_pentagon_is_found_proven_and_validated_5_4(client):
     v = out["validation"]
     assert v["parts"] == 8 and v["in_band"] + v["unflushed"] + v["unfinished"] == 8 and v["outside"] == 0
     assert len(d["final_edges"]) == 1 and d["margin"] > 0.0
-    assert {"maps", "search", "cp_sat", "validation"} <= set(out["timings_ms"])
+    assert {"maps", "search", "cp_sat", "validation", "push_plan"} <= set(out["timings_ms"])
+    base = out["push_plan_baseline"]
+    assert base["pushes"] == 1 + len(base["alphas"]) and base["tolerance"] > 0.0
     body.update(validation_parts=0, prove_with_cp_sat=False)
     r = client.post("/v1/feeder/design?format=svg", json=body)
     assert r.status_code == 200 and r.headers["content-type"].startswith("image/svg+xml")
