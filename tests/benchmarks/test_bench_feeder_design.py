@@ -16,7 +16,6 @@ import pytest
 from models.feeder.fence import Part
 from solver import FeederDesignProblem, feeder_design
 from tests.benchmarks._docs import write_section
-from models.feeder.pushplan import plan_pushes
 from tests.feeder_cases import PARTS
 
 pytestmark = pytest.mark.benchmark
