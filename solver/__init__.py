@@ -12,7 +12,7 @@ from solver.core.errors import BackendNotFound, Infeasible, NotConverged, Solver
 from solver.core.outcome import Outcome
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
-from solver.feeder.design import FeederDesignProblem, FeederDesignResult, feeder_design
+from solver.feeder.design import BeltSpec, FeederDesignProblem, FeederDesignResult, feeder_design
 from solver.feeder.workflow import (
     FeederMapProblem,
     FeederMapResult,
@@ -79,6 +79,7 @@ ENTRY_POINTS = (
 """The workflows the service calls: each ``(problem, budget) -> Outcome``."""
 
 __all__ = [
+    "BeltSpec",
     "DEFAULT_FENCE_LENGTH_RADII",
     "ENTRY_POINTS",
     "FeederDesignProblem",

@@ -27,6 +27,7 @@ from models.feeder.design import (
     search_design,
 )
 from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, Part, fence_map
+from models.feeder.layout import BeltLayout, lay_out
 from models.feeder.maps import ConfigurationMap, sequence
 from models.feeder.pushplan import PushPlan, plan_pushes
 from models.footprint import Footprint
@@ -40,6 +41,29 @@ VALIDATION_MU_VALUES = 5
 """mu_c values, evenly over the interval, among which each validation part draws its own."""
 VALIDATION_SLACK = 1e-6
 """Radians: a simulated final orientation this close to a promised band counts as in it."""
+
+
+@dataclass(frozen=True)
+class BeltSpec:
+    """The belt a design is placed on (models/feeder/layout.py), lengths in the part's units;
+    None for ``clearance``, ``spacing`` and ``entry_x`` takes a tenth of the part's radius, its
+    diameter, and the first fence's root side."""
+
+    width: float
+    clearance: float | None = None
+    spacing: float | None = None
+    entry_x: float | None = None
+
+
+@dataclass(frozen=True)
+class PlacedCheck:
+    """A placed fence's reach, whether a part may pass its free end untouched (reach 0: it
+    arrives beside or past the end, as after a fence on the same side), and the measure
+    (radians) of the orientations arriving at it that its reach may not align."""
+
+    reach: float
+    may_miss: bool
+    unaligned_arriving: float
 
 
 @dataclass(frozen=True)
@@ -61,6 +85,7 @@ class FeederDesignProblem:
     seed: int = 0
     vertices: tuple[tuple[float, float], ...] = ()  # the outline, for the validation supports
     center_of_mass: tuple[float, float] = (0.0, 0.0)
+    belt: BeltSpec | None = None
     tol: FeederTolerances = DEFAULT
     design_tol: DesignTolerances = DESIGN_DEFAULT
 
@@ -98,6 +123,8 @@ class FeederDesignResult:
     product: ConfigurationMap | None  # the map of the design's fences (5.4, 5.5)
     validation: Validation | None
     baseline: PushPlan | None  # Goldberg's frictionless push plan for the same part, for comparison
+    layout: BeltLayout | None  # the design placed on the belt, when one was given
+    placed: tuple[PlacedCheck, ...]  # per placed fence
     status: str  # "ok" | "time_limit"
     solve_time_s: float
     timings: dict[str, float] = field(default_factory=dict)
@@ -157,6 +184,39 @@ def _validate(problem: FeederDesignProblem, fences: list[Fence], final: Arcs, bu
                       unfinished=int((~finished).sum()), solve_time_s=time.perf_counter() - t0)
 
 
+def _place(problem: FeederDesignProblem, graph: DesignGraph, design: Design,
+           budget: Budget) -> tuple[BeltLayout, tuple[PlacedCheck, ...]]:
+    """The design on the belt, and for each fence its reach and the orientations arriving
+    at it that the reach may not align (phase 6: the map of that fence with its reach)."""
+    assert problem.belt is not None
+    b = problem.belt
+    a = problem.part.radius
+    fences = [graph.maps[f].fence for f in design.fences]
+    layout = lay_out([f.angle for f in fences], a, b.width, 0.1 * a if b.clearance is None else b.clearance,
+                     2.0 * a if b.spacing is None else b.spacing, b.entry_x)
+    checks = []
+    arriving = Arcs.circle()
+    occ = graph.start[design.fences[0]]
+    for i, (f, placed) in enumerate(zip(design.fences, layout.fences)):
+        budget.checkpoint(f"the reach of placed fence {i}")
+        fence = graph.maps[f].fence
+        unaligned = fence_map(problem.part, Fence.create(fence.angle, (fence.mu_low, fence.mu_high),
+                                                         reach=max(placed.reach, 1e-12 * a)),
+                              problem.tol, checkpoint=budget.checkpoint).map.unaligned
+        checks.append(PlacedCheck(placed.reach, placed.reach <= 0.0, _measure_within(unaligned, arriving)))
+        if i > 0:  # the bands the part may be in after fence i (a design's steps are never refused)
+            step = graph.step(design.fences[i - 1], occ, f)
+            assert step is not None
+            occ = step[0]
+        arriving = graph.occupied_set(f, occ)
+    return layout, tuple(checks)
+
+
+def _measure_within(a: Arcs, b: Arcs) -> float:
+    """The measure of a within b (|a| + |b| - |a u b|)."""
+    return max(a.measure + b.measure - a.union(b).measure, 0.0)
+
+
 def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> FeederDesignResult:
     t0 = time.perf_counter()
     timings: dict[str, float] = {}
@@ -168,6 +228,8 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
     product = None
     validation = None
     baseline = None
+    layout = None
+    placed: tuple[PlacedCheck, ...] = ()
     status = "ok"
     try:
         t = time.perf_counter()
@@ -195,11 +257,15 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
         if design is not None:
             final = graph.occupied_set(design.fences[-1], design.final_bands)
             product = sequence([maps[f].map for f in design.fences])
+            if problem.belt is not None:
+                t = time.perf_counter()
+                layout, placed = _place(problem, graph, design, budget)
+                timings["layout"] = time.perf_counter() - t
             if problem.validation_parts > 0:
                 t = time.perf_counter()
                 validation = _validate(problem, [maps[f].fence for f in design.fences], final, budget)
                 timings["validation"] = time.perf_counter() - t
     except TimeLimitReached:
         status = "time_limit"
-    return FeederDesignResult(tuple(maps), search, cp, final, product, validation, baseline, status,
-                              time.perf_counter() - t0, timings, progress)
+    return FeederDesignResult(tuple(maps), search, cp, final, product, validation, baseline, layout, placed,
+                              status, time.perf_counter() - t0, timings, progress)

@@ -19,10 +19,12 @@ from service.api.feeder.schemas import (
     FeederFenceIn,
     FeederFenceMapOut,
     FeederFenceRunOut,
+    FeederLayoutOut,
     FeederMapRequest,
     FeederMapResponse,
     FeederMatrixOut,
     FeederPartIn,
+    FeederPlacedFenceOut,
     FeederProductBandOut,
     FeederProductOut,
     FeederPushPlanOut,
@@ -34,6 +36,7 @@ from service.common.inputs import located
 from service.errors import FieldError
 from service.limits import FEEDER_MAX_CANDIDATES, FEEDER_MAX_FENCE_LENGTH_RADII
 from solver import (
+    BeltSpec,
     FeederDesignProblem,
     FeederDesignResult,
     FeederMapProblem,
@@ -163,10 +166,18 @@ def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
     mu = (req.mu_c, req.mu_c) if req.mu_c is not None else (req.mu_c_range[0], req.mu_c_range[1])  # type: ignore[index]
     if not mu[0] <= mu[1]:
         raise FieldError(("mu_c_range",), "must be [low, high] with low <= high")
+    if req.belt is not None:
+        clearance = 0.1 * part.radius if req.belt.clearance is None else req.belt.clearance
+        if not req.belt.width > 2.0 * part.radius + clearance:
+            raise FieldError(("belt", "width"), f"must exceed the part's diameter plus the clearance "
+                             f"({2.0 * part.radius + clearance:.6g})")
+        if req.belt.entry_x is not None and abs(req.belt.entry_x) > 0.5 * req.belt.width:
+            raise FieldError(("belt", "entry_x"), "must lie on the belt, |entry_x| <= width / 2")
     return FeederDesignProblem(
         part=part, angle_min=a.min, angle_max=a.max, angle_step=a.step, mu_c=(float(mu[0]), float(mu[1])),
         max_depth=req.max_depth, alternate=req.alternate, prove_with_cp_sat=req.prove_with_cp_sat,
         validation_parts=req.validation_parts, seed=req.seed,
+        belt=None if req.belt is None else BeltSpec(req.belt.width, req.belt.clearance, req.belt.spacing, req.belt.entry_x),
         vertices=tuple((float(x), float(y)) for x, y in req.part.vertices),
         center_of_mass=(float(req.part.center_of_mass[0]), float(req.part.center_of_mass[1])))
 
@@ -196,6 +207,15 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
                                  alphas=None if b.alphas is None else list(b.alphas),
                                  tolerance=b.tolerance if math.isfinite(b.tolerance) and b.alphas else None,
                                  solve_time_ms=b.solve_time_s * 1e3)
+    layout = None
+    if res.layout is not None:
+        lay = res.layout
+        placed = [FeederPlacedFenceOut(angle=f.angle, side=f.side, root=[float(f.root[0]), float(f.root[1])],
+                                       end=[float(f.end[0]), float(f.end[1])], length=f.length, reach=c.reach,
+                                       may_miss=c.may_miss, unaligned_arriving=c.unaligned_arriving)
+                  for f, c in zip(lay.fences, res.placed)]
+        layout = FeederLayoutOut(belt_width=lay.belt_width, gap=lay.gap, belt_length=lay.belt_length, fences=placed,
+                                 realizable=all(not c.may_miss and c.unaligned_arriving == 0.0 for c in res.placed))
     search = res.search
     progress = res.progress
     return FeederDesignResponse(
@@ -205,6 +225,6 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
         candidates=len(res.maps),
         nodes=search.nodes if search is not None else (progress.nodes if progress else 0),
         pruned=search.pruned if search is not None else (progress.pruned if progress else 0),
-        cp_sat=cp, validation=val, push_plan_baseline=base, timings_ms={k: v * 1e3 for k, v in res.timings.items()},
+        cp_sat=cp, validation=val, layout=layout, push_plan_baseline=base, timings_ms={k: v * 1e3 for k, v in res.timings.items()},
         status=res.status, complete=res.complete, message=res.message,
         solve_time_ms=res.solve_time_s * 1e3, elapsed_ms=elapsed_ms)

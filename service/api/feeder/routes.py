@@ -125,7 +125,8 @@ async def feeder_design_route(req: FeederDesignRequest, request: Request,
 def design_job(req: FeederDesignRequest, svg: bool, deadline: Deadline) -> FeederDesignResponse | Response:
     budget = deadline.budget()
     problem = design_problem(req)
-    with located():
+    with located(rename={"belt_width": ("belt", "width"), "entry_x": ("belt", "entry_x"),
+                         "spacing": ("belt", "spacing")}):
         result = feeder_design(problem, budget)
     design = result.design
     if svg and design is not None:

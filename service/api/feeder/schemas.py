@@ -198,6 +198,21 @@ class FeederAnglesIn(Strict):
         description="Step between candidate angles, radians; both sides of the belt are tried.")
 
 
+Length = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0)]
+
+
+class FeederBeltIn(Strict):
+    width: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0)] = Field(
+        description="Belt width, in the part's units (more than the part's diameter plus the clearance).")
+    clearance: Length | None = Field(default=None, description="Extra gap at a fence's free end beyond the part's "
+                                                               "diameter (default a tenth of the part's radius).")
+    spacing: Length | None = Field(default=None, description="Along the belt from a fence's free end to the next "
+                                                             "fence's root (default the part's diameter).")
+    entry_x: Annotated[float, Field(strict=True, allow_inf_nan=False)] | None = Field(
+        default=None, description="Lane of the arriving parts' centre of mass, x across the belt (default: beside "
+                                  "the first fence's root).")
+
+
 class FeederDesignRequest(Strict):
     model_config = ConfigDict(
         extra="forbid",
@@ -220,7 +235,31 @@ class FeederDesignRequest(Strict):
     validation_parts: Annotated[int, Field(strict=True, ge=0, le=FEEDER_MAX_VALIDATION_PARTS)] = Field(
         default=0, description="Simulated parts (random support, orientation, mu_c) run through the design.")
     seed: Annotated[int, Field(strict=True, ge=0, le=2**63 - 1)] = 0
+    belt: FeederBeltIn | None = Field(default=None, description="Place the design on this belt (book 1.8.6, figure "
+                                                                "1-9): each fence's root, end, length and reach.")
     time_limit_s: TimeLimit | None = None
+
+
+class FeederPlacedFenceOut(Strict):
+    angle: float
+    side: str
+    root: list[float] = Field(description="[x, y] where it hangs from the belt's side: x across the belt, y against "
+                                          "the belt's motion (the belt runs in -y), the first root at y = 0.")
+    end: list[float] = Field(description="[x, y] of its free end.")
+    length: float
+    reach: float = Field(description="Along the fence from the part's least favourable first contact to the end.")
+    may_miss: bool = Field(description="The part may pass the free end untouched (reach 0: after a fence on the "
+                                       "same side it arrives beside the end).")
+    unaligned_arriving: float = Field(description="Radians of the orientations the part may arrive in that this "
+                                                  "reach may not align (1.8.6).")
+
+
+class FeederLayoutOut(Strict):
+    belt_width: float
+    gap: float = Field(description="Free width left at each fence's end for the part to pass.")
+    belt_length: float = Field(description="From the first root to the last free end, along the belt.")
+    fences: list[FeederPlacedFenceOut]
+    realizable: bool = Field(description="No fence may be missed and every arriving orientation is aligned.")
 
 
 class FeederDesignFenceOut(Strict):
@@ -267,6 +306,7 @@ class FeederDesignResponse(Strict):
     pruned: int
     cp_sat: FeederCpSatOut | None
     validation: FeederValidationOut | None
+    layout: FeederLayoutOut | None = Field(description="The design on the belt asked for (null: no belt or no design).")
     push_plan_baseline: FeederPushPlanOut | None = Field(
         description="For comparison: the shortest sensorless plan of a frictionless single pusher for the same part "
                     "(Goldberg 1993), no belt, no friction.")

@@ -154,6 +154,26 @@ def test_a_design_for_the_pentagon_is_found_proven_and_validated_5_4(client):
     assert r.text.count("<g id=\"axes_") == len(d["fences"]) + 1  # each fence and the product (figure 5-4)
 
 
+def test_a_design_placed_on_a_belt_says_whether_it_is_realizable_1_8_6(client):
+    """A rectangle's two alternating fences on a belt of 12 part radii: each fence's root,
+    end, length and reach; the second catches the part near its root. The same fences on
+    one side would let the part pass the second fence's end."""
+    a = math.hypot(2.0, 0.5)
+    body = {"part": {"vertices": [[0, 0], [4, 0], [4, 1], [0, 1]], "center_of_mass": [2, 0.5]},
+            "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(5)},
+            "mu_c": 0.25, "belt": {"width": 12 * a}}
+    out = client.post("/v1/feeder/design", json=body).json()
+    lay = out["layout"]
+    assert out["design"] is not None and lay is not None and len(lay["fences"]) == 2
+    f0, f1 = lay["fences"]
+    assert f0["side"] != f1["side"] and not f0["may_miss"] and not f1["may_miss"]
+    assert f1["reach"] > 10 * a and f1["root"][1] < f0["end"][1]
+    assert lay["gap"] == pytest.approx(2.1 * a) and lay["realizable"] == (f0["unaligned_arriving"] == 0.0
+                                                                           and f1["unaligned_arriving"] == 0.0)
+    r = client.post("/v1/feeder/design", json={**body, "belt": {"width": a}})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "belt", "width"]
+
+
 @pytest.mark.parametrize(("patch", "loc"), [
     ({"angles": {"min": 0.9, "max": 0.5, "step": 0.1}}, ["body", "angles", "max"]),
     ({"angles": {"min": 0.1, "max": 1.5, "step": 0.001}}, ["body", "angles", "step"]),
