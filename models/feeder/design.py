@@ -112,23 +112,17 @@ class DesignGraph:
             raise InvalidInput("fences", "need at least one candidate fence")
         k = rotational_symmetry(part, tol)
         step = part.m // k
-        meets, gap, bad, bad_gap = [], [], [], []
+        stops = [f.map.jam.union(f.map.unaligned) for f in maps]
+        gap, bad_gap = [], []
         for row, g in enumerate(maps):
             if checkpoint is not None:
                 checkpoint(f"the design graph's row {row} of {len(maps)}")
-            row_m, row_g, row_b, row_bg = [], [], [], []
-            for f in maps:
-                stop = f.map.jam.union(f.map.unaligned)
-                row_m.append(np.array([[b.intersects(kf) for kf in f.map.kernels] for b in g.map.bands], dtype=bool)
-                             .reshape(len(g.map.bands), len(f.map.kernels)))
-                row_g.append(np.array([[b.distance(kf) for kf in f.map.kernels] for b in g.map.bands], dtype=float)
-                             .reshape(len(g.map.bands), len(f.map.kernels)))
-                row_b.append(np.array([b.intersects(stop) for b in g.map.bands], dtype=bool))
-                row_bg.append(np.array([b.distance(stop) for b in g.map.bands], dtype=float))
-            meets.append(tuple(row_m))
-            gap.append(tuple(row_g))
-            bad.append(tuple(row_b))
-            bad_gap.append(tuple(row_bg))
+            gap.append(tuple(np.array([[b.distance(kf) for kf in f.map.kernels] for b in g.map.bands], dtype=float)
+                             .reshape(len(g.map.bands), len(f.map.kernels)) for f in maps))
+            bad_gap.append(tuple(np.array([b.distance(stop) for b in g.map.bands], dtype=float) for stop in stops))
+        # two sets meet exactly where their distance is 0 (Arcs.distance)
+        meets = [tuple(d == 0.0 for d in row) for row in gap]
+        bad = [tuple(d == 0.0 for d in row) for row in bad_gap]
         start = tuple(frozenset(j for j, kern in enumerate(f.map.kernels) if not kern.is_empty) for f in maps)
         first_ok = tuple(f.map.jam.is_empty and f.map.unaligned.is_empty and bool(s) for f, s in zip(maps, start))
         orbit = tuple(tuple(e % step for e in f.final_edges) for f in maps)
