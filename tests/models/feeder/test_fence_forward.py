@@ -13,6 +13,21 @@ from solver import solve_forward_batch
 from solver.sim.spiral import random_supports
 
 
+def sampled_motions(rng: np.random.Generator, scene: PushScene, radius: float,
+                    mu: float) -> tuple[np.ndarray, np.ndarray]:
+    """(slip, omega) per unit push of 400 random tripod, rim and dipod supports each in the
+    disk, the converged turning ones (at least 95 % of each kind)."""
+    slips, omegas = [], []
+    for kind in ("tripod", "rim", "dipod"):
+        pts, wts = random_supports(rng, 400, radius, kind=kind)
+        res = solve_forward_batch(scene, pts, wts, mu_c=mu)
+        ok = res.converged & (np.abs(res.omega) > 0)
+        assert ok.mean() > 0.95
+        slips.append(res.slip[ok])
+        omegas.append(res.omega[ok])
+    return np.concatenate(slips), np.concatenate(omegas)
+
+
 def test_no_support_slips_faster_than_extreme_b_5_1():
     """dl/ddelta = -slip/omega of every forward solve stays below the disk bound's largest
     value (4.1: it lies on the locus of the cone edge n_e + mu_c e), and dipod supports,
@@ -34,14 +49,8 @@ def test_no_support_slips_faster_than_extreme_b_5_1():
         bound, ccw = max_slip_rate(part.radius, c, g + delta, mu, 2048)
         assert ccw and bound > 0.0
         scene = PushScene.create(part.radius, c, g + delta, math.pi / 2)
-        rates = []
-        for kind in ("tripod", "rim", "dipod"):
-            pts, wts = random_supports(rng, 400, part.radius, kind=kind)
-            res = solve_forward_batch(scene, pts, wts, mu_c=mu)
-            ok = res.converged & (np.abs(res.omega) > 0)
-            assert ok.mean() > 0.95
-            rates.append(-res.slip[ok] / res.omega[ok])
-        rates = np.concatenate(rates)
+        slip, omega = sampled_motions(rng, scene, part.radius, mu)
+        rates = -slip / omega
         assert np.all(rates <= bound * (1 + 1e-6) + 1e-9)
         assert rates.max() >= 0.999 * bound  # measured: within 1e-5
 
@@ -62,14 +71,8 @@ def test_no_support_slips_toward_the_end_faster_than_the_reach_bound_1_8_6():
         bound = face_slip_rate(part.radius, c, fence, mu, 2048)
         assert math.isfinite(bound)
         scene = PushScene.create(part.radius, c, fence.angle, math.pi / 2)
-        rates = []
-        for kind in ("tripod", "rim", "dipod"):
-            pts, wts = random_supports(rng, 400, part.radius, kind=kind)
-            res = solve_forward_batch(scene, pts, wts, mu_c=mu)
-            ok = res.converged & (np.abs(res.omega) > 0)
-            assert ok.mean() > 0.95
-            rates.append(-fence.sign * res.slip[ok] / np.abs(res.omega[ok]))
-        rates = np.concatenate(rates)
+        slip, omega = sampled_motions(rng, scene, part.radius, mu)
+        rates = -fence.sign * slip / np.abs(omega)
         assert np.all(rates <= bound * (1 + 1e-6) + 1e-9)
         if bound > 0.0:
             assert rates.max() >= 0.99 * bound
