@@ -80,3 +80,13 @@ class CountingClock:
     def __call__(self) -> float:
         self.calls -= 1
         return 0.0 if self.calls >= 0 else 1e9
+
+
+def first_contact_reach(the_part, fence, run):
+    """How far the fence reaches beyond the run's first contact toward its end (None when the
+    first contact is not a vertex on the face)."""
+    cm, theta = run.cms[1], run.thetas[1]
+    hull = cm + the_part.hull @ np.array([[math.cos(theta), math.sin(theta)], [-math.sin(theta), math.cos(theta)]])
+    z = hull @ fence.normal
+    along = float(hull[int(np.argmin(z))] @ (fence.sign * np.array([math.cos(fence.angle), math.sin(fence.angle)])))
+    return along if z.min() <= 1e-9 * the_part.radius and along > 0.0 else None

@@ -22,6 +22,7 @@ from models.feeder.arcs import ccw_distance
 from models.feeder.fence import FINE, FeederTolerances, Fence, fence_map
 from solver.sim.feeder import FeederSimSettings, simulate_fence, simulate_fence_batch
 from tests.benchmarks._docs import write_section
+from tests.benchmarks._timing import timed
 from tests.feeder_cases import PARTS, part, random_encounter
 
 pytestmark = pytest.mark.benchmark
@@ -33,16 +34,6 @@ RUNS = 20
 SLACK = 1e-6
 
 
-def timed(fn, repeat=5):
-    times = []
-    out = None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
-
-
 def map_rows():
     rows = []
     pent = part("pentagon")
@@ -52,7 +43,7 @@ def map_rows():
         t_fine, _ = timed(lambda: fence_map(pent, fence, FINE), repeat=1)
         for steps in (8, 16, 32):
             tol = FeederTolerances(endpoint_steps=steps)
-            t, got = timed(lambda: fence_map(pent, fence, tol))
+            t, got = timed(lambda: fence_map(pent, fence, tol), repeat=5)
             err = [math.degrees(g.least - r.least) for g, r in zip(got.turns, ref.turns)]
             rows.append(f"| {deg:+.0f}° | {mu[0]:g}–{mu[1]:g} | {steps} | {1e3 * t:.0f} | "
                         f"{min(err):+.3f} / {max(err):+.3f} | {1e3 * t_fine:.0f} |")
@@ -63,7 +54,7 @@ def matrix_rows():
     cmap = fence_map(part("pentagon"), Fence.create(math.radians(40.0), 0.25)).map
     rows = []
     for n in (90, 360, 1440):
-        t, m = timed(lambda: cmap.matrix(n))
+        t, m = timed(lambda: cmap.matrix(n), repeat=5)
         rows.append(f"| {360 / n:g}° ({n}) | {1e3 * t:.2f} | {int(m.sum())} |")
     return rows
 

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 import platform
-import statistics
 import time
 
 import numpy as np
@@ -21,8 +20,8 @@ import pytest
 from models.feeder.fence import FeederTolerances, Fence, fence_map
 from solver.sim.feeder import simulate_fence
 from tests.benchmarks._docs import write_section
-from tests.feeder_cases import part, random_support
-from tests.solver.sim.test_feeder import first_contact_reach
+from tests.benchmarks._timing import timed
+from tests.feeder_cases import first_contact_reach, part, random_support
 
 pytestmark = pytest.mark.benchmark
 
@@ -35,26 +34,17 @@ SIM_REACHES = (0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 2.5)
 RUNS = 60
 
 
-def timed(fn, repeat=3):
-    times, out = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
-
-
 def map_rows():
     pent = part("pentagon")
     a = pent.radius
     rows = []
     for gamma, mu in FENCES:
-        t_none, _ = timed(lambda: fence_map(pent, Fence.create(gamma, mu)))
+        t_none, _ = timed(lambda: fence_map(pent, Fence.create(gamma, mu)), repeat=3)
         cells = []
         for r in REACHES:
             t, fm = timed(lambda: fence_map(pent, Fence.create(gamma, mu, reach=r * a)), repeat=1)
             cells.append(f"{math.degrees(fm.map.unaligned.measure):.1f}")
-        t16, _ = timed(lambda: fence_map(pent, Fence.create(gamma, mu, reach=5.0 * a)))
+        t16, _ = timed(lambda: fence_map(pent, Fence.create(gamma, mu, reach=5.0 * a)), repeat=3)
         fine = fence_map(pent, Fence.create(gamma, mu, reach=5.0 * a), FeederTolerances(reach_cells=128)).map.unaligned
         rows.append(f"| {gamma:+.1f} | {mu[0]:g}–{mu[1]:g} | {1e3 * t_none:.0f} | {1e3 * t16:.0f} | "
                     + " | ".join(cells) + f" | {math.degrees(fine.measure):.1f} |")

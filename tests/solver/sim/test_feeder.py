@@ -33,7 +33,15 @@ from models.feeder.fence import Fence, Part, fence_map
 from models.feeder.maps import sequence
 from solver import Budget
 from solver.sim.feeder import FeederSimSettings, simulate_fence, simulate_fence_batch
-from tests.feeder_cases import PARTS, CountingClock, part, random_encounter, random_fence, random_support
+from tests.feeder_cases import (
+    PARTS,
+    CountingClock,
+    first_contact_reach,
+    part,
+    random_encounter,
+    random_fence,
+    random_support,
+)
 
 SLACK = 1e-6  # radians: the run's final orientation against a band's edge
 
@@ -205,16 +213,6 @@ def test_a_part_that_never_touches_the_fence_is_missed():
     body, wts = random_support(np.random.default_rng(5), "square")
     run = simulate_fence(square, Fence.create(0.7, 0.2), 0.2, body, wts, 0.4, start_along=-0.5)
     assert run.status == "missed" and run.complete and run.theta_final == 0.4 and not run.flushed
-
-
-def first_contact_reach(the_part, fence, run):
-    """How far the fence reaches beyond the run's first contact toward its end (None when the
-    first contact is not a vertex on the face)."""
-    cm, theta = run.cms[1], run.thetas[1]
-    hull = cm + the_part.hull @ np.array([[math.cos(theta), math.sin(theta)], [-math.sin(theta), math.cos(theta)]])
-    z = hull @ fence.normal
-    along = float(hull[int(np.argmin(z))] @ (fence.sign * np.array([math.cos(fence.angle), math.sin(fence.angle)])))
-    return along if z.min() <= 1e-9 * the_part.radius and along > 0.0 else None
 
 
 @pytest.mark.slow
