@@ -241,18 +241,24 @@ def rotation(theta: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
+def balance_mu(c: np.ndarray, n: np.ndarray, t: np.ndarray) -> float | None:
+    """The mu at which the cone edge n + mu t from contact c passes through the CM,
+    c x (n + mu t) = 0 (None when c x t = 0: it never does, or always)."""
+    ct = float(c[0] * t[1] - c[1] * t[0])
+    if ct == 0.0:
+        return None
+    return -float(c[0] * n[1] - c[1] * n[0]) / ct
+
+
 def _mu_samples_for_sense(c: np.ndarray, n: np.ndarray, mu: tuple[float, float]) -> list[float]:
     """mu_c values that show every sense Mason's rule gives over the interval at contact c:
     its ends and both sides of each mu where a cone edge passes through the CM."""
     lo, hi = mu
     out = [lo, hi]
-    t = perp(n)
-    cn, ct = float(c[0] * n[1] - c[1] * n[0]), float(c[0] * t[1] - c[1] * t[0])
-    if ct != 0.0:
-        for sign in (1.0, -1.0):  # c x (n + sign mu t) = 0
-            star = -cn / (sign * ct)
-            if lo < star < hi:
-                out += [max(lo, star * (1.0 - 1e-9)), min(hi, star * (1.0 + 1e-9))]
+    for edge in (perp(n), -perp(n)):
+        star = balance_mu(c, n, edge)
+        if star is not None and lo < star < hi:
+            out += [max(lo, star * (1.0 - 1e-9)), min(hi, star * (1.0 + 1e-9))]
     return out
 
 
@@ -387,14 +393,10 @@ def _face_rate_over_mu(part: Part, k: int, theta: float, fence: Fence, tol: Feed
     interval: inf when some mu_c in it puts the cone edge through the CM."""
     c = rotation(theta) @ part.hull[k]
     lo, hi = fence.mu_low, fence.mu_high
-    if hi > lo:
-        n = fence.normal
-        t = np.array([math.cos(fence.angle), math.sin(fence.angle)])  # perp(t) = n
-        ct = float(c[0] * t[1] - c[1] * t[0])
-        if ct != 0.0:  # c x (n + mu sgn(gamma) t) = 0 at mu*
-            star = -float(c[0] * n[1] - c[1] * n[0]) / (fence.sign * ct)
-            if lo <= star <= hi:
-                return math.inf
+    if hi > lo:  # the cone edge n + mu sgn(gamma) t, t = (cos gamma, sin gamma)
+        star = balance_mu(c, fence.normal, fence.sign * np.array([math.cos(fence.angle), math.sin(fence.angle)]))
+        if star is not None and lo <= star <= hi:
+            return math.inf
     mus = [lo] if hi <= lo else list(np.linspace(lo, hi, max(2, tol.mu_samples)))
     return max(face_slip_rate(part.radius, c, fence, float(m), tol.locus_points) for m in mus)
 
