@@ -265,6 +265,9 @@ FEEDER_MAX_TRAJECTORY_POINTS = 2000
 """Trajectory samples returned per fence."""
 FEEDER_MAX_FENCE_LENGTH_RADII = 1e4
 """fence_length, in part radii."""
+FEEDER_MAX_WORLD_RADII = 1e5
+"""Placed fences' ends and the part's start: distance from the origin, in part radii
+(rounding there stays far below the simulator's contact tolerance)."""
 FEEDER_MAX_CANDIDATES = 180
 """Candidate fences of one design (both sides together: a map each)."""
 FEEDER_MAX_DESIGN_DEPTH = 20

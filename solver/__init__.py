@@ -41,7 +41,16 @@ from solver.motion.particle import ParticleProblem, ParticleSolution, particle
 from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure, solve_motion
 from solver.motion.statistics import HistogramQuery, TripodStatistics, TripodStatisticsProblem, tripod_statistics
 from solver.motion.tripod_search import ExtremeCorResult, extreme_cor_search
-from solver.sim.feeder import DEFAULT_FENCE_LENGTH_RADII, FeederSimSettings, FenceEvent, FenceRun, simulate_fence
+from solver.sim.feeder import (
+    DEFAULT_FENCE_LENGTH_RADII,
+    BeltRun,
+    FeederSimSettings,
+    FenceEvent,
+    FenceRun,
+    FenceSegment,
+    simulate_belt_batch,
+    simulate_fence,
+)
 from solver.sim.push import (
     BatchSimulation,
     PushSimulation,
@@ -91,10 +100,13 @@ __all__ = [
     "FeederSimSettings",
     "FenceEvent",
     "FenceRun",
+    "FenceSegment",
+    "BeltRun",
     "feeder_design",
     "feeder_map",
     "feeder_simulate",
     "simulate_fence",
+    "simulate_belt_batch",
     "UNLIMITED",
     "Budget",
     "BackendNotFound",

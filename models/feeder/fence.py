@@ -486,7 +486,8 @@ def unaligned_orientations(part: Part, fence: Fence, pieces: list[Piece], tol: F
         with np.errstate(divide="ignore", invalid="ignore"):  # nodes closer than rounding: no bound, the safe side
             inner = np.nan_to_num(np.maximum(rx[:-2], rx[1:-1]) * np.log(x[:-2] / x[1:-1]), nan=np.inf)
         last = abs(float(nodes[-1] - nodes[-2])) * max(float(r[-2]), float(r[-1]))
-        return np.concatenate([[0.0], np.cumsum(np.append(inner, last))])
+        with np.errstate(over="ignore"):  # a sum past the largest float is inf: unaligned, the safe side
+            return np.concatenate([[0.0], np.cumsum(np.append(inner, last))])
 
     totals: dict[tuple[int, str], float] = {}
 

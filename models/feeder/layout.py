@@ -44,9 +44,13 @@ class PlacedFence:
 
 @dataclass(frozen=True)
 class BeltLayout:
+    """The fences placed, the belt's width, the gap at each free end, and the lane (x of
+    the CM) in which parts arrive at the first fence."""
+
     belt_width: float
     gap: float
     fences: tuple[PlacedFence, ...]
+    entry_x: float
 
     @property
     def belt_length(self) -> float:
@@ -79,19 +83,20 @@ def lay_out(angles: Sequence[float], part_radius: float, belt_width: float, clea
     y = 0.0
     across = w - gap
     prev_end_x = None
+    lane = math.nan
     for gamma in angles:
         sign = 1.0 if gamma > 0.0 else -1.0
         root = np.array([sign * 0.5 * w, y])
         end = root + np.array([-sign * across, -across * math.tan(abs(gamma))])
         if prev_end_x is None:
-            x0 = (sign * (0.5 * w - a)) if entry_x is None else float(entry_x)
-            if abs(x0) > 0.5 * w:
+            lane = (sign * (0.5 * w - a)) if entry_x is None else float(entry_x)
+            if not abs(lane) <= 0.5 * w:
                 raise InvalidInput("entry_x", "must lie on the belt")
-            x_lo, x_hi = x0 - a, x0 + a  # the hull's extent about the lane
+            x_lo, x_hi = lane - a, lane + a  # the hull's extent about the lane
         else:
             x_lo, x_hi = prev_end_x - 2.0 * a, prev_end_x + 2.0 * a
         placed.append(PlacedFence(float(gamma), "right" if sign > 0 else "left", root, end,
                                   across / math.cos(gamma), _reach(float(gamma), float(end[0]), x_lo, x_hi)))
         prev_end_x = float(end[0])
         y = float(end[1]) - spacing
-    return BeltLayout(w, gap, tuple(placed))
+    return BeltLayout(w, gap, tuple(placed), lane)

@@ -35,12 +35,17 @@ from models.support import random_balanced_tripods
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import TimeLimitReached
 from solver.feeder.design_cpsat import CpSatDesign, shortest_design_cpsat
-from solver.sim.feeder import simulate_fence_batch
+from solver.sim.feeder import BeltRun, FenceSegment, simulate_belt_batch, simulate_fence_batch
 
 VALIDATION_MU_VALUES = 5
 """mu_c values, evenly over the interval, among which each validation part draws its own."""
 VALIDATION_SLACK = 1e-6
 """Radians: a simulated final orientation this close to a promised band counts as in it."""
+VALIDATION_EXAMPLES = 3
+"""Validation parts on a belt whose runs are kept for the top view."""
+ENTRY_CLEARANCE = 0.05
+"""Parts enter a belt with their CM this many part radii more than a radius above the
+first fence's root (so the outline is clear of every fence)."""
 
 
 @dataclass(frozen=True)
@@ -99,7 +104,12 @@ class FeederDesignProblem:
 class Validation:
     """Simulated parts through the design: how many ran to the end, ended in the promised
     bands, left a fence without an edge flush (a fence too short for them: outside the
-    maps' assumption), or did not finish (jammed, stalled, step limit, time limit)."""
+    maps' assumption), passed a fence untouched (``missed``, on a belt only), or did not
+    finish (jammed, stalled, step limit, time limit, two fences at once). ``on_belt``: the
+    parts ran through the placed fences one after the other (world frame, from the entry
+    lane), not each fence in its own frame; then ``off_belt`` counts the parts whose
+    outline crossed a side of the belt somewhere (no side walls are simulated), and
+    ``examples`` keeps the first few parts' runs (for the top view)."""
 
     parts: int
     in_band: int
@@ -107,6 +117,10 @@ class Validation:
     unflushed: int
     unfinished: int
     solve_time_s: float
+    missed: int = 0
+    on_belt: bool = False
+    off_belt: int = 0
+    examples: tuple[BeltRun, ...] = ()
 
     @property
     def rate(self) -> float:
@@ -151,7 +165,8 @@ class FeederDesignResult:
                 f"(searched {self.search.nodes} nodes)")
 
 
-def _validate(problem: FeederDesignProblem, fences: list[Fence], final: Arcs, budget: Budget) -> Validation:
+def _validate(problem: FeederDesignProblem, fences: list[Fence], final: Arcs, layout: BeltLayout | None,
+              budget: Budget) -> Validation:
     t0 = time.perf_counter()
     rng = np.random.default_rng(problem.seed)
     part = problem.part
@@ -163,25 +178,61 @@ def _validate(problem: FeederDesignProblem, fences: list[Fence], final: Arcs, bu
     mus = np.linspace(lo, hi, VALIDATION_MU_VALUES) if hi > lo else np.array([lo])
     mu_of = mus[rng.integers(0, len(mus), n)]
     theta = rng.uniform(-math.pi, math.pi, n)
+    supports = [(body[i], wts[i]) for i in range(n)]
+    if layout is None:
+        finished, unflushed = _through_each_fence(part, fences, mu_of, supports, theta, budget)
+        missed = off_belt = np.zeros(n, dtype=bool)
+        examples: tuple[BeltRun, ...] = ()
+    else:
+        segs = [FenceSegment.create(f, p.end, p.length) for f, p in zip(fences, layout.fences)]
+        start = np.array([layout.entry_x, float(layout.fences[0].root[1]) + part.radius * (1.0 + ENTRY_CLEARANCE)])
+        runs = simulate_belt_batch(part, segs, mu_of, supports, theta, np.tile(start, (n, 1)), budget=budget)
+        finished = np.array([r.status == "left" for r in runs], dtype=bool)
+        missed = np.array([r.missed for r in runs], dtype=bool)
+        unflushed = np.array([not r.flushed for r in runs], dtype=bool)
+        off_belt = np.array([_leaves_belt(part, r, 0.5 * layout.belt_width) for r in runs], dtype=bool)
+        theta = np.array([math.nan if r.theta_final is None else r.theta_final for r in runs])
+        examples = tuple(runs[:VALIDATION_EXAMPLES])
+    ok = finished & ~unflushed & ~missed
+    in_band = int(sum(final.contains(float(theta[i]), VALIDATION_SLACK) for i in np.nonzero(ok)[0]))
+    return Validation(parts=n, in_band=in_band, outside=int(ok.sum()) - in_band,
+                      unflushed=int((finished & unflushed & ~missed).sum()), unfinished=int((~finished).sum()),
+                      solve_time_s=time.perf_counter() - t0, missed=int((finished & missed).sum()),
+                      on_belt=layout is not None, off_belt=int(off_belt.sum()), examples=examples)
+
+
+def _through_each_fence(part: Part, fences: list[Fence], mu_of: np.ndarray, supports: list[tuple[np.ndarray, np.ndarray]],
+                        theta: np.ndarray, budget: Budget) -> tuple[np.ndarray, np.ndarray]:
+    """Each fence in its own frame (the part meets it at 0.7 of a 40-radius fence), the final
+    orientation of one the initial of the next: (finished, unflushed) per part; ``theta``
+    is updated in place."""
+    n = len(supports)
     finished = np.ones(n, dtype=bool)
     unflushed = np.zeros(n, dtype=bool)
     for fence in fences:
-        for mu in mus:
+        for mu in np.unique(mu_of):
             ids = [i for i in range(n) if mu_of[i] == mu and finished[i]]
             if not ids:
                 continue
             runs = simulate_fence_batch(part, Fence.create(fence.angle, float(mu)), float(mu),
-                                        [(body[i], wts[i]) for i in ids], theta[ids], budget=budget)
+                                        [supports[i] for i in ids], theta[ids], budget=budget)
             for i, run in zip(ids, runs):
                 if run.status != "left" or run.theta_final is None:
                     finished[i] = False
                     continue
                 unflushed[i] |= not run.flushed
                 theta[i] = run.theta_final
-    ok = finished & ~unflushed
-    in_band = int(sum(final.contains(float(theta[i]), VALIDATION_SLACK) for i in np.nonzero(ok)[0]))
-    return Validation(parts=n, in_band=in_band, outside=int(ok.sum()) - in_band, unflushed=int((finished & unflushed).sum()),
-                      unfinished=int((~finished).sum()), solve_time_s=time.perf_counter() - t0)
+    return finished, unflushed
+
+
+def _leaves_belt(part: Part, run: BeltRun, half_width: float) -> bool:
+    """Whether the part's outline crossed x = +-half_width at any recorded pose."""
+    for r in run.runs:
+        c, s_ = np.cos(r.thetas)[:, None], np.sin(r.thetas)[:, None]
+        x = r.cms[:, 0][:, None] + c * part.hull[:, 0][None, :] - s_ * part.hull[:, 1][None, :]
+        if np.any(np.abs(x) > half_width):
+            return True
+    return False
 
 
 def _place(problem: FeederDesignProblem, graph: DesignGraph, design: Design,
@@ -263,7 +314,7 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
                 timings["layout"] = time.perf_counter() - t
             if problem.validation_parts > 0:
                 t = time.perf_counter()
-                validation = _validate(problem, [maps[f].fence for f in design.fences], final, budget)
+                validation = _validate(problem, [maps[f].fence for f in design.fences], final, layout, budget)
                 timings["validation"] = time.perf_counter() - t
     except TimeLimitReached:
         status = "time_limit"

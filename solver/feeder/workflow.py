@@ -5,7 +5,9 @@
   boolean matrix on an orientation grid.
 * :func:`feeder_simulate`: one part with one known support through the fences in order
   (solver/sim/feeder.py), the final orientation of each fence the initial one of the next,
-  and whether each outcome lies in its fence's map.
+  and whether each outcome lies in its fence's map. Fences are either each in its own
+  frame (the part placed above it), or segments placed in the world frame of a belt, met
+  one after the other from a start pose (a fence passed untouched is "missed").
 
 Both run under a budget: past the deadline they return what was finished, marked
 incomplete (status "time_limit").
@@ -18,11 +20,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from models.errors import InvalidInput
 from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, Part, fence_map
 from models.feeder.maps import ConfigurationMap, sequence
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import TimeLimitReached
-from solver.sim.feeder import DEFAULT_SIM, FeederSimSettings, FenceRun, simulate_fence
+from solver.sim.feeder import (
+    DEFAULT_SIM,
+    FeederSimSettings,
+    FenceRun,
+    FenceSegment,
+    overlaps_at,
+    simulate_belt_batch,
+    simulate_fence,
+)
 
 MAP_SLACK = 1e-6
 """Radians: a simulated final orientation this close to a band counts as in it."""
@@ -75,7 +86,9 @@ def feeder_map(problem: FeederMapProblem, budget: Budget = UNLIMITED) -> FeederM
 @dataclass(frozen=True)
 class FeederSimProblem:
     """One part with a known support (points relative to the CM in the part's frame,
-    weights) at ``theta_initial``, through ``fences`` (each with the mu_c it has)."""
+    weights) at ``theta_initial``, through ``fences`` (each with the mu_c it has). With
+    ``segments`` (one per fence) the fences are placed in the world frame and the part
+    starts with its CM at ``start`` (None: above the first fence, as a fence alone)."""
 
     part: Part
     fences: tuple[tuple[Fence, float], ...]
@@ -85,14 +98,16 @@ class FeederSimProblem:
     fence_length: float | None = None
     settings: FeederSimSettings = DEFAULT_SIM
     check_map: bool = True
+    segments: tuple[FenceSegment, ...] | None = None
+    start: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
 class FeederSimResult:
-    runs: tuple[FenceRun, ...]  # the fences the part met, in order
+    runs: tuple[FenceRun, ...]  # the fences the part met (or passed, on a belt), in order
     in_map: tuple[bool | None, ...]  # each outcome in its fence's map (None: not checked)
     theta_final: float | None
-    status: str  # the last run's: "left" | "missed" | "jammed" | "step_limit" | "stalled" | "time_limit"
+    status: str  # the last run's: "left" | "missed" | "jammed" | "step_limit" | "stalled" | "overlap" | "time_limit"
     solve_time_s: float
     message: str
     notes: tuple[str, ...] = field(default=())
@@ -105,27 +120,49 @@ class FeederSimResult:
 
 def feeder_simulate(problem: FeederSimProblem, budget: Budget = UNLIMITED) -> FeederSimResult:
     t0 = time.perf_counter()
+    if problem.segments is None:
+        runs = _each_in_its_frame(problem, budget)
+    else:
+        if problem.start is not None and overlaps_at(problem.part, problem.segments[0], problem.start,
+                                                     problem.theta_initial, problem.settings):
+            raise InvalidInput("start", "the first fence passes through the part there")
+        mus = np.array([[mu for _, mu in problem.fences]])
+        (belt,) = simulate_belt_batch(problem.part, list(problem.segments), mus,
+                                      [(problem.support_points, problem.weights)], [problem.theta_initial],
+                                      None if problem.start is None else problem.start[None], problem.settings,
+                                      budget=budget)
+        runs = list(belt.runs)
+    in_map = [_in_map(problem, fence, run) for (fence, _), run in zip(problem.fences, runs)]
+    last = runs[-1]
+    done = len(runs) == len(problem.fences) and last.status in ("left", "missed")
+    n = len(problem.fences)
+    missed = sum(r.status == "missed" for r in runs)
+    message = (f"left all {n} fence{'s' if n > 1 else ''}" + (f" ({missed} passed untouched)" if missed else "")
+               if done else f"stopped at fence {len(runs) - 1} of {n}: {last.message}")
+    return FeederSimResult(tuple(runs), tuple(in_map), float(last.thetas[-1]) if done else None, last.status,
+                           time.perf_counter() - t0, message)
+
+
+def _each_in_its_frame(problem: FeederSimProblem, budget: Budget) -> list[FenceRun]:
+    """The fences one by one, each in its own frame: the final orientation of one the
+    initial one of the next, until a run does not leave its fence."""
     runs: list[FenceRun] = []
-    in_map: list[bool | None] = []
     theta = problem.theta_initial
-    status = "time_limit"
-    for i, (fence, mu_c) in enumerate(problem.fences):
+    for fence, mu_c in problem.fences:
         run = simulate_fence(problem.part, fence, mu_c, problem.support_points, problem.weights, theta,
                              fence_length=problem.fence_length, settings=problem.settings, budget=budget)
         runs.append(run)
-        status = run.status
-        final = run.theta_final
-        verdict: bool | None = None
-        if problem.check_map and run.status == "jammed":
-            verdict = fence_map(problem.part, fence).map.jam.contains(theta)
-        elif problem.check_map and run.status == "left":  # the maps assume a contact: not for "missed"
-            verdict = fence_map(problem.part, fence).map.allows(theta, final, MAP_SLACK)
-        in_map.append(verdict)
-        if final is None:
+        if run.theta_final is None:
             break
-        theta = final
-    done = len(runs) == len(problem.fences) and runs[-1].theta_final is not None
-    n = len(problem.fences)
-    message = (f"left all {n} fence{'s' if n > 1 else ''}" if done else
-               f"stopped at fence {len(runs) - 1} of {n}: {runs[-1].message}")
-    return FeederSimResult(tuple(runs), tuple(in_map), theta if done else None, status, time.perf_counter() - t0, message)
+        theta = run.theta_final
+    return runs
+
+
+def _in_map(problem: FeederSimProblem, fence: Fence, run: FenceRun) -> bool | None:
+    """Whether the run's outcome lies in its fence's map (None: not asked, not finished, or
+    the fence was never touched, which the maps do not cover)."""
+    if problem.check_map and run.status == "jammed":
+        return fence_map(problem.part, fence).map.jam.contains(run.theta_initial)
+    if problem.check_map and run.status == "left" and run.theta_final is not None:
+        return fence_map(problem.part, fence).map.allows(run.theta_initial, run.theta_final, MAP_SLACK)
+    return None

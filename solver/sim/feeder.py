@@ -5,8 +5,10 @@ Frames as in models/feeder/fence.py: the belt carries the part in -y; in the bel
 the fence is the pusher, moving in +y. The run is kept in the fence's frame (the fence
 fixed, the belt and everything on it drifting in -y): a motion found in the belt's frame by
 the forward minimum-power solver (3.7, 4.1) is shifted by -d. The fence is the segment from
-its free end E (the origin) along w = sgn(gamma) t for ``fence_length``; its face normal is
-n = (-sin gamma, cos gamma). The part slides toward E.
+its free end E along w = sgn(gamma) t for its length; its face normal is
+n = (-sin gamma, cos gamma). The part slides toward E. A fence alone has E at the origin;
+the fences of a belt (:func:`simulate_belt_batch`) are segments placed in that frame (the
+world, belt in -y), met one after the other, each run starting where the last one ended.
 
 Contacts and what moves the part at each (the run switches between them by events):
 
@@ -139,15 +141,43 @@ class FenceRun:
         return f"{self.status} after {len(self.pushes) - 1} steps, {self.counts.solves} forward solves"
 
 
-class _Geometry:
-    """The fence and the part's hull at a pose, in the fence's frame."""
+@dataclass(frozen=True)
+class FenceSegment:
+    """A fence placed in the world frame (the belt moving in -y, fences fixed): the fence
+    (its angle and mu_c interval), its free end E and its length from E toward its root
+    along w = sgn(gamma) t. A fence in its own frame has E at the origin."""
 
-    def __init__(self, part: Part, fence: Fence, fence_length: float):
-        self.part, self.fence, self.length = part, fence, fence_length
-        self.t = np.array([math.cos(fence.angle), math.sin(fence.angle)])
-        self.w = fence.sign * self.t
-        self.n = fence.normal
-        self.e = np.zeros(2)  # the free end E
+    fence: Fence
+    end: np.ndarray
+    length: float
+
+    @classmethod
+    def create(cls, fence: Fence, end: ArrayLike, length: float) -> FenceSegment:
+        e = np.asarray(end, dtype=float).reshape(-1)
+        if e.shape != (2,) or not np.all(np.isfinite(e)):
+            raise InvalidInput("end", "must be a finite point [x, y]")
+        if not (math.isfinite(length) and length > 0.0):
+            raise InvalidInput("length", "must be finite and > 0")
+        return cls(fence, e, float(length))
+
+    @property
+    def direction(self) -> np.ndarray:
+        """w: from E toward the root."""
+        return self.fence.sign * np.array([math.cos(self.fence.angle), math.sin(self.fence.angle)])
+
+    @property
+    def root(self) -> np.ndarray:
+        return self.end + self.length * self.direction
+
+
+class _Geometry:
+    """The fence and the part's hull at a pose (world frame: E at ``segment.end``)."""
+
+    def __init__(self, part: Part, segment: FenceSegment):
+        self.part, self.fence, self.length = part, segment.fence, segment.length
+        self.w = segment.direction
+        self.n = segment.fence.normal
+        self.e = segment.end  # the free end E
         self.next_vertex = (np.arange(part.m) + 1) % part.m
 
     def hull(self, cm: np.ndarray, theta: float) -> np.ndarray:
@@ -197,6 +227,33 @@ class _Geometry:
                 best = min(best, lam)
         return None if math.isinf(best) else best
 
+    def overlaps(self, pts: np.ndarray, tol: float) -> bool:
+        """Whether the fence passes through the part's hull deeper than ``tol`` (clipping
+        the segment by the hull's edges, each kept ``tol`` inside)."""
+        q = pts[self.next_vertex] - pts
+        inward = np.stack([-q[:, 1], q[:, 0]], axis=1) / np.hypot(q[:, 0], q[:, 1])[:, None]
+        lo, hi = 0.0, self.length
+        for n_i, p_i in zip(inward, pts):
+            base = float(n_i @ (self.e - p_i)) - tol  # inside by more than tol where > 0
+            rate = float(n_i @ self.w)
+            if rate == 0.0:
+                if base <= 0.0:
+                    return False
+                continue
+            cut = -base / rate
+            lo, hi = (max(lo, cut), hi) if rate > 0.0 else (lo, min(hi, cut))
+            if lo >= hi:
+                return False
+        return True
+
+
+def overlaps_at(part: Part, segment: FenceSegment, cm: ArrayLike, theta: float,
+                settings: FeederSimSettings = DEFAULT_SIM) -> bool:
+    """Whether the fence passes through the part with its CM at ``cm`` and orientation
+    ``theta`` (deeper than the contact tolerance): such a start is refused."""
+    geo = _Geometry(part, segment)
+    return geo.overlaps(geo.hull(np.asarray(cm, dtype=float), float(theta)), settings.contact_tol * part.radius)
+
 
 def _check(part_support: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     pts = np.asarray(part_support, dtype=float).reshape(-1, 2)
@@ -223,6 +280,10 @@ class TwistRequest:
 RunSteps = Generator[TwistRequest, tuple[np.ndarray, float], "FenceRun"]
 
 
+class _Overlap(Exception):
+    """A run's start with the fence through the part."""
+
+
 def _validated(part: Part, fence: Fence, mu_c: float, support_points: ArrayLike,
                weights: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     if not (fence.mu_low <= mu_c <= fence.mu_high):
@@ -243,7 +304,8 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
     t0 = time.perf_counter()
     pts, w = _validated(part, fence, mu_c, support_points, weights)
     oracle = MotionOracle(pts, w, part.radius, mu_c, tol=tol, budget=budget)
-    steps = _fence_run(part, fence, mu_c, theta_initial, fence_length, start_along, settings, oracle.counts, t0)
+    steps = _fence_run(part, _alone(part, fence, fence_length), mu_c, theta_initial, start_along, None, settings,
+                       oracle.counts, t0)
     answer = None
     while True:
         try:
@@ -261,6 +323,12 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
         answer = (tw.velocity, tw.omega)
 
 
+def _alone(part: Part, fence: Fence, fence_length: float | None) -> FenceSegment:
+    """A fence in its own frame: E at the origin, 40 part radii long unless told."""
+    length = DEFAULT_FENCE_LENGTH_RADII * part.radius if fence_length is None else float(fence_length)
+    return FenceSegment.create(fence, np.zeros(2), length)
+
+
 def simulate_fence_batch(part: Part, fence: Fence, mu_c: float, supports: list[tuple[ArrayLike, ArrayLike]],
                          thetas_initial: ArrayLike, fence_length: float | None = None,
                          start_along: ArrayLike | float = 0.7, settings: FeederSimSettings = DEFAULT_SIM,
@@ -271,14 +339,21 @@ def simulate_fence_batch(part: Part, fence: Fence, mu_c: float, supports: list[t
     Each run follows exactly the steps :func:`simulate_fence` takes (the same events, the
     same motions to rounding); its ``solve_time_s`` is the time from the batch's start
     until it finished. Past the budget every run still going ends with "time_limit"."""
-    t0 = time.perf_counter()
     thetas = np.atleast_1d(np.asarray(thetas_initial, dtype=float))
     if len(thetas) != len(supports):
         raise InvalidInput("thetas_initial", "need one initial orientation per support")
     along = np.broadcast_to(np.asarray(start_along, dtype=float), thetas.shape)
     checked = [_validated(part, fence, mu_c, pts, w) for pts, w in supports]
-    counts = [SolveCounts() for _ in supports]
-    runs: list[FenceRun | None] = [None] * len(supports)
+    return _run_batch(part, _alone(part, fence, fence_length), mu_c, checked, thetas, [float(x) for x in along],
+                      [None] * len(thetas), settings, tol, budget)
+
+
+def _run_batch(part: Part, segment: FenceSegment, mu_c: float, checked: list[tuple[np.ndarray, np.ndarray]],
+               thetas: np.ndarray, along: list[float], starts: list[np.ndarray | None], settings: FeederSimSettings,
+               tol: SolverTolerances, budget: Budget) -> list[FenceRun]:
+    t0 = time.perf_counter()
+    counts = [SolveCounts() for _ in checked]
+    runs: list[FenceRun | None] = [None] * len(checked)
     gens: dict[int, RunSteps] = {}
     pending: dict[int, TwistRequest] = {}
 
@@ -290,9 +365,8 @@ def simulate_fence_batch(part: Part, fence: Fence, mu_c: float, supports: list[t
             del gens[i]
             pending.pop(i, None)
 
-    for i in range(len(supports)):
-        gens[i] = _fence_run(part, fence, mu_c, float(thetas[i]), fence_length, float(along[i]), settings,
-                             counts[i], t0)
+    for i in range(len(checked)):
+        gens[i] = _fence_run(part, segment, mu_c, float(thetas[i]), along[i], starts[i], settings, counts[i], t0)
         advance_run(i, None)
     try:
         while pending:
@@ -319,19 +393,99 @@ def simulate_fence_batch(part: Part, fence: Fence, mu_c: float, supports: list[t
     return out
 
 
-def _fence_run(part: Part, fence: Fence, mu_c: float, theta_initial: float, fence_length: float | None,
-               start_along: float, settings: FeederSimSettings, counts: SolveCounts, t0: float) -> RunSteps:
+@dataclass(frozen=True)
+class BeltRun:
+    """One part through the fences of a belt: the run at each fence it reached, in order
+    (a fence it passed untouched has status "missed"), and where it ended."""
+
+    runs: tuple[FenceRun, ...]
+    fences: int  # how many fences the belt has
+
+    @property
+    def status(self) -> str:
+        """"left" when it is past the last fence (some may be missed), else the status of the
+        run it stopped in."""
+        last = self.runs[-1]
+        if len(self.runs) == self.fences and last.status in ("left", "missed"):
+            return "left"
+        return last.status
+
+    @property
+    def theta_final(self) -> float | None:
+        return float(self.runs[-1].thetas[-1]) if self.status == "left" else None
+
+    @property
+    def missed(self) -> bool:
+        return any(r.status == "missed" for r in self.runs)
+
+    @property
+    def flushed(self) -> bool:
+        """An edge came flush on every fence it touched."""
+        return all(r.flushed for r in self.runs if r.status != "missed")
+
+
+def simulate_belt_batch(part: Part, segments: list[FenceSegment], mu_c: ArrayLike,
+                        supports: list[tuple[ArrayLike, ArrayLike]], thetas_initial: ArrayLike,
+                        starts: ArrayLike | None = None, settings: FeederSimSettings = DEFAULT_SIM,
+                        tol: SolverTolerances = SOLVER_DEFAULT, budget: Budget = UNLIMITED) -> list[BeltRun]:
+    """Many parts through the placed fences of a belt in order (world frame, the belt in
+    -y): each part starts with its CM at ``starts[i]`` (default: above the first fence as
+    :func:`simulate_fence` places it), drifts onto the first fence, and each later fence
+    picks it up where the previous run ended (a part that passes a fence untouched goes on
+    to the next with status "missed" there). ``mu_c``: one value, one per part, or one per
+    part and fence (shape (parts, fences)). The runs at each fence are batched as in
+    :func:`simulate_fence_batch`, one batch per mu_c value. A part whose next fence already
+    passes through it (fences too close: two contacts at once) stops there as "overlap"."""
+    thetas = np.atleast_1d(np.asarray(thetas_initial, dtype=float))
+    n, k = len(thetas), len(segments)
+    if len(supports) != n:
+        raise InvalidInput("thetas_initial", "need one initial orientation per support")
+    if k == 0:
+        raise InvalidInput("fences", "need at least one fence")
+    mu = np.asarray(mu_c, dtype=float)
+    mu = np.broadcast_to(mu[:, None] if mu.ndim == 1 else mu, (n, k))
+    cms: list[np.ndarray | None] = [None] * n
+    if starts is not None:
+        start_arr = np.asarray(starts, dtype=float).reshape(n, 2)
+        if not np.all(np.isfinite(start_arr)):
+            raise InvalidInput("start", "must be finite")
+        cms = [row.copy() for row in start_arr]
+    checked = [[_validated(part, seg.fence, float(mu[i, j]), *supports[i]) for j, seg in enumerate(segments)]
+               for i in range(n)]
+    runs: list[list[FenceRun]] = [[] for _ in range(n)]
+    going = list(range(n))
+    for j, seg in enumerate(segments):
+        for value in sorted({float(mu[i, j]) for i in going}):
+            ids = [i for i in going if float(mu[i, j]) == value]
+            done = _run_batch(part, seg, value, [checked[i][j] for i in ids], thetas[ids], [0.7] * len(ids),
+                              [cms[i] for i in ids], settings, tol, budget)
+            for i, run in zip(ids, done):
+                runs[i].append(run)
+                cms[i], thetas[i] = run.cms[-1].copy(), float(run.thetas[-1])
+        going = [i for i in going if runs[i][-1].status in ("left", "missed")]
+    return [BeltRun(tuple(r), k) for r in runs]
+
+
+def _fence_run(part: Part, segment: FenceSegment, mu_c: float, theta_initial: float, start_along: float,
+               start_cm: np.ndarray | None, settings: FeederSimSettings, counts: SolveCounts, t0: float) -> RunSteps:
     """The run of :func:`simulate_fence` as a generator: it yields a :class:`TwistRequest`
     whenever it needs a forward solve and is sent back (velocity, omega); a
-    TimeLimitReached thrown in ends it with status "time_limit". Returns the FenceRun."""
+    TimeLimitReached thrown in ends it with status "time_limit". Returns the FenceRun.
+    The part starts with its CM at ``start_cm`` (world), or, when None, just above the
+    fence at ``start_along`` of its length from E; a start where the fence passes through
+    the part ends the run at once as "overlap"."""
     a = part.radius
-    geo = _Geometry(part, fence, DEFAULT_FENCE_LENGTH_RADII * a if fence_length is None else float(fence_length))
+    geo = _Geometry(part, segment)
     s = settings
     tol_c = s.contact_tol * a
     theta = float(theta_initial)
-    hull0 = body_to_world(np.zeros(2), theta, part.hull)
-    # the face approaches the drifting part at n . d = cos gamma per unit of belt travel
-    cm = start_along * geo.length * geo.w + (s.clearance * a * float(geo.n @ D) - float(np.min(geo.heights(hull0)))) * geo.n
+    if start_cm is None:
+        hull0 = body_to_world(geo.e, theta, part.hull)
+        # the face approaches the drifting part at n . d = cos gamma per unit of belt travel
+        cm = geo.e + start_along * geo.length * geo.w + (
+            s.clearance * a * float(geo.n @ D) - float(np.min(geo.heights(hull0)))) * geo.n
+    else:
+        cm = np.asarray(start_cm, dtype=float).copy()
     push = 0.0
     events: list[FenceEvent] = []
     pushes, cms, thetas = [0.0], [cm.copy()], [theta]
@@ -344,6 +498,8 @@ def _fence_run(part: Part, fence: Fence, mu_c: float, theta_initial: float, fenc
         events.append(FenceEvent(push, kind, detail))
 
     try:
+        if geo.overlaps(geo.hull(cm, theta), tol_c):
+            raise _Overlap
         for _ in range(s.max_steps):
             hull = geo.hull(cm, theta)
             z = geo.heights(hull)
@@ -381,7 +537,7 @@ def _fence_run(part: Part, fence: Fence, mu_c: float, theta_initial: float, fenc
                 break
             if mode == "jam":
                 status = "jammed"
-                record("jam", f"flush and |tan gamma| = {fence.jam_threshold:.6g} <= mu_c = {mu_c:.6g} (6.4)")
+                record("jam", f"flush and |tan gamma| = {geo.fence.jam_threshold:.6g} <= mu_c = {mu_c:.6g} (6.4)")
                 break
             kind, _, idx = mode.partition(":")
             if not events or events[-1].detail != MODE_TEXT[kind].format(idx):
@@ -422,6 +578,10 @@ def _fence_run(part: Part, fence: Fence, mu_c: float, theta_initial: float, fenc
     except TimeLimitReached as exc:
         status = "time_limit"
         record("time_limit", str(exc))
+    except _Overlap:
+        status = "overlap"
+        record("overlap", "the fence passes through the part at its start (a part on two fences at once is "
+               "not simulated)")
     return FenceRun(theta_initial=float(theta_initial), theta_final=theta if status in ("left", "missed") else None,
                     status=status, events=events, pushes=np.array(pushes), cms=np.array(cms),
                     thetas=np.array(thetas), counts=counts, solve_time_s=time.perf_counter() - t0,
@@ -523,7 +683,7 @@ def _reimpose(geo: _Geometry, cm: np.ndarray, theta: float, mode: str) -> np.nda
     i = int(idx)
     hull = geo.hull(cm, theta)
     if kind in ("vertex", "flush"):
-        return onto_line(cm, hull[i], geo.n, 0.0)
+        return onto_line(cm, hull[i], geo.n, float(geo.n @ geo.e))
     q = hull[(i + 1) % geo.part.m] - hull[i]
     n_e = perp(q) / math.hypot(float(q[0]), float(q[1]))
     return onto_line(cm, hull[i], n_e, float(n_e @ geo.e))

@@ -34,7 +34,7 @@ from service.api.feeder.schemas import (
 )
 from service.common.inputs import located
 from service.errors import FieldError
-from service.limits import FEEDER_MAX_CANDIDATES, FEEDER_MAX_FENCE_LENGTH_RADII
+from service.limits import FEEDER_MAX_CANDIDATES, FEEDER_MAX_FENCE_LENGTH_RADII, FEEDER_MAX_WORLD_RADII
 from solver import (
     BeltSpec,
     FeederDesignProblem,
@@ -45,6 +45,7 @@ from solver import (
     FeederSimResult,
     FeederSimSettings,
     FenceRun,
+    FenceSegment,
 )
 
 CENTROID_REL = 1e-6
@@ -133,8 +134,38 @@ def simulate_problem(req: FeederSimulateRequest) -> FeederSimProblem:
     length = req.fence_length
     if length is not None and length > FEEDER_MAX_FENCE_LENGTH_RADII * part.radius:
         raise FieldError(("fence_length",), f"must be at most {FEEDER_MAX_FENCE_LENGTH_RADII:g} part radii")
+    segments, start = placed_fences(req, [fence for fence, _ in fences], part)
     return FeederSimProblem(part, tuple(fences), pts - cm, w, req.theta_initial, length,
-                            FeederSimSettings(max_steps=req.max_steps), req.check_map)
+                            FeederSimSettings(max_steps=req.max_steps), req.check_map, segments, start)
+
+
+def placed_fences(req: FeederSimulateRequest, fences: list[Fence],
+                  part: Part) -> tuple[tuple[FenceSegment, ...] | None, np.ndarray | None]:
+    """The fences as world-frame segments when every one has ``end`` and ``length`` (and the
+    start), or (None, None) when none has; anything between is refused."""
+    far = FEEDER_MAX_WORLD_RADII * part.radius
+    placed = [f.end is not None or f.length is not None for f in req.fences]
+    if not any(placed):
+        if req.start is not None:
+            raise FieldError(("start",), "only with placed fences (each with end and length)")
+        return None, None
+    if req.fence_length is not None:
+        raise FieldError(("fence_length",), "placed fences give their own length")
+    segments = []
+    for i, (f, fence) in enumerate(zip(req.fences, fences)):
+        for name, value in (("end", f.end), ("length", f.length)):
+            if value is None:
+                raise FieldError(("fences", i, name), "give end and length for every fence or for none")
+        assert f.end is not None and f.length is not None
+        if math.hypot(*f.end) > far:
+            raise FieldError(("fences", i, "end"), f"must lie within {FEEDER_MAX_WORLD_RADII:g} part radii of the origin")
+        if f.length > FEEDER_MAX_FENCE_LENGTH_RADII * part.radius:
+            raise FieldError(("fences", i, "length"), f"must be at most {FEEDER_MAX_FENCE_LENGTH_RADII:g} part radii")
+        segments.append(FenceSegment.create(fence, f.end, f.length))
+    start = None if req.start is None else np.asarray(req.start, dtype=float)
+    if start is not None and math.hypot(*start) > far:
+        raise FieldError(("start",), f"must lie within {FEEDER_MAX_WORLD_RADII:g} part radii of the origin")
+    return tuple(segments), start
 
 
 def run_out(run: FenceRun, in_map: bool | None, samples: int) -> FeederFenceRunOut:
@@ -199,7 +230,8 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
     if res.validation is not None:
         v = res.validation
         val = FeederValidationOut(parts=v.parts, in_band=v.in_band, outside=v.outside, unflushed=v.unflushed,
-                                  unfinished=v.unfinished, rate=None if math.isnan(v.rate) else v.rate)
+                                  unfinished=v.unfinished, missed=v.missed, on_belt=v.on_belt, off_belt=v.off_belt,
+                                  rate=None if math.isnan(v.rate) else v.rate)
     base = None
     if res.baseline is not None:
         b = res.baseline

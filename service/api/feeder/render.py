@@ -12,12 +12,17 @@ call, text drawn as paths, no date, so equal inputs give equal bytes.
   panel per fence, in the fence's frame: its free end E at the origin, the belt moving
   down): the fence, the path of the centre of mass, and outlines of the part at evenly
   spaced steps, the first and the last bold.
+* :func:`render_belt_svg` -- a top view of placed fences (figure 1-9): the belt's sides
+  when known, every fence from its root to its free end, and each part's whole path
+  through them with outlines along it; also the first panel of a design's picture when
+  the design was laid out on a belt.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from matplotlib.patches import Polygon as PolygonPatch
@@ -41,6 +46,8 @@ OUTLINE_ORIENTATIONS = 8
 """Outlines drawn under a map, at evenly spaced orientations."""
 RUN_OUTLINES = 9
 """Outlines of the part drawn along a run (evenly over its steps, first and last included)."""
+BELT_OUTLINES = 14
+"""Outlines of the part drawn along its whole path over a belt."""
 
 COLORS = {
     "band": LOCUS_COLORS["workpiece"],
@@ -50,7 +57,20 @@ COLORS = {
     "fence": LOCUS_COLORS["edge"],
     "path": LOCUS_COLORS["locus_edge"],
     "part": LOCUS_COLORS["workpiece"],
+    "belt": "0.45",
 }
+PATH_COLORS = (LOCUS_COLORS["workpiece"], LOCUS_COLORS["push"], LOCUS_COLORS["disk"], LOCUS_COLORS["locus_edge"])
+"""One per part on a belt's top view, in turn."""
+
+
+@dataclass(frozen=True)
+class BeltPicture:
+    """What a belt's top view shows: each fence as (root, free end) in the world frame, the
+    belt's width (None: sides not drawn), and each part's runs through the fences in order."""
+
+    fences: Sequence[tuple[np.ndarray, np.ndarray]]
+    width: float | None
+    parts: Sequence[Sequence[FenceRun]]
 
 
 def degree_spans(arcs: Arcs) -> list[tuple[float, float]]:
@@ -102,8 +122,10 @@ def map_label(fm: FenceMap) -> str:
     return f"fence γ = {math.degrees(f.angle):+.1f}°, {mu}"
 
 
-def render_maps_svg(part: Part, maps: Sequence[FenceMap], product: ConfigurationMap | None, title: str) -> str:
-    """Figure 1-8 per fence, and the product (figure 5-2) when there are several; SVG text."""
+def render_maps_svg(part: Part, maps: Sequence[FenceMap], product: ConfigurationMap | None, title: str,
+                    belt: BeltPicture | None = None) -> str:
+    """Figure 1-8 per fence, and the product (figure 5-2) when there are several, after the
+    belt's top view (figure 1-9) when given; SVG text."""
     panels = [(map_label(fm), fm.map) for fm in maps]
     if product is not None and len(maps) > 1:
         panels.append((f"product of the {len(maps)} fences (5.4, 5.5)", product))
@@ -112,9 +134,12 @@ def render_maps_svg(part: Part, maps: Sequence[FenceMap], product: Configuration
     hull_unit = part.hull / part.radius
     if not np.all(np.isfinite(hull_unit)):
         raise NonFiniteResult("the part's outline")
-    fig = new_figure(PANEL_IN * len(panels), PANEL_IN * 1.1)
-    axes = fig.subplots(1, len(panels), squeeze=False)[0]
-    for ax, (label, cmap) in zip(axes, panels):
+    extra = 0 if belt is None else 1
+    fig = new_figure(PANEL_IN * (len(panels) + extra), PANEL_IN * 1.1)
+    axes = fig.subplots(1, len(panels) + extra, squeeze=False)[0]
+    if belt is not None:
+        _draw_belt(axes[0], part, belt, "the design on the belt (figure 1-9)")
+    for ax, (label, cmap) in zip(axes[extra:], panels):
         _draw_map(ax, cmap, hull_unit, label)
     handles = [Rectangle((0, 0), 1, 1, facecolor=COLORS["band"], alpha=0.85, label="band B_j over kernel K_j"),
                Rectangle((0, 0), 1, 1, facecolor="none", edgecolor=COLORS["jam"], hatch="//", label="may jam (6.4)"),
@@ -171,6 +196,57 @@ def render_runs_svg(part: Part, runs: Sequence[FenceRun], fences: Sequence[Fence
         ax.set_title(f"fence {i}: {run.status}, θ {math.degrees(run.theta_initial) % 360.0:.2f}° → {final}"
                      f"{'' if run.flushed else ' (never flush)'}", fontsize=9)
         ax.legend(loc="upper right", fontsize=7)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.95))
+    return svg_bytes(fig, " ".join(title.split())).decode("utf-8")
+
+
+def _draw_belt(ax, part: Part, belt: BeltPicture, label: str) -> None:
+    """The top view of placed fences and the parts' paths through them (world frame)."""
+    paths = [[(run.cms, run.thetas) for run in runs] for runs in belt.parts]
+    poses = [(np.vstack([c for c, _ in p]), np.concatenate([t for _, t in p])) for p in paths if p]
+    ends = np.array([pt for f in belt.fences for pt in f]).reshape(-1, 2)
+    outlines = []
+    for cms, thetas in poses:
+        idx = np.unique(np.linspace(0, len(cms) - 1, min(BELT_OUTLINES, len(cms))).round().astype(int))
+        outlines.append([cms[k] + (rotation(float(thetas[k])) @ part.hull.T).T for k in idx])
+    pts = np.vstack([ends, *[c for c, _ in poses], *[o for group in outlines for o in group]])
+    if not np.all(np.isfinite(pts)):
+        raise NonFiniteResult("the belt's top view")
+    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+    view = SquareView.around([pts - centre], centre)
+    lo, hi = view.clip_box
+    if belt.width is not None:
+        for x in (-0.5 * belt.width, 0.5 * belt.width):
+            side = view.to_drawing(np.array([[x, pts[:, 1].min()], [x, pts[:, 1].max()]]))
+            ax.plot(side[:, 0], side[:, 1], color=COLORS["belt"], linewidth=0.8, linestyle="--")
+    for i, (root, end) in enumerate(belt.fences):
+        seg = view.to_drawing(np.array([root, end]))
+        ax.plot(seg[:, 0], seg[:, 1], color=COLORS["fence"], linewidth=3.0, solid_capstyle="butt",
+                label="fences" if i == 0 else None)
+        ax.plot([seg[1, 0]], [seg[1, 1]], marker="o", color=COLORS["fence"], markersize=3)
+        ax.annotate(str(i), seg[0], fontsize=7, xytext=(3, 3), textcoords="offset points")
+    for j, ((cms, _), group) in enumerate(zip(poses, outlines)):
+        color = PATH_COLORS[j % len(PATH_COLORS)]
+        path = view.to_drawing(cms)
+        ax.plot(path[:, 0], path[:, 1], color=color, linewidth=0.9, label=f"part {j}")
+        for k, outline in enumerate(group):
+            poly = clip_polygon_to_box(view.to_drawing(outline), lo, hi)
+            if len(poly) < 3:
+                continue
+            bold = k in (0, len(group) - 1)
+            ax.add_patch(PolygonPatch(poly, closed=True, facecolor=color if bold else "none", alpha=0.35 if bold else 1.0,
+                                      edgecolor=color, linewidth=1.0 if bold else 0.5))
+    view.frame(ax)
+    ax.set_title(f"{label}; belt moving down", fontsize=9)
+    ax.legend(loc="lower right", fontsize=7)
+
+
+def render_belt_svg(part: Part, belt: BeltPicture, title: str) -> str:
+    """A top view of placed fences and the parts' paths through them; SVG text."""
+    fig = new_figure(PANEL_IN * 1.2, PANEL_IN * 1.25)
+    ax = fig.subplots(1, 1)
+    _draw_belt(ax, part, belt, "top view (figure 1-9)")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.95))
     return svg_bytes(fig, " ".join(title.split())).decode("utf-8")

@@ -20,7 +20,7 @@ from service.api.feeder.convert import (
     simulate_problem,
     simulate_response,
 )
-from service.api.feeder.render import render_maps_svg, render_runs_svg
+from service.api.feeder.render import BeltPicture, render_belt_svg, render_maps_svg, render_runs_svg
 from service.api.feeder.schemas import (
     FeederDesignRequest,
     FeederDesignResponse,
@@ -94,6 +94,11 @@ def simulate_job(req: FeederSimulateRequest, svg: bool, deadline: Deadline) -> F
     problem = simulate_problem(req)
     with located():
         result = feeder_simulate(problem, budget)
+    if svg and result.runs and problem.segments is not None:
+        picture = BeltPicture([(seg.root, seg.end) for seg in problem.segments], None, [result.runs])
+        return Response(content=render_belt_svg(problem.part, picture, f"A part through {len(problem.segments)} placed "
+                                                f"fence{'s' if len(problem.segments) > 1 else ''}: {result.message}"),
+                        media_type=SVG_MEDIA_TYPE)
     if svg and result.runs:
         length = problem.fence_length or DEFAULT_FENCE_LENGTH_RADII * problem.part.radius
         fences = [f for f, _ in problem.fences[:len(result.runs)]]
@@ -132,5 +137,11 @@ def design_job(req: FeederDesignRequest, svg: bool, deadline: Deadline) -> Feede
     if svg and design is not None:
         maps = [result.maps[f] for f in design.fences]
         title = f"A feeder of {len(maps)} fence{'s' if len(maps) > 1 else ''} (5.4): each fence's map and their product"
-        return Response(content=render_maps_svg(problem.part, maps, result.product, title), media_type=SVG_MEDIA_TYPE)
+        belt = None
+        if result.layout is not None:
+            examples = result.validation.examples if result.validation is not None else ()
+            belt = BeltPicture([(f.root, f.end) for f in result.layout.fences], result.layout.belt_width,
+                               [r.runs for r in examples])
+        return Response(content=render_maps_svg(problem.part, maps, result.product, title, belt),
+                        media_type=SVG_MEDIA_TYPE)
     return design_response(result, budget.elapsed() * 1e3)

@@ -22,6 +22,7 @@ from service.limits import (
     FEEDER_MAX_TRAJECTORY_POINTS,
     FEEDER_MAX_VALIDATION_PARTS,
     FEEDER_MAX_VERTICES,
+    FEEDER_MAX_WORLD_RADII,
     MAX_WEIGHT,
     MIN_POLYGON_VERTICES,
 )
@@ -131,6 +132,14 @@ class FeederSupportIn(Strict):
 class FeederSimFenceIn(Strict):
     angle: Angle = Field(description="Fence angle gamma, radians, in (-pi/2, pi/2), not 0.")
     mu_c: MuC = Field(description="Contact friction between part and fence.")
+    end: Point | None = Field(
+        default=None, description="Where the fence's free end E lies in the world frame (the belt runs in -y): give "
+                                  "it, with `length`, for every fence or for none. Placed fences are met one after the "
+                                  "other from the part's `start`, as on a belt (figure 1-9); otherwise each fence is "
+                                  "met alone in its own frame.")
+    length: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0)] | None = Field(
+        default=None, description="A placed fence's length from E toward its root, along (cos angle, sin angle) "
+                                  "times the sign of angle.")
 
 
 class FeederSimulateRequest(Strict):
@@ -149,8 +158,13 @@ class FeederSimulateRequest(Strict):
     fences: Annotated[list[FeederSimFenceIn], Field(min_length=1, max_length=FEEDER_MAX_FENCES)]
     theta_initial: Angle = Field(description="The part's orientation before the first fence, radians.")
     fence_length: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0)] | None = Field(
-        default=None, description=f"Length of every fence (default 40 part radii; at most "
-                                  f"{FEEDER_MAX_FENCE_LENGTH_RADII:g} radii).")
+        default=None, description=f"Length of every fence met alone (default 40 part radii; at most "
+                                  f"{FEEDER_MAX_FENCE_LENGTH_RADII:g} radii); placed fences give their own.")
+    start: Point | None = Field(
+        default=None, description="With placed fences: the part's centre of mass at the start, world frame (default: "
+                                  "just above the first fence, 0.7 of its length from its end). The first fence must "
+                                  f"not pass through the part there; every point within {FEEDER_MAX_WORLD_RADII:g} "
+                                  "part radii of the origin.")
     max_steps: Annotated[int, Field(strict=True, ge=1, le=FEEDER_MAX_STEPS)] = 20_000
     trajectory_points: Annotated[int, Field(strict=True, ge=0, le=FEEDER_MAX_TRAJECTORY_POINTS)] = Field(
         default=200, description="Trajectory samples returned per fence (evenly over the steps; 0: none).")
@@ -165,14 +179,14 @@ class FeederEventOut(Strict):
 
 
 class FeederFenceRunOut(Strict):
-    status: str = Field(description="left, missed (never touched the fence), jammed, step_limit, stalled (a contact the simulator cannot advance) or time_limit.")
+    status: str = Field(description="left, missed (never touched the fence), jammed, step_limit, stalled (a contact the simulator cannot advance), overlap (the fence passes through the part where the run starts: fences too close) or time_limit.")
     flushed: bool = Field(description="Whether an edge came flush on the fence; the maps assume it does (a fence too "
                                       "short for the part to finish turning lets it leave still turning).")
     theta_initial: float
     theta_final: float | None
     in_map: bool | None = Field(description="Whether the outcome lies in the fence's map (null: not checked or not finished).")
     events: list[FeederEventOut]
-    trajectory: list[list[float]] = Field(description="[push, x, y, theta] of the centre of mass in the fence's frame (its free end at the origin).")
+    trajectory: list[list[float]] = Field(description="[push, x, y, theta] of the centre of mass: in the world frame for placed fences, else in the fence's frame (its free end at the origin).")
     steps: int
     forward_solves: int
 
@@ -286,7 +300,13 @@ class FeederValidationOut(Strict):
     in_band: int = Field(description="Parts that ended in the promised band.")
     outside: int = Field(description="Parts that came flush on every fence and ended elsewhere (a failure).")
     unflushed: int = Field(description="Parts that left some fence without an edge flush (too short a fence).")
-    unfinished: int = Field(description="Parts that jammed, stalled or ran out of steps or time.")
+    unfinished: int = Field(description="Parts that jammed, stalled, met two fences at once or ran out of steps or time.")
+    missed: int = Field(description="Parts that passed some placed fence untouched (on a belt only; not counted as in "
+                                    "the band).")
+    on_belt: bool = Field(description="The parts met the placed fences of `layout` one after the other, entering in "
+                                      "its lane; otherwise each fence alone in its own frame.")
+    off_belt: int = Field(description="On a belt: parts whose outline crossed a side of the belt somewhere (side walls "
+                                      "are not simulated).")
     rate: float | None = Field(description="in_band / (in_band + outside).")
 
 

@@ -22,7 +22,7 @@ def test_alternating_fences_catch_the_part_near_their_root_and_same_side_ones_mi
     assert np.allclose(f0.root, [5.0, 0.0]) and np.allclose(f0.end, [-2.5, -7.5])
     assert f0.length == pytest.approx(7.5 * math.sqrt(2)) and f0.side == "right"
     # parts arrive beside its root (CM at x = 4): the least favourable contact at x = 3
-    assert f0.reach == pytest.approx((3.0 + 2.5) * math.sqrt(2))
+    assert f0.reach == pytest.approx((3.0 + 2.5) * math.sqrt(2)) and lay.entry_x == 4.0
     # the second hangs from the left, 2 below the first end; the part leaves near x = -2.5
     assert np.allclose(f1.root, [-5.0, -9.5]) and f1.side == "left"
     assert np.allclose(f1.end, [2.5, -9.5 - 7.5 * math.tan(math.radians(30))])
@@ -41,3 +41,5 @@ def test_the_layout_scales_with_the_part_and_refuses_a_narrow_belt():
         lay_out([0.7], 1.0, 2.05, 0.1, 2.0)
     with pytest.raises(InvalidInput):
         lay_out([0.7], 1.0, 10.0, 0.1, 2.0, entry_x=6.0)
+    with pytest.raises(InvalidInput):
+        lay_out([0.7], 1.0, 10.0, 0.1, 2.0, entry_x=math.nan)

@@ -7,6 +7,7 @@ import math
 
 from models.feeder.fence import Part
 from solver import Budget, FeederDesignProblem, feeder_design
+from solver.feeder.design import BeltSpec
 from tests.feeder_cases import PARTS, Clock, CountingClock
 
 
@@ -30,6 +31,28 @@ def test_a_rectangle_design_is_validated_by_simulated_parts_over_a_mu_c_interval
     assert len(res.final_set.arcs) == 2  # two bands half a turn apart
     s, w = res.final_set.arcs[0]
     assert abs((res.final_set.arcs[1][0] - s) % (2 * math.pi) - math.pi) < 1e-9
+
+
+def test_on_a_belt_the_design_is_validated_through_its_placed_fences_1_8_6():
+    """With a belt, the validation parts enter in the layout's lane and meet the placed
+    fences one after the other (world frame), not each fence in its own frame: the
+    rectangle's alternating design brings all of them into its band; the pentagon's
+    shortest design (fences on one side, not alternating) lets every part pass a fence
+    placed beside the previous one's end untouched (reach 0: ``may_miss``), which the
+    validation counts as missed, never as in the band."""
+    radius = Part.create(*PARTS["rectangle"]).radius
+    res = feeder_design(problem("rectangle", validation_parts=12, seed=5, belt=BeltSpec(width=12.0 * radius)))
+    v = res.validation
+    assert v is not None and v.on_belt and v.parts == 12
+    assert v.in_band == 12 and v.missed == v.outside == v.unflushed == v.unfinished == 0
+    assert len(v.examples) == 3 and all(len(r.runs) == 2 for r in v.examples)
+    assert not any(c.may_miss for c in res.placed)
+    radius = Part.create(*PARTS["pentagon"]).radius
+    res = feeder_design(problem("pentagon", alternate=False, validation_parts=6, seed=5,
+                                belt=BeltSpec(width=12.0 * radius)))
+    v = res.validation
+    assert res.design is not None and any(c.may_miss for c in res.placed)
+    assert v is not None and v.on_belt and v.missed + v.unfinished == 6 and v.in_band == 0
 
 
 def test_an_expired_budget_answers_what_was_established():

@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from models.feeder.fence import Fence, Part, fence_map
+from models.feeder.layout import lay_out
 from models.feeder.maps import sequence
+from solver import FenceSegment, simulate_belt_batch
 
 PENTAGON = {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]}
 SQUARE = {"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "center_of_mass": [0.5, 0.5]}
@@ -57,6 +59,66 @@ def test_simulation_through_two_fences_lands_in_the_maps(client):
     assert all(len(run["trajectory"]) == 5 and run["forward_solves"] > 0 for run in out["runs"])
     kinds = [e["kind"] for e in out["runs"][0]["events"]]
     assert kinds[0] == "contact" and "flush" in kinds and kinds[-1] == "left"
+
+
+def placed_square(width_radii=12.0):
+    """Two alternating fences for the square laid out on a belt (world frame), as request
+    fences, with the lane's start above the first."""
+    a = math.sqrt(0.5)
+    lay = lay_out([0.7, -0.8], a, width_radii * a, 0.1 * a, 2.0 * a)
+    fences = [{"angle": f.angle, "mu_c": 0.25, "end": f.end.tolist(), "length": f.length} for f in lay.fences]
+    return fences, [lay.entry_x, 1.1 * a], lay
+
+
+def test_a_part_through_placed_fences_is_picked_up_where_it_left_the_last_1_8_6(client):
+    """Fences given as world-frame segments are met one after the other from the start (a
+    belt, figure 1-9): the answer equals the solver's belt simulation, the trajectory is in
+    the world frame, each run starts where the one before ended, and the top view is one
+    panel."""
+    fences, start, lay = placed_square()
+    body = {"part": SQUARE, "support": SUPPORT, "fences": fences, "theta_initial": 0.3, "start": start,
+            "trajectory_points": 2000}
+    r = client.post("/v1/feeder/simulate", json=body)
+    assert r.status_code == 200, r.text
+    out = r.json()
+    assert out["complete"] and out["status"] == "left" and [run["status"] for run in out["runs"]] == ["left"] * 2
+    assert all(run["in_map"] for run in out["runs"])
+    first, second = out["runs"]
+    assert first["trajectory"][0][1:3] == pytest.approx(start)
+    assert second["trajectory"][0][1:3] == pytest.approx(first["trajectory"][-1][1:3])
+    part = Part.create(SQUARE["vertices"], SQUARE["center_of_mass"])
+    body_pts = np.array(SUPPORT["points"]) - np.array(SQUARE["center_of_mass"])
+    segs = [FenceSegment.create(Fence.create(f.angle, 0.25), f.end, f.length) for f in lay.fences]
+    (ref,) = simulate_belt_batch(part, segs, 0.25, [(body_pts, np.ones(3) / 3)], [0.3], [start])
+    assert out["theta_final"] == pytest.approx(ref.theta_final, abs=1e-9)
+    r = client.post("/v1/feeder/simulate?format=svg", json=body)
+    assert r.status_code == 200 and r.text.count("<g id=\"axes_") == 1
+
+
+@pytest.mark.parametrize(("patch", "loc"), [
+    ({"fences": "no length"}, ["body", "fences", 1, "length"]),
+    ({"fences": "one unplaced"}, ["body", "fences", 1, "end"]),
+    ({"start": [0.0, 0.0], "fences": "unplaced"}, ["body", "start"]),
+    ({"fence_length": 5.0}, ["body", "fence_length"]),
+    ({"start": "on the first fence"}, ["body", "start"]),
+    ({"start": [1e9, 0.0]}, ["body", "start"]),
+])
+def test_bad_placed_fences_are_422_at_their_field(client, patch, loc):
+    fences, start, _ = placed_square()
+    body = {"part": SQUARE, "support": SUPPORT, "fences": fences, "theta_initial": 0.3, "start": start}
+    body.update(patch)
+    if patch.get("fences") == "no length":
+        body["fences"] = [fences[0], {k: v for k, v in fences[1].items() if k != "length"}]
+    elif patch.get("fences") == "one unplaced":
+        body["fences"] = [fences[0], {"angle": -0.8, "mu_c": 0.25}]
+    elif patch.get("fences") == "unplaced":
+        body["fences"] = [{"angle": 0.7, "mu_c": 0.25}]
+    if patch.get("start") == "on the first fence":
+        end, w = np.array(fences[0]["end"]), np.array([math.cos(0.7), math.sin(0.7)])
+        body["start"] = (end + 0.5 * fences[0]["length"] * w).tolist()
+    r = client.post("/v1/feeder/simulate", json=body)
+    assert r.status_code == 422, r.text
+    assert r.json()["detail"][0]["loc"][:len(loc)] == loc
 
 
 def test_a_step_limit_is_an_incomplete_answer(client):
@@ -172,6 +234,12 @@ def test_a_design_placed_on_a_belt_says_whether_it_is_realizable_1_8_6(client):
                                                                            and f1["unaligned_arriving"] == 0.0)
     r = client.post("/v1/feeder/design", json={**body, "belt": {"width": a}})
     assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "belt", "width"]
+    # validated on the belt: parts enter in the lane and meet the placed fences in turn
+    body["validation_parts"] = 4
+    v = client.post("/v1/feeder/design", json=body).json()["validation"]
+    assert v["on_belt"] and v["in_band"] == 4 and v["missed"] == v["unfinished"] == v["outside"] == 0
+    r = client.post("/v1/feeder/design?format=svg", json=body)
+    assert r.status_code == 200 and r.text.count("<g id=\"axes_") == 4  # the belt, two fences, the product
 
 
 @pytest.mark.parametrize(("patch", "loc"), [
