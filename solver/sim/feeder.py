@@ -205,6 +205,15 @@ class _Geometry:
         depth = float(np.min(d)) if np.all(d > 0.0) else 0.0
         return depth, gap
 
+    def pushed_gaps(self, pts: np.ndarray) -> np.ndarray:
+        """E's distance to each edge it can push (inf for an edge facing away from it: its
+        inward normal against the belt's relative motion +y, so E and that edge separate;
+        an edge along the belt stays, E then no longer pushes it)."""
+        _, gap = self.end_contact(pts)
+        q = pts[self.next_vertex] - pts
+        away = perp(q) @ D < -GRAZING * np.hypot(q[:, 0], q[:, 1])
+        return np.where(away, np.inf, gap)
+
     def next_contact(self, pts: np.ndarray, floor: float) -> float | None:
         """The drift (in -y, more than ``floor``) after which the part first touches the
         fence, or None."""
@@ -505,7 +514,7 @@ def _fence_run(part: Part, segment: FenceSegment, mu_c: float, theta_initial: fl
             z = geo.heights(hull)
             sig = geo.along(hull)
             touching = [i for i in range(part.m) if abs(z[i]) <= tol_c and geo.on_fence(np.array([sig[i]]))[0]]
-            _, gaps = geo.end_contact(hull)
+            gaps = geo.pushed_gaps(hull)
             edge_e = int(np.argmin(gaps))
             e_contact = bool(gaps[edge_e] <= tol_c)
             if not touching and not e_contact:
@@ -544,26 +553,23 @@ def _fence_run(part: Part, segment: FenceSegment, mu_c: float, theta_initial: fl
                 if kind == "flush":
                     flush_edges.append(int(idx))
                 record(kind, MODE_TEXT[kind].format(idx))
-            h = s.step * a
-            if mode.startswith("flush"):
-                # a translation is exact: go straight to the next event (E reaching the
-                # downstream vertex, then the force line), never past it
-                h = max(h, _flush_distance(geo, cm, theta, twist, int(mode.split(":")[1]), f_hat))
-            elif mode.startswith("end"):
-                # E stops pushing when the edge under it lies along the belt: never turn past
-                # that (the twist is held for a step, so the turn is exactly omega h)
-                h = min(h, _turn_to_along(hull, int(mode.split(":")[1]), twist.omega))
-            while True:
-                cm_n, th_n = advance(cm, theta, twist, h)
-                cm_n = _reimpose(geo, cm_n, th_n, mode)
-                hull_n = geo.hull(cm_n, th_n)
-                z_n = geo.heights(hull_n)
-                on = geo.on_fence(geo.along(hull_n))
-                pen = float(np.min(np.where(on, z_n, np.inf)))
-                d_n, _ = geo.end_contact(hull_n)
-                if (pen >= -tol_c and d_n <= tol_c) or h <= s.min_step * a:
-                    break
-                h *= 0.5
+            cm_n, th_n, h = _checked_step(geo, cm, theta, hull, twist, mode, f_hat, s, tol_c)
+            corner = _vertex_at_end(geo, hull, tol_c) if h <= s.min_step * a else None
+            if corner is not None:
+                # a vertex at E: the contact's normal is any between the face's and the two
+                # edges'; take the first of those contacts whose motion does not push the
+                # part into the fence (vertex on the face, or E on either edge at it)
+                for alt in (f"vertex:{corner}", f"end:{(corner - 1) % part.m}", f"end:{corner}"):
+                    if alt == mode:
+                        continue
+                    velocity, omega = yield _point_request(geo, alt, cm, theta)
+                    alt_twist = Twist(velocity - D, omega, cm.copy())
+                    c2, t2, h2 = _checked_step(geo, cm, theta, hull, alt_twist, alt, f_hat, s, tol_c)
+                    if h2 > s.min_step * a:
+                        mode, cm_n, th_n, h = alt, c2, t2, h2
+                        kind, _, idx = alt.partition(":")
+                        record(kind, MODE_TEXT[kind].format(idx) + " (a vertex at the fence's end)")
+                        break
             stalled = stalled + 1 if h <= s.min_step * a else 0
             if stalled >= s.stall_steps:
                 status = "stalled"
@@ -586,6 +592,37 @@ def _fence_run(part: Part, segment: FenceSegment, mu_c: float, theta_initial: fl
                     status=status, events=events, pushes=np.array(pushes), cms=np.array(cms),
                     thetas=np.array(thetas), counts=counts, solve_time_s=time.perf_counter() - t0,
                     flush_edges=flush_edges)
+
+
+def _checked_step(geo: _Geometry, cm: np.ndarray, theta: float, hull: np.ndarray, twist: Twist, mode: str,
+                  f_hat: np.ndarray, s: FeederSimSettings, tol_c: float) -> tuple[np.ndarray, float, float]:
+    """The pose after one step of ``twist`` in ``mode`` (its contact re-imposed) and the
+    push it took: ``s.step`` (a flush slide: to its next event; E on an edge: never past
+    the edge lying along the belt), halved until no vertex is pushed through the face and
+    E not into the part, down to ``s.min_step``."""
+    a = geo.part.radius
+    h = s.step * a
+    if mode.startswith("flush"):
+        # a translation is exact: go straight to the next event (E reaching the
+        # downstream vertex, then the force line), never past it
+        h = max(h, _flush_distance(geo, cm, theta, twist, int(mode.split(":")[1]), f_hat))
+    elif mode.startswith("end"):
+        # E stops pushing when the edge under it lies along the belt: never turn past
+        # that (the twist is held for a step, so the turn is exactly omega h)
+        h = min(h, _turn_to_along(hull, int(mode.split(":")[1]), twist.omega))
+    while True:
+        cm_n, th_n = advance(cm, theta, twist, h)
+        cm_n = _reimpose(geo, cm_n, th_n, mode)
+        if not geo.overlaps(geo.hull(cm_n, th_n), tol_c) or h <= s.min_step * a:
+            return cm_n, th_n, h
+        h *= 0.5
+
+
+def _vertex_at_end(geo: _Geometry, hull: np.ndarray, tol_c: float) -> int | None:
+    """The hull vertex lying at the fence's end E (within the contact tolerance), if any."""
+    d = np.hypot(hull[:, 0] - geo.e[0], hull[:, 1] - geo.e[1])
+    k = int(np.argmin(d))
+    return k if d[k] <= E_ON_EDGE * tol_c else None
 
 
 def _mode(geo: _Geometry, cm: np.ndarray, theta: float, hull: np.ndarray,

@@ -10,7 +10,8 @@ book 1.8.6, 5.4, figure 1-9), seeded:
 * a fence on the same side as the one before is passed untouched ("missed": the layout's
   reach 0), and the part keeps the orientation it had;
 * a start with the fence through the part stops at once as "overlap"; bad segments and
-  per-part mu_c of the wrong shape are refused.
+  per-part mu_c of the wrong shape are refused;
+* a vertex meeting the fence exactly at its end (a hard case) ends with an honest outcome.
 """
 
 from __future__ import annotations
@@ -24,7 +25,8 @@ from models.errors import InvalidInput
 from models.feeder.fence import Fence, fence_map
 from models.feeder.layout import lay_out
 from models.feeder.maps import sequence
-from solver.sim.feeder import FenceSegment, simulate_belt_batch, simulate_fence_batch
+from solver.sim.feeder import FeederSimSettings, FenceSegment, simulate_belt_batch, simulate_fence_batch
+from solver.sim.kinematics import body_to_world
 from tests.feeder_cases import part, random_support
 
 SLACK = 1e-6  # radians: a final orientation against a band's edge
@@ -109,3 +111,79 @@ def test_a_start_through_a_fence_is_an_overlap_and_bad_input_is_refused():
         simulate_belt_batch(the_part, [seg], [0.2, 0.9], [(body, wts)] * 2, [0.3, 0.4])
     with pytest.raises(InvalidInput, match="fences"):
         simulate_belt_batch(the_part, [], 0.2, [(body, wts)], [0.3])
+
+
+def test_a_vertex_meeting_the_fence_exactly_at_its_end_gives_an_honest_outcome():
+    """Hard case (issue 12): the part's first-contact vertex drifts exactly onto the fence's
+    end E (and 1e-12 a either side). The contact's normal is then any between the face's
+    and the two edges'; a part that hangs past the end has vertices below the face's line
+    without the fence entering it (the step is checked by clipping the fence against the
+    hull, not by those vertices). Every run ends with an outcome, never a silent wrong one:
+    a run that left with an edge flush lies in its fence's map; one that left without is
+    flagged ``flushed`` False (outside the map's assumption); a run the simulator cannot
+    advance says so (stalled or step limit), and these stay few. E never pulls the part."""
+    rng = np.random.default_rng(95)
+    settings = FeederSimSettings(max_steps=3000)
+    done = cut = corner = 0
+    for name in ("square", "pentagon", "rectangle"):
+        the_part = part(name)
+        a = the_part.radius
+        for gamma in (0.6, -0.9):
+            fence = Fence.create(gamma, 0.25)
+            seg = FenceSegment.create(fence, [0.0, 0.0], 30.0 * a)
+            cmap = fence_map(the_part, fence).map
+            for _ in range(3):
+                theta = float(rng.uniform(-math.pi, math.pi))
+                hull = body_to_world(np.zeros(2), theta, the_part.hull)
+                k = int(np.argmin(hull @ fence.normal))
+                for off in (0.0, 1e-12, -1e-12):
+                    cm = np.array([-hull[k, 0] + off * a, 5.0 * a - hull[k, 1]])
+                    (run,) = simulate_belt_batch(the_part, [seg], 0.25, [random_support(rng, name)], [theta], [cm],
+                                                 settings=settings)
+                    r = run.runs[0]
+                    assert_never_pulled(the_part, r, 0.0, 1e-9 * a)
+                    corner += any("a vertex at the fence's end" in e.detail for e in r.events)
+                    if r.status in ("stalled", "step_limit"):
+                        cut += 1
+                        assert r.theta_final is None and not r.complete
+                        continue
+                    done += 1
+                    assert r.status in ("left", "missed")
+                    if r.status == "left" and r.flushed:
+                        assert cmap.allows(theta, r.theta_final, SLACK)
+    assert done + cut == 54 and cut <= 6
+    assert corner >= 1  # a run where no step advanced until another contact at E was taken
+
+
+
+def assert_never_pulled(the_part, run, e_y, tol):
+    """E only pushes: while the part lies wholly below E it drifts freely with the belt
+    (a step's CM moves down by the whole push)."""
+    for k in range(len(run.pushes) - 1):
+        hull = body_to_world(run.cms[k], float(run.thetas[k]), the_part.hull)
+        if hull[:, 1].max() < e_y - tol:
+            dp = run.pushes[k + 1] - run.pushes[k]
+            assert run.cms[k + 1][1] - run.cms[k][1] == pytest.approx(-dp, rel=1e-9, abs=tol)
+
+
+def test_a_part_below_the_fence_end_is_never_pulled_by_it():
+    """A square whose vertex met E exactly (seeded case) once turned about E onto the edge
+    at that vertex that faces away from it, and E, treated as pushing that edge, dragged
+    the part along below it for hundreds of steps. E pushes only the edges that face it
+    (their inward normal along the belt's relative motion): the part now turns on the
+    face and leaves."""
+    the_part = part("square")
+    a = the_part.radius
+    theta = -0.16043389450841605
+    body = np.array([[0.39358112325753225, -0.452484853808482], [0.053786277878386635, 0.39684822159856914],
+                     [-0.37879954869662813, -0.22647738934019324]])
+    wts = np.array([0.2385041826701444, 0.44981484798656823, 0.31168096934328743])
+    fence = Fence.create(-0.9, 0.25)
+    hull = body_to_world(np.zeros(2), theta, the_part.hull)
+    k = int(np.argmin(hull @ fence.normal))
+    start = np.array([-hull[k, 0], 2.0 * a - hull[k, 1] + 3.0 * a])
+    (run,) = simulate_belt_batch(the_part, [FenceSegment.create(fence, [0.0, 0.0], 30.0 * a)], 0.25, [(body, wts)],
+                                 [theta], [start], settings=FeederSimSettings(max_steps=400))
+    r = run.runs[0]
+    assert r.status == "left" and len(r.pushes) < 100
+    assert_never_pulled(the_part, r, 0.0, 1e-9 * a)
