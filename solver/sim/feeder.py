@@ -30,8 +30,8 @@ solve per step), the contact re-imposed; translations and the last turn onto A a
 The final orientation's error is first order in the step (docs/benchmarks.md: up to 0.5
 degrees at the default step 0.02 a, 0.1 at 0.005 a; a midpoint rule, tried, was no better
 per solve: the motion jumps where the contact switches between sticking and slipping). A
-step that would push another vertex through the face or E into the part is halved until
-the new contact is within ``contact_tol``.
+step after which the fence passes through the part deeper than ``contact_tol`` (another
+vertex through the face, E into the part) is halved. E pushes only the edges that face it.
 """
 
 from __future__ import annotations
@@ -452,7 +452,10 @@ def simulate_belt_batch(part: Part, segments: list[FenceSegment], mu_c: ArrayLik
     if k == 0:
         raise InvalidInput("fences", "need at least one fence")
     mu = np.asarray(mu_c, dtype=float)
-    mu = np.broadcast_to(mu[:, None] if mu.ndim == 1 else mu, (n, k))
+    try:
+        mu = np.broadcast_to(mu[:, None] if mu.ndim == 1 else mu, (n, k))
+    except ValueError as exc:
+        raise InvalidInput("mu_c", "give one value, one per part, or one per part and fence") from exc
     cms: list[np.ndarray | None] = [None] * n
     if starts is not None:
         start_arr = np.asarray(starts, dtype=float).reshape(n, 2)
@@ -598,8 +601,8 @@ def _checked_step(geo: _Geometry, cm: np.ndarray, theta: float, hull: np.ndarray
                   f_hat: np.ndarray, s: FeederSimSettings, tol_c: float) -> tuple[np.ndarray, float, float]:
     """The pose after one step of ``twist`` in ``mode`` (its contact re-imposed) and the
     push it took: ``s.step`` (a flush slide: to its next event; E on an edge: never past
-    the edge lying along the belt), halved until no vertex is pushed through the face and
-    E not into the part, down to ``s.min_step``."""
+    the edge lying along the belt), halved until the fence does not pass through the part
+    (the segment clipped against the hull), down to ``s.min_step``."""
     a = geo.part.radius
     h = s.step * a
     if mode.startswith("flush"):

@@ -109,6 +109,8 @@ def test_a_start_through_a_fence_is_an_overlap_and_bad_input_is_refused():
         FenceSegment.create(fence, [0.0, 0.0], 0.0)
     with pytest.raises(InvalidInput, match="mu_c"):
         simulate_belt_batch(the_part, [seg], [0.2, 0.9], [(body, wts)] * 2, [0.3, 0.4])
+    with pytest.raises(InvalidInput, match="mu_c"):
+        simulate_belt_batch(the_part, [seg], [[0.2, 0.2, 0.2]], [(body, wts)] * 2, [0.3, 0.4])
     with pytest.raises(InvalidInput, match="fences"):
         simulate_belt_batch(the_part, [], 0.2, [(body, wts)], [0.3])
 
