@@ -424,6 +424,20 @@ class BeltRun:
         return float(self.runs[-1].thetas[-1]) if self.status == "left" else None
 
     @property
+    def complete(self) -> bool:
+        """Past every fence, or jammed at one (the runs' own outcomes all complete)."""
+        return all(r.complete for r in self.runs) and (len(self.runs) == self.fences or self.runs[-1].status == "jammed")
+
+    @property
+    def solve_time_s(self) -> float:
+        """The sum of its runs' times (each from its fence's batch start until it finished)."""
+        return float(sum(r.solve_time_s for r in self.runs))
+
+    @property
+    def message(self) -> str:
+        return f"{self.status} after {len(self.runs)} of {self.fences} fences: {self.runs[-1].message}"
+
+    @property
     def missed(self) -> bool:
         return any(r.status == "missed" for r in self.runs)
 
