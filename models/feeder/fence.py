@@ -418,6 +418,8 @@ class Piece:
     start: float
     width: float
     sense: str
+    lo: float = 0.0  # the piece's cuts, as offsets into the vertex's contact interval (exact,
+    hi: float = 0.0  # so the last piece's hi is that interval's width to the bit)
 
     @property
     def flushed_edge(self) -> int:
@@ -506,14 +508,16 @@ def unaligned_orientations(part: Part, fence: Fence, pieces: list[Piece], tol: F
         j = piece.flushed_edge % part.m
         after = _reach_after_flush(part, fence, j, pivot_slip)
         c_start, c_width = contact_interval(part, k, fence.angle)
-        off = wrap(piece.start - c_start)
-        if piece.sense == "cw":  # to flush_k at offset 0: the turn passes [0, off] first
-            before = float(upper_sum(k, c_start + _reach_nodes(0.0, off, tol.reach_cells))[-1]) if off > 0.0 else 0.0
+        # the offsets are the cuts themselves: recomputing them from start and width left a
+        # rounding-sized span before the last piece, 0/0 in its upper sum, so the whole
+        # piece unaligned whatever the reach
+        if piece.sense == "cw":  # to flush_k at offset 0: the turn passes [0, lo] first
+            before = (float(upper_sum(k, c_start + _reach_nodes(0.0, piece.lo, tol.reach_cells))[-1])
+                      if piece.lo > 0.0 else 0.0)
             nodes = piece.start + _reach_nodes(0.0, piece.width, tol.reach_cells)
         else:  # to flush_{k-1} at the interval's end
-            rest = c_width - off - piece.width
-            before = (float(upper_sum(k, (c_start + _reach_nodes(off + piece.width, c_width, tol.reach_cells))[::-1])[-1])
-                      if rest > 0.0 else 0.0)
+            before = (float(upper_sum(k, (c_start + _reach_nodes(piece.hi, c_width, tol.reach_cells))[::-1])[-1])
+                      if piece.hi < c_width else 0.0)
             nodes = (piece.start + _reach_nodes(0.0, piece.width, tol.reach_cells))[::-1]
         need = before + after + upper_sum(k, nodes)
         for i in range(len(nodes) - 1):
@@ -615,7 +619,7 @@ def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT,
         for a, b in zip(cuts[:-1], cuts[1:]):
             senses = senses_at(part, k, start + 0.5 * (a + b), fence)
             for sense in sorted(senses):
-                piece = Piece(vertex=k, start=start + a, width=b - a, sense=sense)
+                piece = Piece(vertex=k, start=start + a, width=b - a, sense=sense, lo=a, hi=b)
                 pieces.append(piece)
                 for f in finals_of_flush[piece.flushed_edge % part.m]:
                     kernels.setdefault(f, []).append((piece.start, piece.width))

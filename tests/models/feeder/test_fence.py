@@ -15,6 +15,7 @@ from models.feeder.fence import (
     endpoint_turn,
     fence_map,
     final_edges,
+    rotation,
 )
 from models.feeder.maps import matrix_product
 
@@ -220,3 +221,25 @@ def test_unaligned_orientations_allow_everything_and_pass_through_products_5_4()
         s, w = full.kernels[k].arcs[0]
         assert second_short.unaligned.contains(s + 0.5 * w)
     assert not (matrix_product(short.matrix(N), full.matrix(N)) & ~second_short.matrix(N)).any()
+
+
+@pytest.mark.parametrize(("verts", "cm", "gamma"), [
+    ([[-1.8102071949042897, 0.5394001344053014], [-0.3889941148658179, -1.5262429273478046],
+      [0.36675892323651266, -0.49389035386958713]], [-0.6108141288445317, -0.49357771560403013], -1.1404376484705965),
+    ([[-0.719604865678823, 0.8833014990673552], [-0.7487467203847412, 0.6487407554890562],
+      [-1.37310622596694, 0.8958965128334628]], [-0.9471526040101681, 0.8093129224632915], -0.7291720724061699),
+])
+def test_the_unaligned_set_does_not_depend_on_the_body_frame_phase_6(verts, cm, gamma):
+    """Phase 6 over a mu_c interval for two random triangles (found by a review's search):
+    turning the outline's own frame by phi turns the map by -phi, so the measure of the
+    orientations a reach may not align stays the same. Each piece's turn before it was
+    once recomputed from its start and width, leaving a span of rounding size before the
+    last piece of a contact interval; its upper sum was 0/0, and the whole piece was marked
+    unaligned in some frames and not others (41.3 deg against 32.0)."""
+    ref = None
+    for phi in (0.0, 0.3, 1.1, -2.0):
+        v = np.array(verts) @ rotation(phi).T
+        c = rotation(phi) @ np.array(cm)
+        got = fence_map(Part.create(v, c), Fence.create(gamma, (0.2, 0.4), reach=1e9)).map.unaligned.measure
+        ref = got if ref is None else ref
+        assert got == pytest.approx(ref, abs=1e-6)
