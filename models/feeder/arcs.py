@@ -88,17 +88,18 @@ class Arcs:
     def union(self, other: Arcs) -> Arcs:
         return Arcs.of(self.arcs + other.arcs)
 
+    @classmethod
+    def union_of(cls, sets: Iterable[Arcs]) -> Arcs:
+        """The union of any number of sets (empty for none)."""
+        return cls.of([arc for s in sets for arc in s.arcs])
+
     def contains(self, angle: float, slack: float = 0.0) -> bool:
         """True when ``angle`` lies in an arc widened by ``slack`` at both ends."""
         return any(ccw_distance(s - slack, angle) <= w + 2.0 * slack for s, w in self.arcs)
 
     def intersects(self, other: Arcs) -> bool:
         """True when a closed arc of one meets a closed arc of the other."""
-        for s1, w1 in self.arcs:
-            for s2, w2 in other.arcs:
-                if ccw_distance(s1, s2) <= w1 or ccw_distance(s2, s1) <= w2:
-                    return True
-        return False
+        return self.distance(other) == 0.0
 
     def issubset(self, other: Arcs, slack: float = 0.0) -> bool:
         """True when every arc lies within an arc of ``other`` widened by ``slack`` at both

@@ -31,7 +31,11 @@ Robustness (1.8.6). The margin of a step is how far the occupied set X stays fro
 kernel it does not meet and from the fence's jam and unaligned sets: band edges may move
 by less than that (a change of mu_c, an uneven surface, 6.6) without changing the code
 sets. A design's margin is its smallest step margin; among the shortest designs the search
-returns the one with the largest margin.
+keeps, it returns the one with the largest margin. That is not always the largest of all
+shortest designs: the margin is not monotone under inclusion (a set X within Y may pass
+closer than Y to a kernel that Y meets), so a pruned Y can have had a continuation of larger
+margin. Such a near miss is harmless in fact (X meeting that kernel still occupies no more
+than Y does), so the measure is conservative there.
 """
 
 from __future__ import annotations
@@ -57,14 +61,12 @@ class DesignTolerances:
             (times the part's radius) to a vertex.
         subset_slack: radians by which a set may stick out of another and still count as
             within it (dominance).
-        max_goals: shortest designs compared for their margin before the best is kept.
         mask_cells: cells of the circle in each node's bit mask, a quick necessary test of
             dominance (a set within another touches only cells the other touches).
     """
 
     symmetry_rel: float = 1e-9
     subset_slack: float = 1e-12
-    max_goals: int = 2000
     mask_cells: int = 1440
 
 
@@ -149,10 +151,7 @@ class DesignGraph:
         return len({self.orbit[f][j] for j in occupied}) == 1
 
     def occupied_set(self, f: int, occupied: frozenset[int]) -> Arcs:
-        out = Arcs.empty()
-        for j in occupied:
-            out = out.union(self.maps[f].map.bands[j])
-        return out
+        return Arcs.union_of(self.maps[f].map.bands[j] for j in occupied)
 
 
 @dataclass(frozen=True)
@@ -171,8 +170,8 @@ class SearchResult:
     ``depth_proven``: no design has fewer fences than this + 1 (every depth up to it was
     searched completely; with no design, none exists up to that depth); ``exhausted``: no
     design exists at any depth (every node reached was pruned: its set contains one
-    already searched); ``designs_at_depth`` how many shortest designs were compared; node
-    counts per depth."""
+    already searched); ``designs_at_depth`` how many shortest designs were kept and
+    compared; node counts per depth."""
 
     design: Design | None
     depth_proven: int
@@ -203,7 +202,8 @@ class _Node:
     arcs: Arcs
     margin: float
     path: tuple[int, ...]
-    mask: int = 0
+    mask: int
+    goal: bool
 
 
 def _mask(arcs: Arcs, cells: int) -> int:
@@ -237,28 +237,26 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
         if graph.first_ok[f]:
             occ = graph.start[f]
             arcs = graph.occupied_set(f, occ)
-            frontier.append(_Node(f, occ, arcs, math.inf, (f,), _mask(arcs, tol.mask_cells)))
+            frontier.append(_Node(f, occ, arcs, math.inf, (f,), _mask(arcs, tol.mask_cells), graph.is_goal(f, occ)))
     nodes = len(frontier)
     pruned = 0
     per_depth = [len(frontier)]
     seen: dict[float, list[_Node]] = {}
     sets: dict[tuple[int, frozenset[int]], tuple[Arcs, int]] = {}  # (fence, code set) -> its set and mask
-    best_margin: dict[tuple[float, int, frozenset[int]], float] = {}  # the same state reached before
+    best_margin: dict[tuple[int, frozenset[int]], float] = {}  # the same state reached before
     for node in frontier:
         seen.setdefault(graph.side(node.fence) if alternate else 0.0, []).append(node)
     depth = 1
     while True:
         progress.nodes, progress.pruned, progress.per_depth = nodes, pruned, list(per_depth)
-        goals = [nd for nd in frontier if graph.is_goal(nd.fence, nd.occupied)]
+        goals = [nd for nd in frontier if nd.goal]
         if goals:
-            best = max(goals[:tol.max_goals], key=lambda nd: nd.margin)
+            best = max(goals, key=lambda nd: nd.margin)
             return SearchResult(Design(best.path, best.occupied, best.margin), depth - 1, False,
-                                min(len(goals), tol.max_goals), nodes, pruned, time.perf_counter() - t0, tuple(per_depth))
+                                len(goals), nodes, pruned, time.perf_counter() - t0, tuple(per_depth))
         progress.depth_proven = depth
         if depth >= max_depth or not frontier:
             return SearchResult(None, depth, not frontier, 0, nodes, pruned, time.perf_counter() - t0, tuple(per_depth))
-        if checkpoint is not None:
-            checkpoint(f"depth {depth + 1} of the design search ({nodes} nodes so far)")
         nxt: list[_Node] = []
         for node in frontier:
             if checkpoint is not None:
@@ -276,7 +274,7 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                 # a goal is never pruned: a set within it need not be a goal by its own
                 # fence's bands (two bands of one fence inside one band of another)
                 goal = graph.is_goal(f, occ)
-                if not goal and best_margin.get((key, f, occ), -math.inf) >= margin:  # the very state, no worse
+                if not goal and best_margin.get((f, occ), -math.inf) >= margin:  # the very state, no worse
                     pruned += 1
                     continue
                 if (f, occ) not in sets:
@@ -286,8 +284,8 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                 if not goal and _dominated(seen.get(key, []), arcs, mask, margin, tol.subset_slack):
                     pruned += 1
                     continue
-                best_margin[(key, f, occ)] = margin
-                child = _Node(f, occ, arcs, margin, node.path + (f,), mask)
+                best_margin[(f, occ)] = margin
+                child = _Node(f, occ, arcs, margin, node.path + (f,), mask, goal)
                 seen.setdefault(key, []).append(child)
                 nxt.append(child)
                 nodes += 1

@@ -24,7 +24,6 @@ possible, so the matrix holds the whole column).
 
 from __future__ import annotations
 
-from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -68,12 +67,12 @@ class ConfigurationMap:
             frozenset(k for k, band in enumerate(self.bands) if band.intersects(kernel))
             for kernel in second.kernels
         )
-        kernels = tuple(_union(self.kernels[k] for k in sorted(c)) for c in codes)
-        jam = self.jam.union(_union(self.kernels[k] for k, band in enumerate(self.bands)
+        kernels = tuple(Arcs.union_of(self.kernels[k] for k in sorted(c)) for c in codes)
+        jam = self.jam.union(Arcs.union_of(self.kernels[k] for k, band in enumerate(self.bands)
                                     if band.intersects(second.jam)))
         # an unaligned part may leave the first fence in any orientation: it may then meet
         # anything the second does
-        unaligned = self.unaligned.union(_union(self.kernels[k] for k, band in enumerate(self.bands)
+        unaligned = self.unaligned.union(Arcs.union_of(self.kernels[k] for k, band in enumerate(self.bands)
                                                 if band.intersects(second.unaligned)))
         if not second.jam.is_empty:
             jam = jam.union(self.unaligned)
@@ -89,13 +88,6 @@ class ConfigurationMap:
     def final_bands(self) -> tuple[Arcs, ...]:
         """The bands reached from some initial orientation (non-empty kernel)."""
         return tuple(b for b, k in zip(self.bands, self.kernels) if not k.is_empty)
-
-
-def _union(sets: Iterable[Arcs]) -> Arcs:
-    out = Arcs.empty()
-    for s in sets:
-        out = out.union(s)
-    return out
 
 
 def sequence(maps: list[ConfigurationMap]) -> ConfigurationMap:
