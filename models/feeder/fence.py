@@ -190,8 +190,8 @@ class Fence:
         lo, hi = float(lo), float(hi)
         if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 <= lo <= hi):
             raise InvalidInput("mu_c", "must be finite with 0 <= low <= high")
-        if reach is not None and not (math.isfinite(reach) and reach > 0.0):
-            raise InvalidInput("reach", "must be a finite length > 0")
+        if reach is not None and not (math.isfinite(reach) and reach >= 0.0):
+            raise InvalidInput("reach", "must be a finite length >= 0 (0: the part may meet the fence at its end)")
         return cls(angle=g, mu_low=lo, mu_high=hi, reach=None if reach is None else float(reach))
 
     @property

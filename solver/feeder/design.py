@@ -252,7 +252,7 @@ def _place(problem: FeederDesignProblem, graph: DesignGraph, design: Design,
         budget.checkpoint(f"the reach of placed fence {i}")
         fence = graph.maps[f].fence
         unaligned = fence_map(problem.part, Fence.create(fence.angle, (fence.mu_low, fence.mu_high),
-                                                         reach=max(placed.reach, 1e-12 * a)),
+                                                         reach=placed.reach),
                               problem.tol, checkpoint=budget.checkpoint).map.unaligned
         checks.append(PlacedCheck(placed.reach, placed.reach <= 0.0, _measure_within(unaligned, arriving)))
         if i > 0:  # the bands the part may be in after fence i (a design's steps are never refused)

@@ -154,6 +154,8 @@ def test_bad_parts_and_fences_are_refused():
         Fence.create(math.pi / 2, 0.2)
     with pytest.raises(InvalidInput, match="mu_c"):
         Fence.create(0.5, (0.3, 0.2))
+    with pytest.raises(InvalidInput, match="reach"):
+        Fence.create(0.5, 0.2, reach=-1e-9)
 
 
 def test_extreme_b_rises_with_mu_c_so_an_interval_takes_its_low_end_5_1():
@@ -178,6 +180,9 @@ def test_reach_phase_6_1_8_6():
     part = Part.create(verts, cm)
     a = part.radius
     assert fence_map(part, Fence.create(0.7, 0.25)).map.unaligned.is_empty
+    # a reach of 0 (a part that may meet the fence at its end, as on a belt after a fence on
+    # the same side) aligns nothing
+    assert fence_map(part, Fence.create(0.7, 0.25, reach=0.0)).map.unaligned.measure == pytest.approx(TWO_PI)
     previous = None
     for reach in (0.1, 1.0, 3.0, 10.0, 100.0):
         got = fence_map(part, Fence.create(0.7, 0.25, reach=reach * a)).map.unaligned
