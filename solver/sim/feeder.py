@@ -459,7 +459,7 @@ def simulate_belt_batch(part: Part, segments: list[FenceSegment], mu_c: ArrayLik
     part and fence (shape (parts, fences)). The runs at each fence are batched as in
     :func:`simulate_fence_batch`, one batch per mu_c value. A part whose next fence already
     passes through it (fences too close: two contacts at once) stops there as "overlap"."""
-    thetas = np.atleast_1d(np.asarray(thetas_initial, dtype=float))
+    thetas = np.array(thetas_initial, dtype=float, ndmin=1)  # a copy: updated fence by fence
     n, k = len(thetas), len(segments)
     if len(supports) != n:
         raise InvalidInput("thetas_initial", "need one initial orientation per support")
@@ -519,6 +519,7 @@ def _fence_run(part: Part, segment: FenceSegment, mu_c: float, theta_initial: fl
     f_hat = geo.n + mu_c * geo.w
     status = "step_limit"
     stalled = 0
+    touched = False  # a start may already be in contact (a belt's hand-over), with no drift onto it
 
     def record(kind: str, detail: str) -> None:
         events.append(FenceEvent(push, kind, detail))
@@ -534,10 +535,10 @@ def _fence_run(part: Part, segment: FenceSegment, mu_c: float, theta_initial: fl
             gaps = geo.pushed_gaps(hull)
             edge_e = int(np.argmin(gaps))
             e_contact = bool(gaps[edge_e] <= tol_c)
+            touched = touched or bool(touching) or e_contact
             if not touching and not e_contact:
                 lam = geo.next_contact(hull, tol_c)
                 if lam is None:
-                    touched = any(e.kind == "contact" for e in events)
                     status = "left" if touched else "missed"
                     record(status, f"clear of the fence at orientation {theta:.9g}"
                            + ("" if touched else " without touching it"))

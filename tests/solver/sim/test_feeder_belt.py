@@ -189,3 +189,24 @@ def test_a_part_below_the_fence_end_is_never_pulled_by_it():
     r = run.runs[0]
     assert r.status == "left" and len(r.pushes) < 100
     assert_never_pulled(the_part, r, 0.0, 1e-9 * a)
+
+
+def test_a_run_that_starts_in_contact_is_not_missed_and_the_callers_orientations_stay():
+    """A run may start touching the fence (a pose taken from another run, or a belt's
+    hand-over): it is the same run from there on, "left" with its edge flush, not
+    "missed" for want of a drift onto the fence. The orientations passed in are the
+    caller's and are not overwritten."""
+    the_part = part("pentagon")
+    rng = np.random.default_rng(96)
+    fence = Fence.create(0.7, 0.25)
+    support = random_support(rng, "pentagon")
+    (ref,) = simulate_fence_batch(the_part, fence, 0.25, [support], [0.4])
+    k = next(i for i, p in enumerate(ref.pushes) if p > ref.events[2].push)  # a step while flush
+    seg = FenceSegment.create(fence, [0.0, 0.0], 40.0 * the_part.radius)
+    thetas = np.array([float(ref.thetas[k])])
+    (run,) = simulate_belt_batch(the_part, [seg], 0.25, [support], thetas, [ref.cms[k]])
+    r = run.runs[0]
+    assert ref.events[2].kind == "flush" and r.status == "left" and r.flushed
+    assert "contact" not in [e.kind for e in r.events]
+    assert r.theta_final == pytest.approx(ref.theta_final, abs=1e-9)
+    assert thetas[0] == ref.thetas[k]
