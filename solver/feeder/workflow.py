@@ -30,7 +30,7 @@ from solver.sim.feeder import (
     FeederSimSettings,
     FenceRun,
     FenceSegment,
-    overlaps_at,
+    own_frame_segment,
     simulate_belt_batch,
     simulate_fence,
 )
@@ -87,8 +87,9 @@ def feeder_map(problem: FeederMapProblem, budget: Budget = UNLIMITED) -> FeederM
 class FeederSimProblem:
     """One part with a known support (points relative to the CM in the part's frame,
     weights) at ``theta_initial``, through ``fences`` (each with the mu_c it has). With
-    ``segments`` (one per fence) the fences are placed in the world frame and the part
-    starts with its CM at ``start`` (None: above the first fence, as a fence alone)."""
+    ``placements`` (a free end E, world frame, and a length for each fence) the fences are
+    placed and the part starts with its CM at ``start`` (None: above the first fence, as a
+    fence alone)."""
 
     part: Part
     fences: tuple[tuple[Fence, float], ...]
@@ -98,13 +99,15 @@ class FeederSimProblem:
     fence_length: float | None = None
     settings: FeederSimSettings = DEFAULT_SIM
     check_map: bool = True
-    segments: tuple[FenceSegment, ...] | None = None
+    placements: tuple[tuple[np.ndarray, float], ...] | None = None
     start: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
 class FeederSimResult:
     runs: tuple[FenceRun, ...]  # the fences the part met (or passed, on a belt), in order
+    segments: tuple[FenceSegment, ...]  # every fence as simulated (its own frame: E at the origin)
+    placed: bool  # the fences were placed in the world frame (met one after the other)
     in_map: tuple[bool | None, ...]  # each outcome in its fence's map (None: not checked)
     theta_final: float | None
     status: str  # the last run's: "left" | "missed" | "jammed" | "step_limit" | "stalled" | "overlap" | "time_limit"
@@ -120,18 +123,22 @@ class FeederSimResult:
 
 def feeder_simulate(problem: FeederSimProblem, budget: Budget = UNLIMITED) -> FeederSimResult:
     t0 = time.perf_counter()
-    if problem.segments is None:
+    if problem.placements is None:
+        segments = tuple(own_frame_segment(problem.part, fence, problem.fence_length) for fence, _ in problem.fences)
         runs = _each_in_its_frame(problem, budget)
     else:
-        if problem.start is not None and overlaps_at(problem.part, problem.segments[0], problem.start,
-                                                     problem.theta_initial, problem.settings):
-            raise InvalidInput("start", "the first fence passes through the part there")
+        if len(problem.placements) != len(problem.fences):
+            raise InvalidInput("fences", "need one placement (end, length) per fence")
+        segments = tuple(FenceSegment.create(fence, end, length)
+                         for (fence, _), (end, length) in zip(problem.fences, problem.placements))
         mus = np.array([[mu for _, mu in problem.fences]])
-        (belt,) = simulate_belt_batch(problem.part, list(problem.segments), mus,
+        (belt,) = simulate_belt_batch(problem.part, list(segments), mus,
                                       [(problem.support_points, problem.weights)], [problem.theta_initial],
                                       None if problem.start is None else problem.start[None], problem.settings,
                                       budget=budget)
         runs = list(belt.runs)
+        if problem.start is not None and runs[0].status == "overlap":
+            raise InvalidInput("start", "the first fence passes through the part there")
     in_map = [_in_map(problem, fence, run) for (fence, _), run in zip(problem.fences, runs)]
     last = runs[-1]
     done = len(runs) == len(problem.fences) and last.status in ("left", "missed")
@@ -139,8 +146,8 @@ def feeder_simulate(problem: FeederSimProblem, budget: Budget = UNLIMITED) -> Fe
     missed = sum(r.status == "missed" for r in runs)
     message = (f"left all {n} fence{'s' if n > 1 else ''}" + (f" ({missed} passed untouched)" if missed else "")
                if done else f"stopped at fence {len(runs) - 1} of {n}: {last.message}")
-    return FeederSimResult(tuple(runs), tuple(in_map), float(last.thetas[-1]) if done else None, last.status,
-                           time.perf_counter() - t0, message)
+    return FeederSimResult(tuple(runs), segments, problem.placements is not None, tuple(in_map),
+                           float(last.thetas[-1]) if done else None, last.status, time.perf_counter() - t0, message)
 
 
 def _each_in_its_frame(problem: FeederSimProblem, budget: Budget) -> list[FenceRun]:

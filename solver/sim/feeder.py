@@ -256,14 +256,6 @@ class _Geometry:
         return True
 
 
-def overlaps_at(part: Part, segment: FenceSegment, cm: ArrayLike, theta: float,
-                settings: FeederSimSettings = DEFAULT_SIM) -> bool:
-    """Whether the fence passes through the part with its CM at ``cm`` and orientation
-    ``theta`` (deeper than the contact tolerance): such a start is refused."""
-    geo = _Geometry(part, segment)
-    return geo.overlaps(geo.hull(np.asarray(cm, dtype=float), float(theta)), settings.contact_tol * part.radius)
-
-
 def _check(part_support: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     pts = np.asarray(part_support, dtype=float).reshape(-1, 2)
     w = np.asarray(weights, dtype=float).reshape(-1)
@@ -313,7 +305,7 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
     t0 = time.perf_counter()
     pts, w = _validated(part, fence, mu_c, support_points, weights)
     oracle = MotionOracle(pts, w, part.radius, mu_c, tol=tol, budget=budget)
-    steps = _fence_run(part, _alone(part, fence, fence_length), mu_c, theta_initial, start_along, None, settings,
+    steps = _fence_run(part, own_frame_segment(part, fence, fence_length), mu_c, theta_initial, start_along, None, settings,
                        oracle.counts, t0)
     answer = None
     while True:
@@ -332,7 +324,7 @@ def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayL
         answer = (tw.velocity, tw.omega)
 
 
-def _alone(part: Part, fence: Fence, fence_length: float | None) -> FenceSegment:
+def own_frame_segment(part: Part, fence: Fence, fence_length: float | None = None) -> FenceSegment:
     """A fence in its own frame: E at the origin, 40 part radii long unless told."""
     length = DEFAULT_FENCE_LENGTH_RADII * part.radius if fence_length is None else float(fence_length)
     return FenceSegment.create(fence, np.zeros(2), length)
@@ -353,7 +345,7 @@ def simulate_fence_batch(part: Part, fence: Fence, mu_c: float, supports: list[t
         raise InvalidInput("thetas_initial", "need one initial orientation per support")
     along = np.broadcast_to(np.asarray(start_along, dtype=float), thetas.shape)
     checked = [_validated(part, fence, mu_c, pts, w) for pts, w in supports]
-    return _run_batch(part, _alone(part, fence, fence_length), mu_c, checked, thetas, [float(x) for x in along],
+    return _run_batch(part, own_frame_segment(part, fence, fence_length), mu_c, checked, thetas, [float(x) for x in along],
                       [None] * len(thetas), settings, tol, budget)
 
 

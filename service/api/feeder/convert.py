@@ -45,7 +45,6 @@ from solver import (
     FeederSimResult,
     FeederSimSettings,
     FenceRun,
-    FenceSegment,
 )
 
 CENTROID_REL = 1e-6
@@ -134,15 +133,15 @@ def simulate_problem(req: FeederSimulateRequest) -> FeederSimProblem:
     length = req.fence_length
     if length is not None and length > FEEDER_MAX_FENCE_LENGTH_RADII * part.radius:
         raise FieldError(("fence_length",), f"must be at most {FEEDER_MAX_FENCE_LENGTH_RADII:g} part radii")
-    segments, start = placed_fences(req, [fence for fence, _ in fences], part)
+    placements, start = placed_fences(req, part)
     return FeederSimProblem(part, tuple(fences), pts - cm, w, req.theta_initial, length,
-                            FeederSimSettings(max_steps=req.max_steps), req.check_map, segments, start)
+                            FeederSimSettings(max_steps=req.max_steps), req.check_map, placements, start)
 
 
-def placed_fences(req: FeederSimulateRequest, fences: list[Fence],
-                  part: Part) -> tuple[tuple[FenceSegment, ...] | None, np.ndarray | None]:
-    """The fences as world-frame segments when every one has ``end`` and ``length`` (and the
-    start), or (None, None) when none has; anything between is refused."""
+def placed_fences(req: FeederSimulateRequest,
+                  part: Part) -> tuple[tuple[tuple[np.ndarray, float], ...] | None, np.ndarray | None]:
+    """Each fence's (end, length) when every one has ``end`` and ``length``, and the start;
+    (None, None) when none has; anything between is refused."""
     far = FEEDER_MAX_WORLD_RADII * part.radius
     placed = [f.end is not None or f.length is not None for f in req.fences]
     if not any(placed):
@@ -151,8 +150,8 @@ def placed_fences(req: FeederSimulateRequest, fences: list[Fence],
         return None, None
     if req.fence_length is not None:
         raise FieldError(("fence_length",), "placed fences give their own length")
-    segments = []
-    for i, (f, fence) in enumerate(zip(req.fences, fences)):
+    placements = []
+    for i, f in enumerate(req.fences):
         for name, value in (("end", f.end), ("length", f.length)):
             if value is None:
                 raise FieldError(("fences", i, name), "give end and length for every fence or for none")
@@ -161,11 +160,11 @@ def placed_fences(req: FeederSimulateRequest, fences: list[Fence],
             raise FieldError(("fences", i, "end"), f"must lie within {FEEDER_MAX_WORLD_RADII:g} part radii of the origin")
         if f.length > FEEDER_MAX_FENCE_LENGTH_RADII * part.radius:
             raise FieldError(("fences", i, "length"), f"must be at most {FEEDER_MAX_FENCE_LENGTH_RADII:g} part radii")
-        segments.append(FenceSegment.create(fence, f.end, f.length))
+        placements.append((np.asarray(f.end, dtype=float), float(f.length)))
     start = None if req.start is None else np.asarray(req.start, dtype=float)
     if start is not None and math.hypot(*start) > far:
         raise FieldError(("start",), f"must lie within {FEEDER_MAX_WORLD_RADII:g} part radii of the origin")
-    return tuple(segments), start
+    return tuple(placements), start
 
 
 def run_out(run: FenceRun, in_map: bool | None, samples: int) -> FeederFenceRunOut:

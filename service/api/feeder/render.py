@@ -29,12 +29,12 @@ from matplotlib.patches import Polygon as PolygonPatch
 from matplotlib.patches import Rectangle
 
 from models.feeder.arcs import TWO_PI, Arcs
-from models.feeder.fence import Fence, FenceMap, Part, rotation
+from models.feeder.fence import FenceMap, Part, rotation
 from models.feeder.maps import ConfigurationMap
 from service.common.svg import COLORS as LOCUS_COLORS
 from service.common.svg import FIGSIZE_IN, SquareView, axis_label, clip_polygon_to_box, new_figure, svg_bytes
 from service.errors import NonFiniteResult
-from solver import FenceRun
+from solver import FenceRun, FenceSegment
 
 PANEL_IN = 0.8 * FIGSIZE_IN
 """Width of one map panel, inches."""
@@ -155,27 +155,26 @@ def _run_outline(part: Part, run: FenceRun, k: int) -> np.ndarray:
     return run.cms[k] + (rotation(float(run.thetas[k])) @ part.hull.T).T
 
 
-def render_runs_svg(part: Part, runs: Sequence[FenceRun], fences: Sequence[Fence], length: float, title: str) -> str:
-    """A top view of each run in its fence's frame (E at the origin, the fence along
-    w = sgn(gamma) t for ``length``, the belt moving in -y); SVG text."""
+def render_runs_svg(part: Part, runs: Sequence[FenceRun], segments: Sequence[FenceSegment], title: str) -> str:
+    """A top view of each run in its fence's frame (the fence from its end E to its root,
+    the belt moving in -y); SVG text."""
     if not runs:
         raise ValueError("no run to draw")
     fig = new_figure(PANEL_IN * len(runs), PANEL_IN * 1.05)
     axes = fig.subplots(1, len(runs), squeeze=False)[0]
-    for ax, run, fence, i in zip(axes, runs, fences, range(len(runs))):
+    for ax, run, fence_seg, i in zip(axes, runs, segments, range(len(runs))):
         n = len(run.pushes)
         idx = sorted(set(np.linspace(0, n - 1, min(RUN_OUTLINES, n)).round().astype(int).tolist()))
         outlines = [_run_outline(part, run, k) for k in idx]
-        pts = np.vstack([*outlines, run.cms, np.zeros((1, 2))])
+        pts = np.vstack([*outlines, run.cms, fence_seg.end[None]])
         if not np.all(np.isfinite(pts)):
             raise NonFiniteResult("the part's trajectory")
         centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
         view = SquareView.around([pts - centre], centre)
         lo, hi = view.centre - view.half, view.centre + view.half
-        w = fence.sign * np.array([math.cos(fence.angle), math.sin(fence.angle)])
-        seg = view.to_drawing(np.array([[0.0, 0.0], length * w]))
+        seg = view.to_drawing(np.array([fence_seg.end, fence_seg.root]))
         ax.plot(seg[:, 0], seg[:, 1], color=COLORS["fence"], linewidth=3.0, solid_capstyle="butt", label="fence")
-        e = view.to_drawing(np.zeros(2))
+        e = view.to_drawing(fence_seg.end)
         ax.plot([e[0]], [e[1]], marker="o", color=COLORS["fence"], markersize=4)
         path = view.to_drawing(run.cms)
         ax.plot(path[:, 0], path[:, 1], color=COLORS["path"], linewidth=1.0, label="centre of mass")

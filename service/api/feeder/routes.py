@@ -34,7 +34,7 @@ from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
-from solver import DEFAULT_FENCE_LENGTH_RADII, feeder_design, feeder_map, feeder_simulate
+from solver import feeder_design, feeder_map, feeder_simulate
 
 router = APIRouter(tags=["feeder"])
 FORMAT = Query("json", alias="format", description="`json` (default) or `svg` for a picture.")
@@ -94,16 +94,16 @@ def simulate_job(req: FeederSimulateRequest, svg: bool, deadline: Deadline) -> F
     problem = simulate_problem(req)
     with located():
         result = feeder_simulate(problem, budget)
-    if svg and result.runs and problem.segments is not None:
-        picture = BeltPicture([(seg.root, seg.end) for seg in problem.segments], None, [result.runs])
-        return Response(content=render_belt_svg(problem.part, picture, f"A part through {len(problem.segments)} placed "
-                                                f"fence{'s' if len(problem.segments) > 1 else ''}: {result.message}"),
+    if svg and result.runs and result.placed:
+        n = len(result.segments)
+        picture = BeltPicture([(seg.root, seg.end) for seg in result.segments], None, [result.runs])
+        return Response(content=render_belt_svg(problem.part, picture, f"A part through {n} placed "
+                                                f"fence{'s' if n > 1 else ''}: {result.message}"),
                         media_type=SVG_MEDIA_TYPE)
     if svg and result.runs:
-        length = problem.fence_length or DEFAULT_FENCE_LENGTH_RADII * problem.part.radius
-        fences = [f for f, _ in problem.fences[:len(result.runs)]]
-        return Response(content=render_runs_svg(problem.part, result.runs, fences, length,
-                                                f"A part through {len(fences)} fence{'s' if len(fences) > 1 else ''}: "
+        segs = result.segments[:len(result.runs)]
+        return Response(content=render_runs_svg(problem.part, result.runs, segs,
+                                                f"A part through {len(segs)} fence{'s' if len(segs) > 1 else ''}: "
                                                 f"{result.message}"), media_type=SVG_MEDIA_TYPE)
     return simulate_response(req, result, budget.elapsed() * 1e3)
 
