@@ -210,18 +210,14 @@ def _through_each_fence(part: Part, fences: list[Fence], mu_of: np.ndarray, supp
     finished = np.ones(n, dtype=bool)
     unflushed = np.zeros(n, dtype=bool)
     for fence in fences:
-        for mu in np.unique(mu_of):
-            ids = [i for i in range(n) if mu_of[i] == mu and finished[i]]
-            if not ids:
+        ids = np.nonzero(finished)[0]
+        runs = simulate_fence_batch(part, fence, mu_of[ids], [supports[i] for i in ids], theta[ids], budget=budget)
+        for i, run in zip(ids, runs):
+            if run.status != "left" or run.theta_final is None:
+                finished[i] = False
                 continue
-            runs = simulate_fence_batch(part, Fence.create(fence.angle, float(mu)), float(mu),
-                                        [supports[i] for i in ids], theta[ids], budget=budget)
-            for i, run in zip(ids, runs):
-                if run.status != "left" or run.theta_final is None:
-                    finished[i] = False
-                    continue
-                unflushed[i] |= not run.flushed
-                theta[i] = run.theta_final
+            unflushed[i] |= not run.flushed
+            theta[i] = run.theta_final
     return finished, unflushed
 
 

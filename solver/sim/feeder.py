@@ -63,6 +63,8 @@ GRAZING = 1e-9
 (the scene's own grazing test, models.tolerances.Tolerances.grazing_sin)."""
 DEFAULT_FENCE_LENGTH_RADII = 40.0
 """A fence's length when a run is given none, in part radii."""
+START_ALONG = 0.7
+"""Where a part given no start meets a fence: this fraction of its length from E."""
 E_ON_EDGE = 2.0
 """E this many contact tolerances from an edge next to a vertex on the face makes that edge
 flush (a step accepted at the tolerance can leave E just beyond it)."""
@@ -285,15 +287,20 @@ class _Overlap(Exception):
     """A run's start with the fence through the part."""
 
 
+def _check_mu(fence: Fence, mu_c: ArrayLike) -> None:
+    mu = np.asarray(mu_c, dtype=float)
+    if not np.all((fence.mu_low <= mu) & (mu <= fence.mu_high)):
+        raise InvalidInput("mu_c", "must lie in the fence's mu_c interval")
+
+
 def _validated(part: Part, fence: Fence, mu_c: float, support_points: ArrayLike,
                weights: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    if not (fence.mu_low <= mu_c <= fence.mu_high):
-        raise InvalidInput("mu_c", "must lie in the fence's mu_c interval")
+    _check_mu(fence, mu_c)
     return _check(np.asarray(support_points, dtype=float), np.asarray(weights, dtype=float))
 
 
 def simulate_fence(part: Part, fence: Fence, mu_c: float, support_points: ArrayLike, weights: ArrayLike,
-                   theta_initial: float, fence_length: float | None = None, start_along: float = 0.7,
+                   theta_initial: float, fence_length: float | None = None, start_along: float = START_ALONG,
                    settings: FeederSimSettings = DEFAULT_SIM, tol: SolverTolerances = SOLVER_DEFAULT,
                    budget: Budget = UNLIMITED) -> FenceRun:
     """Run ``part`` (support points relative to the CM in the body frame, with weights; the
@@ -330,13 +337,14 @@ def own_frame_segment(part: Part, fence: Fence, fence_length: float | None = Non
     return FenceSegment.create(fence, np.zeros(2), length)
 
 
-def simulate_fence_batch(part: Part, fence: Fence, mu_c: float, supports: list[tuple[ArrayLike, ArrayLike]],
+def simulate_fence_batch(part: Part, fence: Fence, mu_c: ArrayLike, supports: list[tuple[ArrayLike, ArrayLike]],
                          thetas_initial: ArrayLike, fence_length: float | None = None,
-                         start_along: ArrayLike | float = 0.7, settings: FeederSimSettings = DEFAULT_SIM,
+                         start_along: ArrayLike | float = START_ALONG, settings: FeederSimSettings = DEFAULT_SIM,
                          tol: SolverTolerances = SOLVER_DEFAULT, budget: Budget = UNLIMITED) -> list[FenceRun]:
-    """Many parts (one support and initial orientation each) through one fence, stepped
-    together: each round, every run still going asks for its next forward solve and they
-    are solved in one batch per support size (solver.motion.forward.solve_forward_scenes).
+    """Many parts (one support and initial orientation each; ``mu_c`` one value or one per
+    part) through one fence, stepped together: each round, every run still going asks for
+    its next forward solve and they are solved in one batch per support size and mu_c
+    (solver.motion.forward.solve_forward_scenes).
     Each run follows exactly the steps :func:`simulate_fence` takes (the same events, the
     same motions to rounding); its ``solve_time_s`` is the time from the batch's start
     until it finished. Past the budget every run still going ends with "time_limit"."""
@@ -344,14 +352,25 @@ def simulate_fence_batch(part: Part, fence: Fence, mu_c: float, supports: list[t
     if len(thetas) != len(supports):
         raise InvalidInput("thetas_initial", "need one initial orientation per support")
     along = np.broadcast_to(np.asarray(start_along, dtype=float), thetas.shape)
-    checked = [_validated(part, fence, mu_c, pts, w) for pts, w in supports]
-    return _run_batch(part, own_frame_segment(part, fence, fence_length), mu_c, checked, thetas, [float(x) for x in along],
-                      [None] * len(thetas), settings, tol, budget)
+    mus = _per_part(mu_c, len(thetas))
+    _check_mu(fence, mus)
+    checked = [_check(np.asarray(pts, dtype=float), np.asarray(w, dtype=float)) for pts, w in supports]
+    return _run_batch(part, own_frame_segment(part, fence, fence_length), [float(m) for m in mus], checked, thetas,
+                      [float(x) for x in along], [None] * len(thetas), settings, tol, budget)
 
 
-def _run_batch(part: Part, segment: FenceSegment, mu_c: float, checked: list[tuple[np.ndarray, np.ndarray]],
+def _per_part(mu_c: ArrayLike, n: int) -> np.ndarray:
+    try:
+        return np.broadcast_to(np.asarray(mu_c, dtype=float), (n,))
+    except ValueError as exc:
+        raise InvalidInput("mu_c", "give one value or one per part") from exc
+
+
+def _run_batch(part: Part, segment: FenceSegment, mus: list[float], checked: list[tuple[np.ndarray, np.ndarray]],
                thetas: np.ndarray, along: list[float], starts: list[np.ndarray | None], settings: FeederSimSettings,
                tol: SolverTolerances, budget: Budget) -> list[FenceRun]:
+    """The runs of many parts on one fence (mu_c ``mus[i]`` for part i), their forward
+    solves batched per round by support size and mu_c."""
     t0 = time.perf_counter()
     counts = [SolveCounts() for _ in checked]
     runs: list[FenceRun | None] = [None] * len(checked)
@@ -367,17 +386,17 @@ def _run_batch(part: Part, segment: FenceSegment, mu_c: float, checked: list[tup
             pending.pop(i, None)
 
     for i in range(len(checked)):
-        gens[i] = _fence_run(part, segment, mu_c, float(thetas[i]), along[i], starts[i], settings, counts[i], t0)
+        gens[i] = _fence_run(part, segment, mus[i], float(thetas[i]), along[i], starts[i], settings, counts[i], t0)
         advance_run(i, None)
     try:
         while pending:
             budget.checkpoint(f"a batch of {len(pending)} forward solves")
-            for k in sorted({len(checked[i][0]) for i in pending}):
-                ids = [i for i in pending if len(checked[i][0]) == k]
+            for k, mu in sorted({(len(checked[i][0]), mus[i]) for i in pending}):
+                ids = [i for i in pending if len(checked[i][0]) == k and mus[i] == mu]
                 scenes = [PushScene.create(part.radius, pending[i].contact, pending[i].edge_angle, PUSH_ANGLE,
                                            pending[i].cm) for i in ids]
                 world = np.array([body_to_world(pending[i].cm, pending[i].theta, checked[i][0]) for i in ids])
-                res = solve_forward_scenes(scenes, world, np.array([checked[i][1] for i in ids]), mu_c, tol)
+                res = solve_forward_scenes(scenes, world, np.array([checked[i][1] for i in ids]), mu, tol)
                 for row, (i, scene) in enumerate(zip(ids, scenes)):
                     counts[i].record_values(res.MODES[int(res.mode[row])], float(res.kkt_residual[row]),
                                             bool(res.converged[row]), res.contact_force[row], scene)
@@ -449,7 +468,7 @@ def simulate_belt_batch(part: Part, segments: list[FenceSegment], mu_c: ArrayLik
     picks it up where the previous run ended (a part that passes a fence untouched goes on
     to the next with status "missed" there). ``mu_c``: one value, one per part, or one per
     part and fence (shape (parts, fences)). The runs at each fence are batched as in
-    :func:`simulate_fence_batch`, one batch per mu_c value. A part whose next fence already
+    :func:`simulate_fence_batch`. A part whose next fence already
     passes through it (fences too close: two contacts at once) stops there as "overlap"."""
     thetas = np.array(thetas_initial, dtype=float, ndmin=1)  # a copy: updated fence by fence
     n, k = len(thetas), len(segments)
@@ -468,18 +487,17 @@ def simulate_belt_batch(part: Part, segments: list[FenceSegment], mu_c: ArrayLik
         if not np.all(np.isfinite(start_arr)):
             raise InvalidInput("start", "must be finite")
         cms = [row.copy() for row in start_arr]
-    checked = [[_validated(part, seg.fence, float(mu[i, j]), *supports[i]) for j, seg in enumerate(segments)]
-               for i in range(n)]
+    for j, seg in enumerate(segments):
+        _check_mu(seg.fence, mu[:, j])
+    checked = [_check(np.asarray(pts, dtype=float), np.asarray(w, dtype=float)) for pts, w in supports]
     runs: list[list[FenceRun]] = [[] for _ in range(n)]
     going = list(range(n))
     for j, seg in enumerate(segments):
-        for value in sorted({float(mu[i, j]) for i in going}):
-            ids = [i for i in going if float(mu[i, j]) == value]
-            done = _run_batch(part, seg, value, [checked[i][j] for i in ids], thetas[ids], [0.7] * len(ids),
-                              [cms[i] for i in ids], settings, tol, budget)
-            for i, run in zip(ids, done):
-                runs[i].append(run)
-                cms[i], thetas[i] = run.cms[-1].copy(), float(run.thetas[-1])
+        done = _run_batch(part, seg, [float(mu[i, j]) for i in going], [checked[i] for i in going], thetas[going],
+                          [START_ALONG] * len(going), [cms[i] for i in going], settings, tol, budget)
+        for i, run in zip(going, done):
+            runs[i].append(run)
+            cms[i], thetas[i] = run.cms[-1].copy(), float(run.thetas[-1])
         going = [i for i in going if runs[i][-1].status in ("left", "missed")]
     return [BeltRun(tuple(r), k) for r in runs]
 

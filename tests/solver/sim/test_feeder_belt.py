@@ -210,3 +210,19 @@ def test_a_run_that_starts_in_contact_is_not_missed_and_the_callers_orientations
     assert "contact" not in [e.kind for e in r.events]
     assert r.theta_final == pytest.approx(ref.theta_final, abs=1e-9)
     assert thetas[0] == ref.thetas[k]
+
+
+def test_a_batch_with_a_mu_c_per_part_runs_each_part_as_alone():
+    """Parts with different mu_c share a fence's batch (solved per support size and mu_c):
+    each run has the events and final orientation of the same part run alone."""
+    the_part = part("rectangle")
+    rng = np.random.default_rng(97)
+    fence = Fence.create(-0.8, (0.1, 0.4))
+    supports = [random_support(rng, "rectangle") for _ in range(4)]
+    thetas = rng.uniform(-math.pi, math.pi, 4)
+    mus = [0.1, 0.4, 0.1, 0.25]
+    batch = simulate_fence_batch(the_part, fence, mus, supports, thetas)
+    for (pts, w), theta, mu, got in zip(supports, thetas, mus, batch):
+        (alone,) = simulate_fence_batch(the_part, fence, mu, [(pts, w)], [theta])
+        assert [e.detail for e in got.events] == [e.detail for e in alone.events]
+        assert got.theta_final == alone.theta_final
