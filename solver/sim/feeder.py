@@ -194,25 +194,14 @@ class _Geometry:
     def on_fence(self, s: np.ndarray) -> np.ndarray:
         return (s >= 0.0) & (s <= self.length)
 
-    def end_contact(self, pts: np.ndarray) -> tuple[float, np.ndarray]:
-        """Where E is against the part: (its depth inside (> 0 only when inside), its
-        distance to each edge)."""
-        e = pts[self.next_vertex] - pts
-        ex, ey = e[:, 0], e[:, 1]
-        ln2 = ex * ex + ey * ey
-        rx, ry = self.e[0] - pts[:, 0], self.e[1] - pts[:, 1]
-        d = (ry * ex - rx * ey) / np.sqrt(ln2)  # inward distance to each edge line
-        u = np.clip((rx * ex + ry * ey) / ln2, 0.0, 1.0)
-        gap = np.hypot(rx - u * ex, ry - u * ey)
-        depth = float(np.min(d)) if np.all(d > 0.0) else 0.0
-        return depth, gap
-
     def pushed_gaps(self, pts: np.ndarray) -> np.ndarray:
         """E's distance to each edge it can push (inf for an edge facing away from it: its
         inward normal against the belt's relative motion +y, so E and that edge separate;
         an edge along the belt stays, E then no longer pushes it)."""
-        _, gap = self.end_contact(pts)
         q = pts[self.next_vertex] - pts
+        r = self.e - pts
+        u = np.clip(np.einsum("ij,ij->i", r, q) / np.einsum("ij,ij->i", q, q), 0.0, 1.0)
+        gap = np.hypot(*(r - u[:, None] * q).T)
         away = perp(q) @ D < -GRAZING * np.hypot(q[:, 0], q[:, 1])
         return np.where(away, np.inf, gap)
 
