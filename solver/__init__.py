@@ -12,7 +12,7 @@ from solver.core.errors import BackendNotFound, Infeasible, NotConverged, Solver
 from solver.core.outcome import Outcome
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
-from solver.feeder.design import BeltSpec, FeederDesignProblem, FeederDesignResult, feeder_design
+from solver.feeder.design import BeltSpec, FeederDesignProblem, FeederDesignResult, angle_count, feeder_design
 from solver.feeder.workflow import (
     FeederMapProblem,
     FeederMapResult,
@@ -89,6 +89,7 @@ ENTRY_POINTS = (
 
 __all__ = [
     "BeltSpec",
+    "angle_count",
     "DEFAULT_FENCE_LENGTH_RADII",
     "ENTRY_POINTS",
     "FeederDesignProblem",

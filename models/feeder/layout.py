@@ -69,16 +69,32 @@ def _reach(angle: float, end_x: float, x_lo: float, x_hi: float) -> float:
     return max(nearest, 0.0) / math.cos(angle)
 
 
+CLEARANCE_RADII = 0.1
+"""The default extra gap at a fence's free end, in part radii."""
+SPACING_RADII = 2.0
+"""The default spacing from a fence's free end to the next root, in part radii."""
+
+
+def check_belt(part_radius: float, belt_width: float, clearance: float, spacing: float,
+               entry_x: float | None = None) -> None:
+    """Refuse a belt the fences cannot be placed on: too narrow for the part to pass a free
+    end, a negative or non-finite spacing or clearance, a lane off the belt."""
+    gap = 2.0 * float(part_radius) + float(clearance)
+    if not (math.isfinite(belt_width) and belt_width > gap):
+        raise InvalidInput("belt_width", f"must exceed the part's diameter plus the clearance ({gap:.6g})")
+    if not (math.isfinite(spacing) and spacing >= 0.0) or not (math.isfinite(clearance) and clearance >= 0.0):
+        raise InvalidInput("spacing", "spacing and clearance must be finite and >= 0")
+    if entry_x is not None and not abs(entry_x) <= 0.5 * belt_width:
+        raise InvalidInput("entry_x", "must lie on the belt, |entry_x| <= width / 2")
+
+
 def lay_out(angles: Sequence[float], part_radius: float, belt_width: float, clearance: float,
             spacing: float, entry_x: float | None = None) -> BeltLayout:
     """Place the fences (module docstring)."""
+    check_belt(part_radius, belt_width, clearance, spacing, entry_x)
     a = float(part_radius)
     w = float(belt_width)
     gap = 2.0 * a + float(clearance)
-    if not (math.isfinite(w) and w > gap):
-        raise InvalidInput("belt_width", f"must exceed the part's diameter plus the clearance ({gap:g})")
-    if not (math.isfinite(spacing) and spacing >= 0.0) or not (math.isfinite(clearance) and clearance >= 0.0):
-        raise InvalidInput("spacing", "spacing and clearance must be finite and >= 0")
     placed: list[PlacedFence] = []
     y = 0.0
     across = w - gap
@@ -90,8 +106,6 @@ def lay_out(angles: Sequence[float], part_radius: float, belt_width: float, clea
         end = root + np.array([-sign * across, -across * math.tan(abs(gamma))])
         if prev_end_x is None:
             lane = (sign * (0.5 * w - a)) if entry_x is None else float(entry_x)
-            if not abs(lane) <= 0.5 * w:
-                raise InvalidInput("entry_x", "must lie on the belt")
             x_lo, x_hi = lane - a, lane + a  # the hull's extent about the lane
         else:
             x_lo, x_hi = prev_end_x - 2.0 * a, prev_end_x + 2.0 * a

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from models.errors import InvalidInput
 from models.feeder.arcs import Arcs
 from models.feeder.design import (
     DESIGN_DEFAULT,
@@ -27,7 +28,7 @@ from models.feeder.design import (
     search_design,
 )
 from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, Part, fence_map
-from models.feeder.layout import BeltLayout, lay_out
+from models.feeder.layout import CLEARANCE_RADII, SPACING_RADII, BeltLayout, check_belt, lay_out
 from models.feeder.maps import ConfigurationMap, sequence
 from models.feeder.pushplan import PushPlan, plan_pushes
 from models.footprint import Footprint
@@ -59,6 +60,12 @@ class BeltSpec:
     spacing: float | None = None
     entry_x: float | None = None
 
+    def gaps(self, part_radius: float) -> tuple[float, float]:
+        """(clearance, spacing), the defaults filled in."""
+        a = part_radius
+        return (CLEARANCE_RADII * a if self.clearance is None else self.clearance,
+                SPACING_RADII * a if self.spacing is None else self.spacing)
+
 
 @dataclass(frozen=True)
 class PlacedCheck:
@@ -88,16 +95,25 @@ class FeederDesignProblem:
     prove_with_cp_sat: bool = False
     validation_parts: int = 0
     seed: int = 0
-    vertices: tuple[tuple[float, float], ...] = ()  # the outline, for the validation supports
-    center_of_mass: tuple[float, float] = (0.0, 0.0)
+    footprint: Footprint | None = None  # the outline (body frame), for the validation supports
     belt: BeltSpec | None = None
     tol: FeederTolerances = DEFAULT
     design_tol: DesignTolerances = DESIGN_DEFAULT
 
     def angles(self) -> list[float]:
-        n = int(math.floor((self.angle_max - self.angle_min) / self.angle_step + 1e-9)) + 1
+        n = int(angle_count(self.angle_min, self.angle_max, self.angle_step))
         mags = [self.angle_min + i * self.angle_step for i in range(n)]
         return [s * g for s in (1.0, -1.0) for g in mags]
+
+
+ANGLE_GRID_SLACK = 1e-9
+"""Steps of the candidate angles: a range this close to a whole number of steps is one."""
+
+
+def angle_count(angle_min: float, angle_max: float, angle_step: float) -> float:
+    """How many |angle| candidates the range and step give (inf when too many to count)."""
+    steps = (angle_max - angle_min) / angle_step + ANGLE_GRID_SLACK
+    return math.floor(steps) + 1 if math.isfinite(steps) else math.inf
 
 
 @dataclass(frozen=True)
@@ -171,9 +187,10 @@ def _validate(problem: FeederDesignProblem, fences: list[Fence], final: Arcs, la
     rng = np.random.default_rng(problem.seed)
     part = problem.part
     n = problem.validation_parts
-    footprint = Footprint.create(problem.vertices, problem.center_of_mass)
+    footprint = problem.footprint
+    assert footprint is not None  # checked before the maps
     pts, wts = random_balanced_tripods(rng, n, part.radius, footprint=footprint)
-    body = pts - np.asarray(problem.center_of_mass, dtype=float)
+    body = pts - footprint.center_of_mass
     lo, hi = problem.mu_c
     mus = np.linspace(lo, hi, VALIDATION_MU_VALUES) if hi > lo else np.array([lo])
     mu_of = mus[rng.integers(0, len(mus), n)]
@@ -239,8 +256,7 @@ def _place(problem: FeederDesignProblem, graph: DesignGraph, design: Design,
     b = problem.belt
     a = problem.part.radius
     fences = [graph.maps[f].fence for f in design.fences]
-    layout = lay_out([f.angle for f in fences], a, b.width, 0.1 * a if b.clearance is None else b.clearance,
-                     2.0 * a if b.spacing is None else b.spacing, b.entry_x)
+    layout = lay_out([f.angle for f in fences], a, b.width, *b.gaps(a), b.entry_x)
     checks = []
     arriving = Arcs.circle()
     occ = graph.start[design.fences[0]]
@@ -266,6 +282,12 @@ def _measure_within(a: Arcs, b: Arcs) -> float:
 
 def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> FeederDesignResult:
     t0 = time.perf_counter()
+    # what would fail only after the maps and the search is refused first
+    if problem.validation_parts > 0 and problem.footprint is None:
+        raise InvalidInput("validation_parts", "validation needs the part's outline (footprint)")
+    if problem.belt is not None:
+        check_belt(problem.part.radius, problem.belt.width, *problem.belt.gaps(problem.part.radius),
+                   problem.belt.entry_x)
     timings: dict[str, float] = {}
     maps: list[FenceMap] = []
     progress = Progress()

@@ -15,6 +15,7 @@ from dataclasses import replace
 import pytest
 
 from models.feeder.fence import Part
+from models.footprint import Footprint
 from solver import BeltSpec, FeederDesignProblem, feeder_design
 from tests.benchmarks._docs import write_section
 from tests.feeder_cases import PARTS
@@ -40,8 +41,7 @@ def problem(name, step_deg=5.0, mu=(0.25, 0.25), alternate=True, validation=0, c
     v, cm = ALL_PARTS[name]
     return FeederDesignProblem(Part.create(v, cm), math.radians(20), math.radians(70), math.radians(step_deg), mu,
                                max_depth=max_depth, alternate=alternate, prove_with_cp_sat=cp_sat,
-                               validation_parts=validation, seed=SEED, vertices=tuple(map(tuple, v)),
-                               center_of_mass=tuple(cm))
+                               validation_parts=validation, seed=SEED, footprint=Footprint.create(v, cm))
 
 
 def describe(res):

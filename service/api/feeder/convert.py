@@ -32,7 +32,7 @@ from service.api.feeder.schemas import (
     FeederSimulateResponse,
     FeederValidationOut,
 )
-from service.common.inputs import located
+from service.common.inputs import footprint_of, located
 from service.errors import FieldError
 from service.limits import FEEDER_MAX_CANDIDATES, FEEDER_MAX_FENCE_LENGTH_RADII, FEEDER_MAX_WORLD_RADII
 from solver import (
@@ -45,6 +45,7 @@ from solver import (
     FeederSimResult,
     FeederSimSettings,
     FenceRun,
+    angle_count,
 )
 
 CENTROID_REL = 1e-6
@@ -187,29 +188,29 @@ def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
     a = req.angles
     if a.max < a.min:
         raise FieldError(("angles", "max"), "must be at least angles.min")
-    count = 2 * (int(math.floor((a.max - a.min) / a.step + 1e-9)) + 1)
+    count = 2 * angle_count(a.min, a.max, a.step)
     if count > FEEDER_MAX_CANDIDATES:
-        raise FieldError(("angles", "step"), f"gives {count} candidate fences; at most {FEEDER_MAX_CANDIDATES} "
+        raise FieldError(("angles", "step"), f"gives {count:g} candidate fences; at most {FEEDER_MAX_CANDIDATES} "
                          "(both sides together)")
     if (req.mu_c is None) == (req.mu_c_range is None):
         raise FieldError(("mu_c",), "give exactly one of mu_c or mu_c_range")
     mu = (req.mu_c, req.mu_c) if req.mu_c is not None else (req.mu_c_range[0], req.mu_c_range[1])  # type: ignore[index]
     if not mu[0] <= mu[1]:
         raise FieldError(("mu_c_range",), "must be [low, high] with low <= high")
-    if req.belt is not None:
-        clearance = 0.1 * part.radius if req.belt.clearance is None else req.belt.clearance
-        if not req.belt.width > 2.0 * part.radius + clearance:
-            raise FieldError(("belt", "width"), f"must exceed the part's diameter plus the clearance "
-                             f"({2.0 * part.radius + clearance:.6g})")
-        if req.belt.entry_x is not None and abs(req.belt.entry_x) > 0.5 * req.belt.width:
-            raise FieldError(("belt", "entry_x"), "must lie on the belt, |entry_x| <= width / 2")
+    if req.belt is not None:  # the belt's own checks are the solver's (models/feeder/layout.py)
+        far = FEEDER_MAX_WORLD_RADII * part.radius
+        for name in ("width", "clearance", "spacing", "entry_x"):
+            value = getattr(req.belt, name)
+            if value is not None and abs(value) > far:
+                raise FieldError(("belt", name), f"must be at most {FEEDER_MAX_WORLD_RADII:g} part radii")
+    footprint = (footprint_of(req.part.vertices, req.part.center_of_mass, ("part", "vertices"))
+                 if req.validation_parts > 0 else None)
     return FeederDesignProblem(
         part=part, angle_min=a.min, angle_max=a.max, angle_step=a.step, mu_c=(float(mu[0]), float(mu[1])),
         max_depth=req.max_depth, alternate=req.alternate, prove_with_cp_sat=req.prove_with_cp_sat,
         validation_parts=req.validation_parts, seed=req.seed,
         belt=None if req.belt is None else BeltSpec(req.belt.width, req.belt.clearance, req.belt.spacing, req.belt.entry_x),
-        vertices=tuple((float(x), float(y)) for x, y in req.part.vertices),
-        center_of_mass=(float(req.part.center_of_mass[0]), float(req.part.center_of_mass[1])))
+        footprint=footprint)
 
 
 def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignResponse:

@@ -131,7 +131,7 @@ def design_job(req: FeederDesignRequest, svg: bool, deadline: Deadline) -> Feede
     budget = deadline.budget()
     problem = design_problem(req)
     with located(rename={"belt_width": ("belt", "width"), "entry_x": ("belt", "entry_x"),
-                         "spacing": ("belt", "spacing")}):
+                         "spacing": ("belt", "spacing"), "validation_parts": ("validation_parts",)}):
         result = feeder_design(problem, budget)
     design = result.design
     if svg and design is not None:

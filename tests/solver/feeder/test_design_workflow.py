@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from models.feeder.fence import Part
+from models.footprint import Footprint
 from solver import Budget, FeederDesignProblem, feeder_design
 from solver.feeder.design import BeltSpec
 from tests.feeder_cases import PARTS, Clock, CountingClock
@@ -14,8 +15,7 @@ from tests.feeder_cases import PARTS, Clock, CountingClock
 def problem(name: str, **kw) -> FeederDesignProblem:
     v, cm = PARTS[name]
     base = dict(part=Part.create(v, cm), angle_min=math.radians(20), angle_max=math.radians(70),
-                angle_step=math.radians(10), mu_c=(0.25, 0.25), vertices=tuple(map(tuple, v)),
-                center_of_mass=tuple(cm))
+                angle_step=math.radians(10), mu_c=(0.25, 0.25), footprint=Footprint.create(v, cm))
     base.update(kw)
     return FeederDesignProblem(**base)
 

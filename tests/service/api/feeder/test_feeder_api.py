@@ -250,6 +250,13 @@ def test_a_design_placed_on_a_belt_says_whether_it_is_realizable_1_8_6(client):
     ({"mu_c_range": [0.1, 0.2]}, ["body", "mu_c"]),
     ({"max_depth": 0}, ["body", "max_depth"]),
     ({"validation_parts": 10_000}, ["body", "validation_parts"]),
+    ({"angles": {"min": 0.4, "max": 1.0, "step": 1e-310}}, ["body", "angles", "step"]),
+    ({"belt": {"width": 1e12}}, ["body", "belt", "width"]),
+    ({"belt": {"width": 1.0}}, ["body", "belt", "width"]),
+    ({"belt": {"width": 10.0, "entry_x": 6.0}}, ["body", "belt", "entry_x"]),
+    # an outline whose hull is fine but which is no simple polygon: refused before any map
+    ({"validation_parts": 2, "part": {"vertices": [[0, 0], [1, 0], [1, 0], [1, 1], [0, 1]],
+                                      "center_of_mass": [0.5, 0.5]}}, ["body", "part", "vertices"]),
 ])
 def test_bad_design_requests_are_422_at_their_field(client, patch, loc):
     body = {"part": SQUARE, "angles": {"min": 0.4, "max": 1.0, "step": 0.2}, "mu_c": 0.2}
