@@ -106,6 +106,11 @@ class FeederTolerances:
     b_margin: float = 2e-3
     reach_cells: int = 32
 
+    def mu_values(self, lo: float, hi: float) -> list[float]:
+        """The mu_c at which an interval is sampled: ``mu_samples`` evenly, both ends (one
+        for a point)."""
+        return [lo] if hi <= lo else [float(m) for m in np.linspace(lo, hi, max(2, self.mu_samples))]
+
 
 DEFAULT = FeederTolerances()
 FINE = FeederTolerances(endpoint_steps=200, locus_points=400, b_margin=0.0)
@@ -200,8 +205,14 @@ class Fence:
         return 1.0 if self.angle > 0.0 else -1.0
 
     @property
+    def tangent(self) -> np.ndarray:
+        """t = (cos gamma, sin gamma), along the fence."""
+        return np.array([math.cos(self.angle), math.sin(self.angle)])
+
+    @property
     def normal(self) -> np.ndarray:
-        return np.array([-math.sin(self.angle), math.cos(self.angle)])
+        """n = J t, the face's normal into the part."""
+        return perp(self.tangent)
 
     @property
     def side(self) -> str:
@@ -347,22 +358,28 @@ def _canonical_edge(part: Part, j: int, fence: Fence, mu: float) -> tuple[float,
     return u_c, h_c, length, min(max(u_x, 0.0), length)
 
 
+def _slip_per_radian(turned: PushScene, c: np.ndarray, e: np.ndarray, n_points: int) -> np.ndarray:
+    """(r - c) . J g over the boundary of the disk locus of the force scene ``turned``: the
+    slip along the contact line e (normal n = J e) per CCW radian of turn at each extreme
+    COR, g = (d . e / d . n) n - e (phase 5; phase 6 with the face as the line)."""
+    n = perp(e)
+    g = float(PUSH @ e) / float(PUSH @ n) * n - e
+    boundary = disk_cor_locus(turned, outputs=["boundary"], n_points=n_points).boundary
+    return (boundary - c) @ perp(g)
+
+
 def max_slip_rate(a: float, c: np.ndarray, psi: float, mu: float, n_points: int) -> tuple[float, bool]:
     """Largest dl/ddelta over the disk's motions at contact c (CM frame), edge angle psi
     (phase 5), and whether Mason's rule at c gives CCW."""
     e = np.array([math.cos(psi), math.sin(psi)])
-    n_e = perp(e)
-    ccw = mason_sense(c, n_e, PUSH, mu) == "ccw"
-    g = float(PUSH @ e) / float(PUSH @ n_e) * n_e - e
+    ccw = mason_sense(c, perp(e), PUSH, mu) == "ccw"
     scene = PushScene.create(a, c, psi, PUSH_ANGLE)
     turned, m_sign = force_scene(scene, -math.atan(mu))  # the cone edge n_e + mu e
     if m_sign == 0:
         return math.inf, ccw  # that force passes through the CM: slip without turning
     if m_sign > 0:
         return 0.0, ccw  # that slip would turn the part CW: none toward the upstream end
-    boundary = disk_cor_locus(turned, outputs=["boundary"], n_points=n_points).boundary
-    rate = float(np.max((boundary - c) @ perp(g)))
-    return max(rate, 0.0), ccw
+    return max(float(np.max(_slip_per_radian(turned, c, e, n_points))), 0.0), ccw
 
 
 def face_slip_rate(a: float, c: np.ndarray, fence: Fence, mu: float, n_points: int) -> float:
@@ -376,16 +393,12 @@ def face_slip_rate(a: float, c: np.ndarray, fence: Fence, mu: float, n_points: i
     g = (d . t / d . n) n - t (phase 5's rate with the face as the contact line). It needs
     the cone edge n + mu sgn(gamma) t, whose frictionless motions all turn one sense s;
     per radian of |turn| the slip toward the end is s sgn(gamma) (r - c) . J g."""
-    t = np.array([math.cos(fence.angle), math.sin(fence.angle)])
-    n = perp(t)
     scene = PushScene.create(a, c, fence.angle, PUSH_ANGLE)
     turned, m_sign = force_scene(scene, -fence.sign * math.atan(mu))
     if m_sign == 0:
         return math.inf
     sense = -float(m_sign)  # a positive moment arm turns the part CW (max_slip_rate)
-    g = float(PUSH @ t) / float(PUSH @ n) * n - t
-    boundary = disk_cor_locus(turned, outputs=["boundary"], n_points=n_points).boundary
-    return max(float(np.max(sense * fence.sign * ((boundary - c) @ perp(g)))), 0.0)
+    return max(float(np.max(sense * fence.sign * _slip_per_radian(turned, c, fence.tangent, n_points))), 0.0)
 
 
 def _face_rate_over_mu(part: Part, k: int, theta: float, fence: Fence, tol: FeederTolerances) -> float:
@@ -394,10 +407,10 @@ def _face_rate_over_mu(part: Part, k: int, theta: float, fence: Fence, tol: Feed
     c = rotation(theta) @ part.hull[k]
     lo, hi = fence.mu_low, fence.mu_high
     if hi > lo:  # the cone edge n + mu sgn(gamma) t, t = (cos gamma, sin gamma)
-        star = balance_mu(c, fence.normal, fence.sign * np.array([math.cos(fence.angle), math.sin(fence.angle)]))
+        star = balance_mu(c, fence.normal, fence.sign * fence.tangent)
         if star is not None and lo <= star <= hi:
             return math.inf
-    mus = [lo] if hi <= lo else list(np.linspace(lo, hi, max(2, tol.mu_samples)))
+    mus = tol.mu_values(lo, hi)
     return max(face_slip_rate(part.radius, c, fence, float(m), tol.locus_points) for m in mus)
 
 
@@ -545,8 +558,7 @@ def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFA
     mu_range = fence.sliding_mu()
     if mu_range is None:
         raise InvalidInput("mu_c", "the part jams on this fence for every mu_c given: it never reaches the end")
-    lo, hi = mu_range
-    mus = [lo] if hi <= lo else list(np.linspace(lo, hi, max(2, tol.mu_samples)))
+    mus = tol.mu_values(*mu_range)
     least = most
     lost = False
     evaluations = flags = 0

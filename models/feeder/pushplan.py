@@ -54,14 +54,11 @@ class PushFunction:
     def of(cls, part: Part) -> PushFunction:
         hull = part.hull
         m = part.m
-        normals = []
+        normals, stable, edges = [], [], []
         for j in range(m):
-            p, length, e = part.edge(j)
+            _, length, e = part.edge(j)
             normals.append(math.atan2(-float(e[0]), float(e[1])))  # outward normal: e turned by -90 degrees
-        stable, edges = [], []
-        for j in range(m):
             u_c, _ = part.cm_in_edge_frame(j)
-            length = part.edge(j)[1]
             if 0.0 < u_c < length:  # the CM's foot strictly inside the edge: a minimum
                 stable.append(wrap(normals[j]))
                 edges.append(j)
@@ -122,9 +119,8 @@ def plan_pushes(part: Part, max_pushes: int = 20, tol: DesignTolerances = DESIGN
     pf = PushFunction.of(part)
     k = rotational_symmetry(part, tol)
 
-    def goal(state: frozenset[int]) -> bool:
-        ref = float(pf.stable[min(state)])
-        return all(abs(math.remainder((float(pf.stable[s]) - ref) * k, TWO_PI)) <= 1e-9 for s in state)
+    def goal(state: frozenset[int]) -> bool:  # one class of edges under the hull's symmetry (as the design's orbits)
+        return len({pf.edges[s] % (part.m // k) for s in state}) == 1
 
     start = frozenset(range(len(pf.stable)))
     if goal(start):

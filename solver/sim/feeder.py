@@ -165,7 +165,7 @@ class FenceSegment:
     @property
     def direction(self) -> np.ndarray:
         """w: from E toward the root."""
-        return self.fence.sign * np.array([math.cos(self.fence.angle), math.sin(self.fence.angle)])
+        return self.fence.sign * self.fence.tangent
 
     @property
     def root(self) -> np.ndarray:
