@@ -78,6 +78,10 @@ PUSH = np.array([0.0, 1.0])
 
 PUSH_ANGLE = 0.5 * math.pi
 
+BALANCE_SIDE_REL = 1e-9
+"""Mason's rule is sampled this far (relative) either side of a mu_c at which a cone edge
+passes through the CM, to see the sense on each side."""
+
 
 @dataclass(frozen=True)
 class FeederTolerances:
@@ -269,7 +273,7 @@ def _mu_samples_for_sense(c: np.ndarray, n: np.ndarray, mu: tuple[float, float])
     for edge in (perp(n), -perp(n)):
         star = balance_mu(c, n, edge)
         if star is not None and lo < star < hi:
-            out += [max(lo, star * (1.0 - 1e-9)), min(hi, star * (1.0 + 1e-9))]
+            out += [max(lo, star * (1.0 - BALANCE_SIDE_REL)), min(hi, star * (1.0 + BALANCE_SIDE_REL))]
     return out
 
 

@@ -26,6 +26,8 @@ from dataclasses import dataclass
 from models.feeder.design import DesignGraph
 from solver.core.budget import UNLIMITED, Budget
 
+MIN_TIME_LIMIT_S = 1e-3
+"""The least time limit handed to CP-SAT (it needs a positive one)."""
 CP_SAT_WORKERS = 1
 """Search workers of CP-SAT: one, so that a solve is repeatable and leaves the other core
 to the service."""
@@ -90,7 +92,7 @@ def _solve_depth(graph: DesignGraph, depth: int, alternate: bool, time_limit_s: 
     solver = cp_model.CpSolver()
     solver.parameters.num_workers = CP_SAT_WORKERS
     if time_limit_s is not None:
-        solver.parameters.max_time_in_seconds = max(float(time_limit_s), 1e-3)
+        solver.parameters.max_time_in_seconds = max(float(time_limit_s), MIN_TIME_LIMIT_S)
     status = solver.solve(model)
     name = solver.status_name(status)
     fences = None

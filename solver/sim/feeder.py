@@ -67,7 +67,8 @@ START_ALONG = 0.7
 """Where a part given no start meets a fence: this fraction of its length from E."""
 E_ON_EDGE = 2.0
 """E this many contact tolerances from an edge next to a vertex on the face makes that edge
-flush (a step accepted at the tolerance can leave E just beyond it)."""
+flush, and from a vertex puts that vertex at E (a step accepted at the tolerance can leave
+E just beyond either)."""
 
 
 MODE_TEXT = {
