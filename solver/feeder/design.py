@@ -169,6 +169,14 @@ class FeederDesignResult:
         return self.status == "ok"
 
     @property
+    def realizable(self) -> bool | None:
+        """On its belt no fence may be missed and every arriving orientation is aligned
+        (None: not laid out)."""
+        if self.layout is None:
+            return None
+        return all(not c.may_miss and c.unaligned_arriving == 0.0 for c in self.placed)
+
+    @property
     def message(self) -> str:
         if self.search is None:
             got = self.progress.depth_proven if self.progress is not None else 0

@@ -48,6 +48,8 @@ from solver import (
     angle_count,
 )
 
+AT_MOST = "must be at most {limit:g} part radii"
+WITHIN = "must lie within {limit:g} part radii of the origin"
 CENTROID_REL = 1e-6
 """The support's weighted centroid must lie this close (times the part's radius) to the CM."""
 
@@ -57,14 +59,21 @@ def part_of(p: FeederPartIn) -> Part:
         return Part.create(p.vertices, p.center_of_mass)
 
 
+def mu_of(mu_c: float | None, mu_c_range: list[float] | None, loc: tuple) -> float | tuple[float, float]:
+    """One mu_c, or an interval (low, high), from a request that gives exactly one of them."""
+    if (mu_c is None) == (mu_c_range is None):
+        raise FieldError((*loc, "mu_c"), "give exactly one of mu_c or mu_c_range")
+    return mu_c if mu_c is not None else (mu_c_range[0], mu_c_range[1])  # type: ignore[index]
+
+
+def at_most_radii(value: float, part: Part, limit: float, loc: tuple, message: str = AT_MOST) -> None:
+    """Refuse a length (or a distance from the origin) beyond ``limit`` part radii."""
+    if value > limit * part.radius:
+        raise FieldError(loc, message.format(limit=limit))
+
+
 def fence_of(f: FeederFenceIn, i: int) -> Fence:
-    mu: float | tuple[float, float]
-    if f.mu_c is not None and f.mu_c_range is None:
-        mu = f.mu_c
-    elif f.mu_c is None and f.mu_c_range is not None:
-        mu = (f.mu_c_range[0], f.mu_c_range[1])
-    else:
-        raise FieldError(("fences", i, "mu_c"), "give exactly one of mu_c or mu_c_range")
+    mu = mu_of(f.mu_c, f.mu_c_range, ("fences", i))
     with located(rename={"fence_angle": ("fences", i, "angle"),
                          "mu_c": ("fences", i, "mu_c" if f.mu_c is not None else "mu_c_range"),
                          "reach": ("fences", i, "reach")}):
@@ -72,8 +81,8 @@ def fence_of(f: FeederFenceIn, i: int) -> Fence:
 
 
 def map_fence_of(f: FeederFenceIn, i: int, part: Part) -> Fence:
-    if f.reach is not None and f.reach > FEEDER_MAX_FENCE_LENGTH_RADII * part.radius:
-        raise FieldError(("fences", i, "reach"), f"must be at most {FEEDER_MAX_FENCE_LENGTH_RADII:g} part radii")
+    if f.reach is not None:
+        at_most_radii(f.reach, part, FEEDER_MAX_FENCE_LENGTH_RADII, ("fences", i, "reach"))
     return fence_of(f, i)
 
 
@@ -132,8 +141,8 @@ def simulate_problem(req: FeederSimulateRequest) -> FeederSimProblem:
     for i, f in enumerate(req.fences):
         fences.append((fence_of(FeederFenceIn(angle=f.angle, mu_c=f.mu_c), i), f.mu_c))
     length = req.fence_length
-    if length is not None and length > FEEDER_MAX_FENCE_LENGTH_RADII * part.radius:
-        raise FieldError(("fence_length",), f"must be at most {FEEDER_MAX_FENCE_LENGTH_RADII:g} part radii")
+    if length is not None:
+        at_most_radii(length, part, FEEDER_MAX_FENCE_LENGTH_RADII, ("fence_length",))
     placements, start = placed_fences(req, part)
     return FeederSimProblem(part, tuple(fences), pts - cm, w, req.theta_initial, length,
                             FeederSimSettings(max_steps=req.max_steps), req.check_map, placements, start)
@@ -143,7 +152,6 @@ def placed_fences(req: FeederSimulateRequest,
                   part: Part) -> tuple[tuple[tuple[np.ndarray, float], ...] | None, np.ndarray | None]:
     """Each fence's (end, length) when every one has ``end`` and ``length``, and the start;
     (None, None) when none has; anything between is refused."""
-    far = FEEDER_MAX_WORLD_RADII * part.radius
     placed = [f.end is not None or f.length is not None for f in req.fences]
     if not any(placed):
         if req.start is not None:
@@ -157,14 +165,12 @@ def placed_fences(req: FeederSimulateRequest,
             if value is None:
                 raise FieldError(("fences", i, name), "give end and length for every fence or for none")
         assert f.end is not None and f.length is not None
-        if math.hypot(*f.end) > far:
-            raise FieldError(("fences", i, "end"), f"must lie within {FEEDER_MAX_WORLD_RADII:g} part radii of the origin")
-        if f.length > FEEDER_MAX_FENCE_LENGTH_RADII * part.radius:
-            raise FieldError(("fences", i, "length"), f"must be at most {FEEDER_MAX_FENCE_LENGTH_RADII:g} part radii")
+        at_most_radii(math.hypot(*f.end), part, FEEDER_MAX_WORLD_RADII, ("fences", i, "end"), WITHIN)
+        at_most_radii(f.length, part, FEEDER_MAX_FENCE_LENGTH_RADII, ("fences", i, "length"))
         placements.append((np.asarray(f.end, dtype=float), float(f.length)))
     start = None if req.start is None else np.asarray(req.start, dtype=float)
-    if start is not None and math.hypot(*start) > far:
-        raise FieldError(("start",), f"must lie within {FEEDER_MAX_WORLD_RADII:g} part radii of the origin")
+    if start is not None:
+        at_most_radii(math.hypot(*start), part, FEEDER_MAX_WORLD_RADII, ("start",), WITHIN)
     return tuple(placements), start
 
 
@@ -192,17 +198,15 @@ def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
     if count > FEEDER_MAX_CANDIDATES:
         raise FieldError(("angles", "step"), f"gives {count:g} candidate fences; at most {FEEDER_MAX_CANDIDATES} "
                          "(both sides together)")
-    if (req.mu_c is None) == (req.mu_c_range is None):
-        raise FieldError(("mu_c",), "give exactly one of mu_c or mu_c_range")
-    mu = (req.mu_c, req.mu_c) if req.mu_c is not None else (req.mu_c_range[0], req.mu_c_range[1])  # type: ignore[index]
+    given = mu_of(req.mu_c, req.mu_c_range, ())
+    mu = given if isinstance(given, tuple) else (given, given)
     if not mu[0] <= mu[1]:
         raise FieldError(("mu_c_range",), "must be [low, high] with low <= high")
     if req.belt is not None:  # the belt's own checks are the solver's (models/feeder/layout.py)
-        far = FEEDER_MAX_WORLD_RADII * part.radius
         for name in ("width", "clearance", "spacing", "entry_x"):
             value = getattr(req.belt, name)
-            if value is not None and abs(value) > far:
-                raise FieldError(("belt", name), f"must be at most {FEEDER_MAX_WORLD_RADII:g} part radii")
+            if value is not None:
+                at_most_radii(abs(value), part, FEEDER_MAX_WORLD_RADII, ("belt", name))
     footprint = (footprint_of(req.part.vertices, req.part.center_of_mass, ("part", "vertices"))
                  if req.validation_parts > 0 else None)
     return FeederDesignProblem(
@@ -247,7 +251,7 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
                                        may_miss=c.may_miss, unaligned_arriving=c.unaligned_arriving)
                   for f, c in zip(lay.fences, res.placed)]
         layout = FeederLayoutOut(belt_width=lay.belt_width, gap=lay.gap, belt_length=lay.belt_length, fences=placed,
-                                 realizable=all(not c.may_miss and c.unaligned_arriving == 0.0 for c in res.placed))
+                                 realizable=bool(res.realizable))
     search = res.search
     progress = res.progress
     return FeederDesignResponse(
