@@ -151,8 +151,22 @@ def render_maps_svg(part: Part, maps: Sequence[FenceMap], product: Configuration
     return svg_bytes(fig, " ".join(title.split())).decode("utf-8")
 
 
-def _run_outline(part: Part, run: FenceRun, k: int) -> np.ndarray:
-    return run.cms[k] + (rotation(float(run.thetas[k])) @ part.hull.T).T
+def _outlines(part: Part, cms: np.ndarray, thetas: np.ndarray, count: int) -> list[np.ndarray]:
+    """The part's outline at ``count`` poses evenly over a path, its first and last included."""
+    idx = np.unique(np.linspace(0, len(cms) - 1, min(count, len(cms))).round().astype(int))
+    return [cms[k] + (rotation(float(thetas[k])) @ part.hull.T).T for k in idx]
+
+
+def _draw_outlines(ax, view: SquareView, outlines: list[np.ndarray], color, box: tuple[np.ndarray, np.ndarray],
+                   widths: tuple[float, float]) -> None:
+    """Outlines along a path clipped to ``box``, the first and the last filled and bold."""
+    for k, outline in enumerate(outlines):
+        poly = clip_polygon_to_box(view.to_drawing(outline), *box)
+        if len(poly) < 3:
+            continue
+        bold = k in (0, len(outlines) - 1)
+        ax.add_patch(PolygonPatch(poly, closed=True, facecolor=color if bold else "none", alpha=0.35 if bold else 1.0,
+                                  edgecolor=color, linewidth=widths[0] if bold else widths[1]))
 
 
 def render_runs_svg(part: Part, runs: Sequence[FenceRun], segments: Sequence[FenceSegment], title: str) -> str:
@@ -163,9 +177,7 @@ def render_runs_svg(part: Part, runs: Sequence[FenceRun], segments: Sequence[Fen
     fig = new_figure(PANEL_IN * len(runs), PANEL_IN * 1.05)
     axes = fig.subplots(1, len(runs), squeeze=False)[0]
     for ax, run, fence_seg, i in zip(axes, runs, segments, range(len(runs))):
-        n = len(run.pushes)
-        idx = sorted(set(np.linspace(0, n - 1, min(RUN_OUTLINES, n)).round().astype(int).tolist()))
-        outlines = [_run_outline(part, run, k) for k in idx]
+        outlines = _outlines(part, run.cms, run.thetas, RUN_OUTLINES)
         pts = np.vstack([*outlines, run.cms, fence_seg.end[None]])
         if not np.all(np.isfinite(pts)):
             raise NonFiniteResult("the part's trajectory")
@@ -178,14 +190,7 @@ def render_runs_svg(part: Part, runs: Sequence[FenceRun], segments: Sequence[Fen
         ax.plot([e[0]], [e[1]], marker="o", color=COLORS["fence"], markersize=4)
         path = view.to_drawing(run.cms)
         ax.plot(path[:, 0], path[:, 1], color=COLORS["path"], linewidth=1.0, label="centre of mass")
-        for j, (k, outline) in enumerate(zip(idx, outlines)):
-            poly = clip_polygon_to_box(view.to_drawing(outline), lo, hi)
-            if len(poly) < 3:
-                continue
-            bold = j in (0, len(idx) - 1)
-            ax.add_patch(PolygonPatch(poly, closed=True, facecolor=COLORS["part"] if bold else "none",
-                                      alpha=0.35 if bold else 1.0, edgecolor=COLORS["part"],
-                                      linewidth=1.2 if bold else 0.6))
+        _draw_outlines(ax, view, outlines, COLORS["part"], (lo, hi), (1.2, 0.6))
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
         ax.set_aspect("equal")
@@ -205,16 +210,12 @@ def _draw_belt(ax, part: Part, belt: BeltPicture, label: str) -> None:
     paths = [[(run.cms, run.thetas) for run in runs] for runs in belt.parts]
     poses = [(np.vstack([c for c, _ in p]), np.concatenate([t for _, t in p])) for p in paths if p]
     ends = np.array([pt for f in belt.fences for pt in f]).reshape(-1, 2)
-    outlines = []
-    for cms, thetas in poses:
-        idx = np.unique(np.linspace(0, len(cms) - 1, min(BELT_OUTLINES, len(cms))).round().astype(int))
-        outlines.append([cms[k] + (rotation(float(thetas[k])) @ part.hull.T).T for k in idx])
+    outlines = [_outlines(part, cms, thetas, BELT_OUTLINES) for cms, thetas in poses]
     pts = np.vstack([ends, *[c for c, _ in poses], *[o for group in outlines for o in group]])
     if not np.all(np.isfinite(pts)):
         raise NonFiniteResult("the belt's top view")
     centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
     view = SquareView.around([pts - centre], centre)
-    lo, hi = view.clip_box
     if belt.width is not None:
         for x in (-0.5 * belt.width, 0.5 * belt.width):
             side = view.to_drawing(np.array([[x, pts[:, 1].min()], [x, pts[:, 1].max()]]))
@@ -229,13 +230,7 @@ def _draw_belt(ax, part: Part, belt: BeltPicture, label: str) -> None:
         color = PATH_COLORS[j % len(PATH_COLORS)]
         path = view.to_drawing(cms)
         ax.plot(path[:, 0], path[:, 1], color=color, linewidth=0.9, label=f"part {j}")
-        for k, outline in enumerate(group):
-            poly = clip_polygon_to_box(view.to_drawing(outline), lo, hi)
-            if len(poly) < 3:
-                continue
-            bold = k in (0, len(group) - 1)
-            ax.add_patch(PolygonPatch(poly, closed=True, facecolor=color if bold else "none", alpha=0.35 if bold else 1.0,
-                                      edgecolor=color, linewidth=1.0 if bold else 0.5))
+        _draw_outlines(ax, view, group, color, view.clip_box, (1.0, 0.5))
     view.frame(ax)
     ax.set_title(f"{label}; belt moving down", fontsize=9)
     ax.legend(loc="lower right", fontsize=7)
