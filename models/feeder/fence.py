@@ -123,11 +123,14 @@ FINE = FeederTolerances(endpoint_steps=200, locus_points=400, b_margin=0.0)
 @dataclass(frozen=True)
 class Part:
     """A part's convex hull in its body frame (CM at the origin, CCW), its circumscribing
-    radius about the CM (the disk bound's a), and which input vertex each hull vertex is."""
+    radius about the CM (the disk bound's a), which input vertex each hull vertex is, and
+    the outline as given (body frame: where its pressure distribution may lie, the part's
+    own bound's footprint)."""
 
     hull: np.ndarray
     vertex_index: tuple[int, ...]
     radius: float
+    outline: np.ndarray
 
     @classmethod
     def create(cls, vertices: ArrayLike, center_of_mass: ArrayLike = (0.0, 0.0),
@@ -155,7 +158,7 @@ class Part:
         if not np.all(inside > tol.collinear_rel * scale * scale):
             raise InvalidInput("center_of_mass", "must lie strictly inside the part's convex hull")
         return cls(hull=hull, vertex_index=tuple(int(i) for i in idx),
-                   radius=float(np.max(np.hypot(hull[:, 0], hull[:, 1]))))
+                   radius=float(np.max(np.hypot(hull[:, 0], hull[:, 1]))), outline=q)
 
     @property
     def m(self) -> int:
@@ -351,7 +354,7 @@ class EndpointTurn:
     sense_flags: int  # steps where Mason's rule at E did not give the turn's sense
 
 
-def _canonical_edge(part: Part, j: int, fence: Fence, mu: float) -> tuple[float, float, float, float]:
+def canonical_edge(part: Part, j: int, fence: Fence, mu: float) -> tuple[float, float, float, float]:
     """(u_c, h_c, L, l_0) of edge j in the frame where gamma > 0 (mirrored for gamma < 0:
     u -> L - u); l_0 = u_X clipped to the edge."""
     u_c, h_c = part.cm_in_edge_frame(j)
@@ -362,14 +365,35 @@ def _canonical_edge(part: Part, j: int, fence: Fence, mu: float) -> tuple[float,
     return u_c, h_c, length, min(max(u_x, 0.0), length)
 
 
-def _slip_per_radian(turned: PushScene, c: np.ndarray, e: np.ndarray, n_points: int) -> np.ndarray:
-    """(r - c) . J g over the boundary of the disk locus of the force scene ``turned``: the
-    slip along the contact line e (normal n = J e) per CCW radian of turn at each extreme
-    COR, g = (d . e / d . n) n - e (phase 5; phase 6 with the face as the line)."""
+def canonical_outline(part: Part, j: int, fence: Fence) -> np.ndarray:
+    """The part's outline (CM frame) in canonical_edge's frame with no turn yet: edge j
+    along t0 = (cos |gamma|, sin |gamma|), the part above it (toward n0 = J t0), a point at
+    (u, h) in the edge's frame (u mirrored to L - u for gamma < 0) at (u - u_c) t0 + (h - h_c) n0,
+    as the contact of endpoint_turn at l = u. Mirrored outlines run clockwise."""
+    p, length, e = part.edge(j)
+    u = (part.outline - p) @ e
+    h = (part.outline - p) @ perp(e)
+    u_c, h_c, _, _ = canonical_edge(part, j, fence, fence.mu_low)
+    if fence.sign < 0.0:
+        u = length - u
+    g = abs(fence.angle)
+    t0 = np.array([math.cos(g), math.sin(g)])
+    return np.outer(u - u_c, t0) + np.outer(h - h_c, perp(t0))
+
+
+def slip_normal(e: np.ndarray) -> np.ndarray:
+    """J g, g = (d . e / d . n) n - e (n = J e): the slip along the contact line e per CCW
+    radian of turn about a COR r is (r - c) . J g (phase 5; phase 6 with the face as the
+    line)."""
     n = perp(e)
-    g = float(PUSH @ e) / float(PUSH @ n) * n - e
+    return perp(float(PUSH @ e) / float(PUSH @ n) * n - e)
+
+
+def _slip_per_radian(turned: PushScene, c: np.ndarray, e: np.ndarray, n_points: int) -> np.ndarray:
+    """(r - c) . J g over the boundary of the disk locus of the force scene ``turned``
+    (slip_normal) at each extreme COR."""
     boundary = disk_cor_locus(turned, outputs=["boundary"], n_points=n_points).boundary
-    return (boundary - c) @ perp(g)
+    return (boundary - c) @ slip_normal(e)
 
 
 def max_slip_rate(a: float, c: np.ndarray, psi: float, mu: float, n_points: int) -> tuple[float, bool]:
@@ -458,7 +482,7 @@ def _reach_after_flush(part: Part, fence: Fence, j: int, pivot_slip: Callable[[i
             length = part.edge(e)[1]
             u = sorted(crossing(part, e, x, fence.sign) for x in mu)
             if u[1] >= 0.0 and u[0] <= length:  # e may stay: slide until E meets u_X
-                ell0 = min(_canonical_edge(part, e, fence, float(x))[3] for x in mu)
+                ell0 = min(canonical_edge(part, e, fence, float(x))[3] for x in mu)
                 need = max(need, slip + length - ell0)
             if step < 0 and u[0] < 0.0:
                 slip += pivot_slip(e, "ccw")
@@ -544,8 +568,16 @@ def unaligned_orientations(part: Part, fence: Fence, pieces: list[Piece], tol: F
     return Arcs.of(out)
 
 
-def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFAULT) -> EndpointTurn:
-    """Extremes A and B of leaving the fence's end on edge j (phase 5), with the disk bound.
+OwnRate = Callable[[int, float], Callable[[float, float], float]]
+"""The part's own bound on the slip per radian of phase 5: for edge j and mu_c, a function
+of the contact l (part units, canonical_edge's frame) and the turn delta, at most the disk's
+(the circumscribing disk's loci contain the part's, 7.5); inf where it has none."""
+
+
+def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFAULT,
+                  own_rate: OwnRate | None = None) -> EndpointTurn:
+    """Extremes A and B of leaving the fence's end on edge j (phase 5), with the disk bound,
+    or the smaller of it and ``own_rate``'s (the part's own loci).
 
     B bounds the slip: the contact's position l on the edge (from u_X toward the edge's
     upstream end L) and the turn delta obey dl/ddelta <= R(l, delta), the largest slip per
@@ -571,7 +603,8 @@ def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFA
     t0 = np.array([math.cos(g), math.sin(g)])
     n0 = perp(t0)
     for mu in mus:
-        u_c, h_c, length, ell0 = _canonical_edge(part, j, fence, float(mu))
+        u_c, h_c, length, ell0 = canonical_edge(part, j, fence, float(mu))
+        own = None if own_rate is None else own_rate(j, float(mu))
 
         def heading(ell_a: float, delta: float) -> np.ndarray:
             """(dl / a, ddelta)/ds at contact l = ell_a a and turn delta."""
@@ -582,6 +615,8 @@ def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFA
             if math.isinf(r):  # the slipping force through the CM: slide without turning
                 return np.array([1.0, 0.0])
             flags += 0 if ccw else 1
+            if own is not None and r > 0.0:
+                r = min(r, own(ell_a * a, delta))
             return np.array([r / a, 1.0]) / math.hypot(r / a, 1.0)
 
         x = np.array([ell0 / a, 0.0])
@@ -621,9 +656,11 @@ class FenceMap:
 
 
 def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT,
-              checkpoint: Callable[[str], None] | None = None) -> FenceMap:
-    """The configuration map of ``part`` meeting ``fence`` (phases 1-5); ``checkpoint``
-    (the caller's deadline: it raises to stop) is called before each edge's extremes."""
+              checkpoint: Callable[[str], None] | None = None, own_rate: OwnRate | None = None) -> FenceMap:
+    """The configuration map of ``part`` meeting ``fence`` (phases 1-6); ``checkpoint``
+    (the caller's deadline: it raises to stop) is called before each edge's extremes.
+    With ``own_rate`` the extremes B are bounded by the part's own loci (``bound`` "part");
+    the reach (phase 6) stays bounded by the disk."""
     gamma = fence.angle
     finals_of_flush = {j: final_edges(part, j, fence) for j in range(part.m)}
     kernels: dict[int, list[tuple[float, float]]] = {}
@@ -644,7 +681,7 @@ def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT,
     for j in edges:
         if checkpoint is not None:
             checkpoint(f"the extremes of leaving the end on edge {j}")
-        turns_made.append(endpoint_turn(part, j, fence, tol))
+        turns_made.append(endpoint_turn(part, j, fence, tol, own_rate))
     turns = tuple(turns_made)
     bands = []
     for j, turn in zip(edges, turns):
@@ -665,4 +702,5 @@ def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT,
                      "map bounds nothing there (1.8.6, ch. 4)")
     cmap = ConfigurationMap(bands=tuple(bands), kernels=tuple(Arcs.of(kernels[j]) for j in edges), jam=jam,
                             unaligned=unaligned)
-    return FenceMap(map=cmap, final_edges=edges, turns=turns, fence=fence, part=part, notes=tuple(notes))
+    return FenceMap(map=cmap, final_edges=edges, turns=turns, fence=fence, part=part,
+                    bound="disk" if own_rate is None else "part", notes=tuple(notes))

@@ -11,6 +11,8 @@ from models.feeder.fence import (
     FINE,
     Fence,
     Part,
+    canonical_edge,
+    canonical_outline,
     contact_interval,
     endpoint_turn,
     fence_map,
@@ -91,6 +93,50 @@ def test_endpoint_extremes_5_1_6_5():
         # the final edge angle gamma + B rises with the fence angle
         assert deg + math.degrees(turn.least) > last
         last = deg + math.degrees(turn.least)
+
+
+@pytest.mark.parametrize("deg", [40.0, -55.0])
+def test_the_outline_in_the_frame_of_leaving_the_end_5_1(deg):
+    """canonical_outline puts the part where endpoint_turn's contact formula does: the
+    flush edge's ends at l = 0 and l = L on the line through the contact, the CM at the
+    origin, the part above the edge; mirrored (clockwise) for a fence with gamma < 0, the
+    same shape (each vertex's distance from the CM kept)."""
+    verts, cm = PENTAGON
+    part = Part.create(verts, cm)
+    fence = Fence.create(math.radians(deg), 0.25)
+    g = abs(fence.angle)
+    t0 = np.array([math.cos(g), math.sin(g)])
+    n0 = np.array([-t0[1], t0[0]])
+    for j in range(part.m):
+        u_c, h_c, length, _ = canonical_edge(part, j, fence, 0.25)
+        out = canonical_outline(part, j, fence)
+        assert np.allclose(np.hypot(out[:, 0], out[:, 1]), np.hypot(part.outline[:, 0], part.outline[:, 1]))
+        for ell in (0.0, length):
+            contact = (ell - u_c) * t0 - h_c * n0
+            assert np.min(np.hypot(*(out - contact).T)) < 1e-12 * part.radius
+        assert np.all((out - ((0.0 - u_c) * t0 - h_c * n0)) @ n0 >= -1e-12)
+        area = 0.5 * float(np.sum(out[:, 0] * np.roll(out[:, 1], -1) - np.roll(out[:, 0], -1) * out[:, 1]))
+        assert math.copysign(1.0, area) == fence.sign
+
+
+def test_an_own_slip_bound_narrows_extreme_b_and_none_is_the_disk_5_1():
+    """endpoint_turn with the part's own slip bound (OwnRate) takes the smaller of it and
+    the disk's: an infinite own bound is the disk's B, a zero one (no slip) is A, and one
+    between lies between."""
+    verts, cm = PENTAGON
+    part = Part.create(verts, cm)
+    fence = Fence.create(math.radians(40), 0.25)
+    lost = []
+    for j in fence_map(part, fence).final_edges:
+        disk = endpoint_turn(part, j, fence)
+        inf = endpoint_turn(part, j, fence, own_rate=lambda j, mu: lambda ell, delta: math.inf)
+        zero = endpoint_turn(part, j, fence, own_rate=lambda j, mu: lambda ell, delta: 0.0)
+        some = endpoint_turn(part, j, fence, own_rate=lambda j, mu: lambda ell, delta: 2.0 * part.radius)
+        assert inf.least == disk.least
+        assert zero.least == zero.most and not zero.contact_lost
+        assert disk.least < some.least <= zero.least
+        lost.append(some.contact_lost)
+    assert any(lost)  # a bound between: E leaves an edge between B and A
 
 
 def mirrored(vertices):
