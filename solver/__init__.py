@@ -13,6 +13,7 @@ from solver.core.outcome import Outcome
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
 from solver.feeder.design import BeltSpec, FeederDesignProblem, FeederDesignResult, angle_count, feeder_design
+from solver.feeder.part_bound import PartBoundCost, PartBoundSettings
 from solver.feeder.workflow import (
     FeederMapProblem,
     FeederMapResult,
@@ -98,6 +99,8 @@ __all__ = [
     "FeederMapResult",
     "FeederSimProblem",
     "FeederSimResult",
+    "PartBoundCost",
+    "PartBoundSettings",
     "FeederSimSettings",
     "FenceEvent",
     "FenceRun",

@@ -1,7 +1,7 @@
 """What a feeder request asks for, end to end (issue 12; book 5.1, 5.2, 6.4-6.6).
 
 * :func:`feeder_map`: the configuration map of each fence of a sequence (models/feeder/fence.py,
-  bounded with the circumscribing disk), their product (5.1, 5.4, 5.5), and optionally its
+  bounded with the circumscribing disk, or on request the part's own loci), their product (5.1, 5.4, 5.5), and optionally its
   boolean matrix on an orientation grid.
 * :func:`feeder_simulate`: one part with one known support through the fences in order
   (solver/sim/feeder.py), the final orientation of each fence the initial one of the next,
@@ -25,6 +25,7 @@ from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, Part
 from models.feeder.maps import ConfigurationMap, sequence
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import TimeLimitReached
+from solver.feeder.part_bound import PART_DEFAULT, PartBoundCost, PartBoundSettings, PartLoci
 from solver.sim.feeder import (
     DEFAULT_SIM,
     FeederSimSettings,
@@ -39,15 +40,26 @@ MAP_SLACK = 1e-6
 """Radians: a simulated final orientation this close to a band counts as in it."""
 
 
+BOUNDS = ("disk", "part")
+"""What bounds the turns off a fence's end: the part's circumscribing disk (analytic loci,
+cheap), or the part's own loci as well (solver/feeder/part_bound.py, tighter, far dearer)."""
+
+
 @dataclass(frozen=True)
 class FeederMapProblem:
-    """The part, the fences in the order the part meets them, and the grid (cells of the
-    circle; 0: no matrix) of the product's boolean matrix."""
+    """The part, the fences in the order the part meets them, the grid (cells of the
+    circle; 0: no matrix) of the product's boolean matrix, and the bound (BOUNDS)."""
 
     part: Part
     fences: tuple[Fence, ...]
     resolution: int = 0
     tol: FeederTolerances = DEFAULT
+    bound: str = "disk"
+    part_bound: PartBoundSettings = PART_DEFAULT
+
+    def __post_init__(self) -> None:
+        if self.bound not in BOUNDS:
+            raise InvalidInput("bound", f"must be one of {list(BOUNDS)}")
 
 
 @dataclass(frozen=True)
@@ -58,6 +70,8 @@ class FeederMapResult:
     status: str  # "ok" | "time_limit"
     solve_time_s: float
     message: str
+    bound: str = "disk"
+    part_bound_costs: tuple[PartBoundCost, ...] = ()  # per fence searched, with bound "part"
 
     @property
     def complete(self) -> bool:
@@ -67,20 +81,32 @@ class FeederMapResult:
 def feeder_map(problem: FeederMapProblem, budget: Budget = UNLIMITED) -> FeederMapResult:
     t0 = time.perf_counter()
     maps: list[FenceMap] = []
+    costs: list[PartBoundCost] = []
     try:
         for i, fence in enumerate(problem.fences):
             budget.checkpoint(f"the map of fence {i}")
-            maps.append(fence_map(problem.part, fence, problem.tol, checkpoint=budget.checkpoint))
+            own = None
+            if problem.bound == "part":
+                own = PartLoci(problem.part, fence, problem.part_bound, budget.checkpoint)
+            try:
+                maps.append(fence_map(problem.part, fence, problem.tol, checkpoint=budget.checkpoint,
+                                      own_rate=None if own is None else own.rate_for))
+            finally:
+                if own is not None:
+                    costs.append(own.cost)
         budget.checkpoint("the product of the maps")
     except TimeLimitReached as exc:
         return FeederMapResult(tuple(maps), None, None, "time_limit", time.perf_counter() - t0,
-                               f"{len(maps)} of {len(problem.fences)} fence maps made: {exc}")
+                               f"{len(maps)} of {len(problem.fences)} fence maps made: {exc}", problem.bound,
+                               tuple(costs))
     product = sequence([m.map for m in maps])
     matrix = product.matrix(problem.resolution) if problem.resolution > 0 else None
     n = len(maps)
+    how = ("bounded with the circumscribing disk" if problem.bound == "disk" else
+           "with the turns off the end bounded by the part's own loci (the reach by the disk)")
     return FeederMapResult(tuple(maps), product, matrix, "ok", time.perf_counter() - t0,
                            f"{n} fence map{'s' if n > 1 else ''} and {'their product' if n > 1 else 'its matrix'} "
-                           "bounded with the circumscribing disk")
+                           f"{how}", problem.bound, tuple(costs))
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,252 @@
+"""The part's own bound on leaving a fence's end (book 5.1 phase 5 on the part's own COR
+loci, 3.3.5, 3.3.13, 7.5): the extreme B of each band from the part's loci instead of its
+circumscribing disk's.
+
+Phase 5 (models/feeder/fence.py, endpoint_turn) bounds the slip of the fence's end E along
+the part's edge per radian of turn by the largest (r - c) . J g over the frictionless COR
+locus of the cone-edge force n_e + mu_c e at the contact c (slip_normal). That force is fixed
+in the part's body: its direction is set by the edge and mu_c, its line by the contact's
+position l on the edge. So the locus depends on (edge, mu_c, l) alone, and the turn delta
+only rotates the linear function. Per edge and mu_c the locus is searched once at
+``contacts`` positions l_k from u_X to the edge's upstream end L:
+
+* dipods with both feet on the outline and the CM between them (3.3.5's dipods, which bound
+  the disk's locus, on the part's outline): their CORs, one batched forward solve, are
+  witnesses (points of the locus). They do not bound a polygon's locus (7.5: "for
+  workpieces other than disks, the boundary is not described by dipods"), and rays of the
+  exact locus do reach a few per cent beyond them;
+* so rays of the exact locus (solver/locus/certified_locus.py: a certified inside point
+  and a certified outside point a bracket apart) are traced toward the dipods that
+  maximise the slip function at ``turns`` turns, ``rays_per_aim`` around each aim, and
+  their outer ends join the witnesses. A ray that is not certified hands that contact to
+  the disk.
+
+The slip bound at (l, delta) is the largest value of the slip function over those points
+at the two contacts around l, each times (l_k - u_X) / (l - u_X): the slip per radian grows
+like 1 / (l - u_X) toward u_X, where the cone edge passes through the CM (the same grading
+as the reach's upper sums), and the cell [u_X, l_1] is the disk's. The caller takes the
+smaller of this and the disk's bound (7.5: the disk's locus contains the part's).
+
+What is certified and what is not: every point used is a COR of a real pressure
+distribution on the part or a certified outside point of the part's exact locus on its
+ray, but the largest value between the rays traced, and between contacts, is interpolated.
+docs/benchmarks.md measures the result against a finer search and against simulation,
+and what it costs (seconds per fence against milliseconds for the disk).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from models.feeder.fence import (
+    PUSH_ANGLE,
+    Fence,
+    Part,
+    canonical_edge,
+    canonical_outline,
+    crossing,
+    rotation,
+    slip_normal,
+)
+from models.footprint import Footprint
+from models.locus.cor_sketch import force_scene
+from models.mpp import perp
+from models.scene import PushScene
+from solver.locus.certified_locus import polygon_trace, trace_ray
+from solver.motion.forward import solve_forward_batch
+
+MIN_AIM_GAP = math.radians(0.1)
+"""Aims of rays closer than this (radians) are traced once."""
+
+
+@dataclass(frozen=True)
+class PartBoundSettings:
+    """How finely the part's own loci are searched.
+
+    Attributes:
+        contacts: positions of the contact along each edge (u_X to the edge's upstream end,
+            crowded toward u_X as u^2 of an even grid) at which the locus is searched, per
+            mu_c (the first, u_X itself, is the disk's: the force through the CM).
+        dipods: directions of the dipod sweep (half turn).
+        turns: turns delta (evenly over [0, A), A excluded: there the slip normal is
+            infinite) whose slip functions aim the rays.
+        rays_per_aim: certified rays traced around each aim, ``ray_spacing_deg`` apart and
+            centred on it (0: dipods only, a witness bound from inside the locus, not a bound).
+    """
+
+    contacts: int = 9
+    dipods: int = 360
+    turns: int = 2
+    rays_per_aim: int = 3
+    ray_spacing_deg: float = 1.0
+
+    @property
+    def ray_offsets(self) -> np.ndarray:
+        """Radians from the aim of each ray traced around it."""
+        k = np.arange(self.rays_per_aim) - 0.5 * (self.rays_per_aim - 1)
+        return np.radians(self.ray_spacing_deg * k)
+
+
+PART_DEFAULT = PartBoundSettings()
+PART_FINE = PartBoundSettings(contacts=17, dipods=1440, turns=4, rays_per_aim=9, ray_spacing_deg=0.5)
+PART_DIPODS = PartBoundSettings(contacts=17, rays_per_aim=0)
+"""Dipods only: fast, but from inside the locus (witnesses), so not a bound."""
+
+
+@dataclass(frozen=True)
+class PartBoundCost:
+    """What the part's own bound cost: loci searched, rays traced (bracketed or not),
+    dipods solved, and the seconds spent."""
+
+    loci: int
+    rays: int
+    rays_bracketed: int
+    dipods: int
+    seconds: float
+
+
+def outline_dipods(outline: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Dipods through the CM (the origin) with both feet on the outline: for each of ``n``
+    directions v over a half turn, the farthest outline points along v and -v at distances
+    s1, s2, weighted s2 : s1 so that their centroid is the CM (3.3.5's dipods, on the
+    part's outline instead of the disk's rim). Points (k, 2, 2), weights (k, 2), k <= n
+    (lines through the CM that miss the outline on one side are left out)."""
+    psi = np.pi * np.arange(n) / n
+    v = np.stack([np.cos(psi), np.sin(psi)], axis=1)
+    a = outline
+    e = np.roll(outline, -1, axis=0) - a
+
+    def reach(dirs: np.ndarray) -> np.ndarray:
+        den = dirs[:, None, 0] * e[None, :, 1] - dirs[:, None, 1] * e[None, :, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (a[None, :, 0] * e[None, :, 1] - a[None, :, 1] * e[None, :, 0]) / den
+            lam = (a[None, :, 0] * dirs[:, None, 1] - a[None, :, 1] * dirs[:, None, 0]) / den
+        ok = (den != 0.0) & (lam >= 0.0) & (lam <= 1.0) & (t > 0.0)
+        return np.max(np.where(ok, t, 0.0), axis=1)
+    s1, s2 = reach(v), reach(-v)
+    keep = (s1 > 0.0) & (s2 > 0.0)  # a CM outside a non-convex outline misses it along some lines
+    v, s1, s2 = v[keep], s1[keep], s2[keep]
+    points = np.stack([s1[:, None] * v, -s2[:, None] * v], axis=1)
+    weights = np.stack([s2, s1], axis=1) / (s1 + s2)[:, None]
+    return points, weights
+
+
+class PartLoci:
+    """The part's own slip bound for one fence, searched lazily per (edge, mu_c) as
+    endpoint_turn asks (``rate_for`` is a models.feeder.fence.OwnRate). ``checkpoint``
+    (the caller's deadline) is called before each locus is searched. Not shared between
+    threads: each map builds its own."""
+
+    def __init__(self, part: Part, fence: Fence, settings: PartBoundSettings = PART_DEFAULT,
+                 checkpoint: Callable[[str], None] | None = None):
+        self.part, self.fence, self.settings, self.checkpoint = part, fence, settings, checkpoint
+        self._loci = self._rays = self._bracketed = self._dipods = 0
+        self._seconds = 0.0
+
+    @property
+    def cost(self) -> PartBoundCost:
+        return PartBoundCost(self._loci, self._rays, self._bracketed, self._dipods, self._seconds)
+
+    def _locus_points(self, footprint: Footprint, dipods: tuple[np.ndarray, np.ndarray], contact: np.ndarray,
+                      edge_angle: float, mu: float, normals: list[np.ndarray]) -> np.ndarray | None:
+        """Points of the frictionless locus of the cone edge n_e + mu e at ``contact``
+        (relative to it) whose largest value of a slip function bounds it: the dipods'
+        CORs (witnesses) and the outer ends of certified rays aimed at the dipods that
+        maximise each of ``normals``; None where the disk decides (the force through the
+        CM, or turning the part CW: no upward slip, endpoint_turn; or a ray not certified)."""
+        scene = PushScene.create(self.part.radius, contact, edge_angle, PUSH_ANGLE)
+        turned, m_sign = force_scene(scene, -math.atan(mu))
+        if m_sign >= 0:
+            return None
+        t0 = time.perf_counter()
+        solved = solve_forward_batch(turned, *dipods)
+        cors = np.asarray(solved.cor, dtype=float)
+        cors = cors[np.all(np.isfinite(cors), axis=1)]
+        self._dipods += len(dipods[1])
+        points = [cors - contact]
+        certified = self._trace_aims(turned, footprint, cors, contact, normals, points)
+        self._loci += 1
+        self._seconds += time.perf_counter() - t0
+        return np.concatenate(points) if certified else None
+
+    def _trace_aims(self, turned: PushScene, footprint: Footprint, cors: np.ndarray, contact: np.ndarray,
+                    normals: list[np.ndarray], points: list[np.ndarray]) -> bool:
+        """Trace the rays around the dipods that maximise each slip normal, adding their
+        outer bracket ends (relative to the contact) to ``points``; False when a ray was
+        not certified (the disk decides there)."""
+        if self.settings.rays_per_aim == 0:
+            return True
+        trace = polygon_trace(turned, footprint)
+        aims: list[float] = []
+        for w in normals:
+            r = cors[int(np.argmax((cors - contact) @ w))] - trace.centre
+            aim = math.atan2(float(r[1]), float(r[0]))
+            if all(abs(math.remainder(aim - b, 2.0 * math.pi)) > MIN_AIM_GAP for b in aims):
+                aims.append(aim)
+        warm = None
+        for aim in aims:
+            for off in self.settings.ray_offsets:
+                phi = aim + float(off)
+                ray = trace_ray(trace, np.array([math.cos(phi), math.sin(phi)]), warm)
+                self._rays += 1
+                if ray.verdict != "bracketed" or ray.inner is None:
+                    return False
+                self._bracketed += 1
+                warm = ray.inner.witness_points if ray.inner.witness_points.size else None
+                points.append((trace.centre + ray.t_out * trace.length_scale * ray.direction - contact)[None])
+        return True
+
+    def rate_for(self, j: int, mu: float) -> Callable[[float, float], float]:
+        part, fence, settings = self.part, self.fence, self.settings
+        u_c, h_c, length, ell0 = canonical_edge(part, j, fence, mu)
+        if not ell0 < length:  # E is past the edge at once: nothing to search
+            return lambda ell, delta: math.inf
+        g = abs(fence.angle)
+        t0 = np.array([math.cos(g), math.sin(g)])
+        outline = canonical_outline(part, j, fence)
+        footprint = Footprint.create(outline, (0.0, 0.0))
+        dipods = outline_dipods(outline, settings.dipods)
+
+        def normal(delta: float) -> np.ndarray:
+            """The slip normal at turn delta, carried back into the unturned frame."""
+            return rotation(-delta) @ slip_normal(np.array([math.cos(g + delta), math.sin(g + delta)]))
+
+        most = 0.5 * math.pi - g
+        normals = [normal(d) for d in most * np.arange(settings.turns) / settings.turns]
+        u = np.linspace(0.0, 1.0, max(3, settings.contacts))
+        nodes = ell0 + (length - ell0) * u * u
+        points: list[np.ndarray | None] = []
+        for i, ell in enumerate(nodes):
+            if i == 0 and ell0 > 0.0:  # u_X itself: the cone edge passes through the CM
+                points.append(None)
+                continue
+            if self.checkpoint is not None:
+                self.checkpoint(f"the part's own locus on edge {j} at l = {ell:.4g}")
+            points.append(self._locus_points(footprint, dipods, (ell - u_c) * t0 - h_c * perp(t0), g, mu, normals))
+
+        u_x = crossing(part, j, mu, fence.sign)
+        u_x = length - u_x if fence.sign < 0.0 else u_x  # unclipped, in the canonical frame
+
+        def rate(ell: float, delta: float) -> float:
+            """The larger of the two nodes around ell of R (l - u_X), over (ell - u_X): R
+            grows like 1 / (l - u_X) toward u_X (the cone edge's moment arm), and this
+            is exact where R (l - u_X) is monotone on the cell (as the reach's upper sums)."""
+            i = int(np.clip(np.searchsorted(nodes, ell, side="right") - 1, 0, len(nodes) - 2))
+            w = normal(delta)
+            x = ell - u_x
+            if not x > 0.0:
+                return math.inf
+            best = 0.0
+            for k in (i, i + 1):
+                pts = points[k]
+                if pts is None:
+                    return math.inf
+                best = max(best, float(np.max(pts @ w)) * (nodes[k] - u_x) / x)
+            return best
+
+        return rate
