@@ -268,6 +268,10 @@ FEEDER_MAX_FENCE_LENGTH_RADII = 1e4
 FEEDER_MAX_WORLD_RADII = 1e5
 """Placed fences' ends and the part's start: distance from the origin, in part radii
 (rounding there stays far below the simulator's contact tolerance)."""
+FEEDER_MAX_PART_CONTACTS = 33
+"""Contact positions per edge of the part's own bound (each a dipod sweep and traced rays)."""
+FEEDER_MAX_RAYS_PER_AIM = 9
+"""Certified rays per aim of the part's own bound (each a few tenths of a second)."""
 FEEDER_MAX_CANDIDATES = 180
 """Candidate fences of one design (both sides together: a map each)."""
 FEEDER_MAX_DESIGN_DEPTH = 20

@@ -23,6 +23,7 @@ from service.api.feeder.schemas import (
     FeederMapRequest,
     FeederMapResponse,
     FeederMatrixOut,
+    FeederPartBoundOut,
     FeederPartIn,
     FeederPlacedFenceOut,
     FeederProductBandOut,
@@ -45,6 +46,8 @@ from solver import (
     FeederSimResult,
     FeederSimSettings,
     FenceRun,
+    PartBoundCost,
+    PartBoundSettings,
     angle_count,
 )
 
@@ -88,14 +91,28 @@ def map_fence_of(f: FeederFenceIn, i: int, part: Part) -> Fence:
 
 def map_problem(req: FeederMapRequest) -> FeederMapProblem:
     part = part_of(req.part)
-    return FeederMapProblem(part, tuple(map_fence_of(f, i, part) for i, f in enumerate(req.fences)), req.resolution)
+    if req.part_bound is not None and req.bound != "part":
+        raise FieldError(("part_bound",), "is only used with bound \"part\"")
+    if req.bound == "part":  # the part's own loci need its outline as a footprint
+        footprint_of(req.part.vertices, req.part.center_of_mass, ("part", "vertices"))
+    settings = PartBoundSettings() if req.part_bound is None else PartBoundSettings(
+        contacts=req.part_bound.contacts, rays_per_aim=req.part_bound.rays_per_aim)
+    return FeederMapProblem(part, tuple(map_fence_of(f, i, part) for i, f in enumerate(req.fences)), req.resolution,
+                            bound=req.bound, part_bound=settings)
 
 
 def arcs_out(a: Arcs) -> list[list[float]]:
     return [[float(s), float(w)] for s, w in a.arcs]
 
 
-def fence_map_out(fm: FenceMap) -> FeederFenceMapOut:
+def part_bound_out(cost: PartBoundCost | None) -> FeederPartBoundOut | None:
+    if cost is None:
+        return None
+    return FeederPartBoundOut(loci=cost.loci, dipods=cost.dipods, rays=cost.rays, rays_bracketed=cost.rays_bracketed,
+                              seconds=cost.seconds)
+
+
+def fence_map_out(fm: FenceMap, cost: PartBoundCost | None = None) -> FeederFenceMapOut:
     bands = []
     for j, turn, band, kernel in zip(fm.final_edges, fm.turns, fm.map.bands, fm.map.kernels):
         bands.append(FeederFenceBandOut(band=arcs_out(band), kernel=arcs_out(kernel), edge=j,
@@ -104,7 +121,7 @@ def fence_map_out(fm: FenceMap) -> FeederFenceMapOut:
     return FeederFenceMapOut(angle=fm.fence.angle, mu_c_range=[fm.fence.mu_low, fm.fence.mu_high],
                        jams_possible=fm.fence.may_jam(), bands=bands, jam=arcs_out(fm.map.jam),
                        reach=fm.fence.reach, unaligned=arcs_out(fm.map.unaligned), notes=list(fm.notes),
-                       locus_evaluations=sum(t.locus_evaluations for t in fm.turns))
+                       locus_evaluations=sum(t.locus_evaluations for t in fm.turns), part_bound=part_bound_out(cost))
 
 
 def map_response(res: FeederMapResult, elapsed_ms: float) -> FeederMapResponse:
@@ -119,8 +136,9 @@ def map_response(res: FeederMapResult, elapsed_ms: float) -> FeederMapResponse:
     if res.matrix is not None:
         rows = ["".join("1" if x else "0" for x in row) for row in res.matrix]
         matrix = FeederMatrixOut(resolution=int(res.matrix.shape[0]), rows=rows)
-    return FeederMapResponse(fences=[fence_map_out(m) for m in res.maps], product=product, matrix=matrix,
-                             bound="disk", status=res.status, complete=res.complete, message=res.message,
+    costs = res.part_bound_costs or (None,) * len(res.maps)
+    return FeederMapResponse(fences=[fence_map_out(m, c) for m, c in zip(res.maps, costs)], product=product,
+                             matrix=matrix, bound=res.bound, status=res.status, complete=res.complete, message=res.message,
                              solve_time_ms=res.solve_time_s * 1e3, elapsed_ms=elapsed_ms)
 
 

@@ -52,7 +52,7 @@ async def feeder_map_route(req: FeederMapRequest, request: Request,
                            response_format: ResponseFormat = FORMAT) -> Response:
     """For each fence, every final orientation possible from each initial one over all
     pressure distributions (bands and kernels, bounded with the part's circumscribing
-    disk), the orientations that may jam (6.4) or that a short fence may not align (1.8.6),
+    disk, or on request with its own loci), the orientations that may jam (6.4) or that a short fence may not align (1.8.6),
     and the map of the whole sequence with its code sets (5.4, 5.5); optionally the
     product's boolean matrix (5.1)."""
     return await runner(request).expensive_job(request, map_job, req, response_format == "svg",
@@ -65,7 +65,8 @@ def map_job(req: FeederMapRequest, svg: bool, deadline: Deadline) -> FeederMapRe
     with located():
         result = feeder_map(problem, budget)
     if svg and result.maps:
-        title = (f"Configuration maps (5.1-5.2), bounded with the circumscribing disk"
+        by = "the circumscribing disk" if result.bound == "disk" else "the part's own loci"
+        title = (f"Configuration maps (5.1-5.2), bounded with {by}"
                  f"{'' if result.complete else ' (time limit: ' + str(len(result.maps)) + ' of ' + str(len(problem.fences)) + ' fences)'}")
         return Response(content=render_maps_svg(problem.part, result.maps, result.product, title),
                         media_type=SVG_MEDIA_TYPE)

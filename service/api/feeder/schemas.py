@@ -7,7 +7,7 @@ a set of orientations is a list of closed arcs [start, width] counter-clockwise.
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import ConfigDict, Field
 
@@ -16,6 +16,8 @@ from service.limits import (
     FEEDER_MAX_DESIGN_DEPTH,
     FEEDER_MAX_FENCE_LENGTH_RADII,
     FEEDER_MAX_FENCES,
+    FEEDER_MAX_PART_CONTACTS,
+    FEEDER_MAX_RAYS_PER_AIM,
     FEEDER_MAX_RESOLUTION,
     FEEDER_MAX_STEPS,
     FEEDER_MAX_SUPPORT_POINTS,
@@ -51,6 +53,15 @@ class FeederFenceIn(Strict):
 Fences = Annotated[list[FeederFenceIn], Field(min_length=1, max_length=FEEDER_MAX_FENCES)]
 
 
+class FeederPartBoundIn(Strict):
+    contacts: Annotated[int, Field(strict=True, ge=3, le=FEEDER_MAX_PART_CONTACTS)] = Field(
+        default=9, description="Contact positions per edge and mu_c at which the part's locus is searched (more: "
+                               "narrower bands, slower).")
+    rays_per_aim: Annotated[int, Field(strict=True, ge=1, le=FEEDER_MAX_RAYS_PER_AIM)] = Field(
+        default=3, description="Certified rays of the exact locus traced around each dipod that bounds the slip, "
+                               "one degree apart.")
+
+
 class FeederMapRequest(Strict):
     model_config = ConfigDict(
         extra="forbid",
@@ -65,6 +76,16 @@ class FeederMapRequest(Strict):
     fences: Fences = Field(description="The fences in the order the part meets them.")
     resolution: Annotated[int, Field(strict=True, ge=0, le=FEEDER_MAX_RESOLUTION)] = Field(
         default=0, description="Cells of the circle for the product's boolean matrix (0: none; 360: 1 degree).")
+    bound: Literal["disk", "part"] = Field(
+        default="disk",
+        description="What bounds the turns off each fence's end (5.1): `disk`, the part's circumscribing disk "
+                    "(analytic loci: milliseconds per fence); or `part`, the part's own COR loci as well (dipods on "
+                    "its outline and certified rays of its exact locus: tens of seconds per fence, bands a few "
+                    "degrees narrower; docs/benchmarks.md). Ask for `part` only when the disk's bands are too wide. "
+                    "The outline must then be a simple polygon.")
+    part_bound: FeederPartBoundIn | None = Field(
+        default=None, description="How finely the part's own loci are searched with `bound` `part` (null: 9 contacts, "
+                                  "3 rays per aim).")
     time_limit_s: TimeLimit | None = None
 
 
@@ -81,6 +102,14 @@ class FeederFenceBandOut(FeederBandOut):
     contact_lost: bool = Field(description="Whether B ends with the end leaving the edge before A.")
 
 
+class FeederPartBoundOut(Strict):
+    loci: int = Field(description="The part's own frictionless loci searched (per edge, mu_c and contact position).")
+    dipods: int = Field(description="Dipods on the outline solved (witness CORs).")
+    rays: int = Field(description="Rays of the exact loci traced toward the dipods that bound the slip.")
+    rays_bracketed: int = Field(description="Those whose crossing was certified (inside and outside points).")
+    seconds: float
+
+
 class FeederFenceMapOut(Strict):
     angle: float
     mu_c_range: list[float]
@@ -93,6 +122,8 @@ class FeederFenceMapOut(Strict):
                                              "follow). Empty when no reach was given.")
     notes: list[str]
     locus_evaluations: int
+    part_bound: FeederPartBoundOut | None = Field(
+        description="What the part's own bound cost on this fence (null with the disk bound).")
 
 
 class FeederProductBandOut(FeederBandOut):
@@ -114,7 +145,8 @@ class FeederMapResponse(Strict):
     fences: list[FeederFenceMapOut]
     product: FeederProductOut | None = Field(description="The map of the whole sequence (null unless every fence's map was made).")
     matrix: FeederMatrixOut | None
-    bound: str = Field(description="What bounded the turns off the end: the part's circumscribing disk.")
+    bound: str = Field(description="What bounded the turns off the end: `disk` (the part's circumscribing disk) or "
+                                   "`part` (its own loci as well; the reach stays bounded by the disk).")
     status: str = Field(description="ok, or time_limit (the maps finished are returned).")
     complete: bool
     message: str

@@ -11,7 +11,7 @@ import pytest
 from models.feeder.fence import Fence, Part, fence_map
 from models.feeder.layout import lay_out
 from models.feeder.maps import sequence
-from solver import FenceSegment, simulate_belt_batch
+from solver import FeederMapProblem, FenceSegment, PartBoundSettings, feeder_map, simulate_belt_batch
 
 PENTAGON = {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]}
 SQUARE = {"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "center_of_mass": [0.5, 0.5]}
@@ -192,6 +192,43 @@ def test_bad_parts_and_supports_are_422_at_their_field(client):
     r = client.post("/v1/feeder/simulate", json={"part": SQUARE, "support": {"points": [[0.5, 0.5]], "weights": [1, 2]},
                                                  "fences": [{"angle": 0.7, "mu_c": 0.25}], "theta_initial": 0.3})
     assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "support", "weights"]
+
+
+def test_a_map_with_the_parts_own_bound_is_the_solvers_and_narrower_than_the_disks_5_1_7_5(client):
+    body = {"part": PENTAGON, "fences": [{"angle": 0.7, "mu_c": 0.25}], "bound": "part",
+            "part_bound": {"contacts": 3, "rays_per_aim": 1}}
+    r = client.post("/v1/feeder/map", json=body)
+    assert r.status_code == 200, r.text
+    out = r.json()
+    assert out["bound"] == "part" and out["complete"]
+    cost = out["fences"][0]["part_bound"]
+    assert cost["loci"] > 0 and cost["rays"] == cost["rays_bracketed"] > 0 and cost["dipods"] > 0
+    part = Part.create(PENTAGON["vertices"], PENTAGON["center_of_mass"])
+    ref = feeder_map(FeederMapProblem(part, (Fence.create(0.7, 0.25),), bound="part",
+                                      part_bound=PartBoundSettings(contacts=3, rays_per_aim=1))).maps[0]
+    assert [b["turn_least"] for b in out["fences"][0]["bands"]] == pytest.approx([t.least for t in ref.turns],
+                                                                                  abs=1e-12)
+    disk = client.post("/v1/feeder/map", json={"part": PENTAGON, "fences": [{"angle": 0.7, "mu_c": 0.25}]}).json()
+    assert disk["bound"] == "disk" and disk["fences"][0]["part_bound"] is None
+    for own, wide in zip(out["fences"][0]["bands"], disk["fences"][0]["bands"]):
+        assert wide["turn_least"] <= own["turn_least"] and own["turn_most"] == wide["turn_most"]
+    assert any(wide["turn_least"] < own["turn_least"] for own, wide in zip(out["fences"][0]["bands"],
+                                                                           disk["fences"][0]["bands"]))
+
+
+@pytest.mark.parametrize("patch, loc", [
+    ({"bound": "sketch"}, ["body", "bound"]),
+    ({"part_bound": {"contacts": 5}}, ["body", "part_bound"]),
+    ({"bound": "part", "part_bound": {"contacts": 2}}, ["body", "part_bound", "contacts"]),
+    ({"bound": "part", "part_bound": {"rays_per_aim": 0}}, ["body", "part_bound", "rays_per_aim"]),
+    ({"bound": "part", "part": {"vertices": [[0, 0], [2, 2], [2, 0], [0, 2]], "center_of_mass": [1, 1]}},
+     ["body", "part", "vertices"]),
+])
+def test_bad_bound_requests_are_422_at_their_field(client, patch, loc):
+    body = {"part": SQUARE, "fences": [{"angle": 0.7, "mu_c": 0.25}], **patch}
+    r = client.post("/v1/feeder/map", json=body)
+    assert r.status_code == 422, r.text
+    assert r.json()["detail"][0]["loc"][:len(loc)] == loc
 
 
 def test_a_design_for_the_pentagon_is_found_proven_and_validated_5_4(client):
