@@ -737,6 +737,12 @@ def _reimpose(geo: _Geometry, cm: np.ndarray, theta: float, mode: str) -> np.nda
     kind, idx = mode.split(":")
     i = int(idx)
     hull = geo.hull(cm, theta)
+    if kind == "flush":
+        # the lower end of the edge over the fence goes onto the face: an end past E may
+        # stand a rounding-sized tilt above it, and putting that one on the line would push
+        # the other into the face (every later step refused: a stall)
+        ends = [v for v in (i, (i + 1) % geo.part.m) if geo.on_fence(geo.along(hull[v][None]))[0]] or [i]
+        i = min(ends, key=lambda v: float(geo.heights(hull[v][None])[0]))
     if kind in ("vertex", "flush"):
         return onto_line(cm, hull[i], geo.n, float(geo.n @ geo.e))
     q = hull[(i + 1) % geo.part.m] - hull[i]

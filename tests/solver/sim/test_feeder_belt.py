@@ -123,7 +123,8 @@ def test_a_vertex_meeting_the_fence_exactly_at_its_end_gives_an_honest_outcome()
     hull, not by those vertices). Every run ends with an outcome, never a silent wrong one:
     a run that left with an edge flush lies in its fence's map; one that left without is
     flagged ``flushed`` False (outside the map's assumption); a run the simulator cannot
-    advance says so (stalled or step limit), and these stay few. E never pulls the part."""
+    advance says so (stalled or step limit) and stops early, and these stay few (one of 54:
+    a square's vertex exactly at E). E never pulls the part."""
     rng = np.random.default_rng(95)
     settings = FeederSimSettings(max_steps=3000)
     done = cut = corner = 0
@@ -148,12 +149,14 @@ def test_a_vertex_meeting_the_fence_exactly_at_its_end_gives_an_honest_outcome()
                     if r.status in ("stalled", "step_limit"):
                         cut += 1
                         assert r.theta_final is None and not r.complete
+                        # a stall stops after stall_steps refused steps, not at the step limit
+                        assert r.status == "step_limit" or len(r.pushes) < 1000
                         continue
                     done += 1
                     assert r.status in ("left", "missed")
                     if r.status == "left" and r.flushed:
                         assert cmap.allows(theta, r.theta_final, SLACK)
-    assert done + cut == 54 and cut <= 6
+    assert done + cut == 54 and cut <= 2  # 1: a square's vertex exactly at E stalls
     assert corner >= 1  # a run where no step advanced until another contact at E was taken
 
 
