@@ -88,7 +88,7 @@ class FeederSimSettings:
         min_step: the shortest step event location halves down to.
         max_steps: steps (of any kind) before the run gives up (status "step_limit").
         stall_steps: consecutive steps cut to ``min_step`` after which the run stops as
-            "stalled" (a contact it cannot advance: two contacts at once, a vertex at E).
+            "stalled" (a contact it cannot advance: a vertex exactly at E, rarely).
         clearance: the part's start: this much belt travel before it touches the face.
     """
 
@@ -592,7 +592,7 @@ def _fence_run(part: Part, segment: FenceSegment, mu_c: float, theta_initial: fl
             if stalled >= s.stall_steps:
                 status = "stalled"
                 record("stalled", f"{stalled} steps of {h:.3g} in mode {mode}: the contact cannot advance "
-                       "(two contacts at once or a vertex at the fence's end are not simulated)")
+                       "(a vertex at the fence's end where no contact there gives a step)")
                 break
             cm, theta = cm_n, th_n
             push += h
