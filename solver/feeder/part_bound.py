@@ -164,14 +164,16 @@ class PartLoci:
         if m_sign >= 0:
             return None
         t0 = time.perf_counter()
-        solved = solve_forward_batch(turned, *dipods)
-        cors = np.asarray(solved.cor, dtype=float)
-        cors = cors[np.all(np.isfinite(cors), axis=1)]
-        self._dipods += len(dipods[1])
-        points = [cors - contact]
-        certified = self._trace_aims(turned, footprint, cors, contact, normals, points)
-        self._loci += 1
-        self._seconds += time.perf_counter() - t0
+        try:
+            solved = solve_forward_batch(turned, *dipods)
+            cors = np.asarray(solved.cor, dtype=float)
+            cors = cors[np.all(np.isfinite(cors), axis=1)]
+            self._dipods += len(dipods[1])
+            points = [cors - contact]
+            certified = self._trace_aims(turned, footprint, cors, contact, normals, points)
+            self._loci += 1
+        finally:  # a deadline met inside still counts the time spent
+            self._seconds += time.perf_counter() - t0
         return np.concatenate(points) if certified else None
 
     def _trace_aims(self, turned: PushScene, footprint: Footprint, cors: np.ndarray, contact: np.ndarray,
@@ -191,6 +193,8 @@ class PartLoci:
         warm = None
         for aim in aims:
             for off in self.settings.ray_offsets:
+                if self.checkpoint is not None:  # a ray takes a few tenths of a second
+                    self.checkpoint("a ray of the part's own locus")
                 phi = aim + float(off)
                 ray = trace_ray(trace, np.array([math.cos(phi), math.sin(phi)]), warm)
                 self._rays += 1
