@@ -169,6 +169,8 @@ class PartLoci:
             cors = np.asarray(solved.cor, dtype=float)
             cors = cors[np.all(np.isfinite(cors), axis=1)]
             self._dipods += len(dipods[1])
+            if not len(cors):  # no dipod turns the part (never seen): the disk decides
+                return None
             points = [cors - contact]
             certified = self._trace_aims(turned, footprint, cors, contact, normals, points)
             self._loci += 1
