@@ -100,6 +100,10 @@ class FeederTolerances:
             a mu_c interval, and more on the wide, safe side near the friction angle).
         reach_cells: cells per piece of a contact interval in the reach integral (phase 6),
             crowded toward both ends (where the slip rate can grow without bound).
+        crossing_rel: u_X this close to an end of its edge (times the part's radius) counts
+            as on both sides of it (phase 4: the part may stay or pivot). Where the force
+            line passes through a vertex (a rectangle's short edge at mu_c = 0.25) the
+            simulator's contact tolerance (1e-9 a) and rounding decide either way.
     """
 
     collinear_rel: float = 1e-12
@@ -109,6 +113,7 @@ class FeederTolerances:
     mu_samples: int = 3
     b_margin: float = 2e-3
     reach_cells: int = 32
+    crossing_rel: float = 1e-6
 
     def mu_values(self, lo: float, hi: float) -> list[float]:
         """The mu_c at which an interval is sampled: ``mu_samples`` evenly, both ends (one
@@ -315,7 +320,16 @@ def crossing(part: Part, j: int, mu: float, sign: float) -> float:
     return u_c - mu * sign * h_c
 
 
-def final_edges(part: Part, j: int, fence: Fence) -> frozenset[int]:
+def crossing_span(part: Part, e: int, mu: tuple[float, float], sign: float,
+                  tol: FeederTolerances = DEFAULT) -> tuple[float, float]:
+    """The least and largest u_X of edge e over [mu_low, mu_high] (phase 4), widened by
+    ``tol.crossing_rel`` part radii either way."""
+    u = sorted(crossing(part, e, m, sign) for m in mu)
+    pad = tol.crossing_rel * part.radius
+    return u[0] - pad, u[1] + pad
+
+
+def final_edges(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFAULT) -> frozenset[int]:
     """Every edge a part flush on edge j can come to rest on (phase 4), over the sliding
     part of the mu_c interval; empty when it always jams."""
     mu = fence.sliding_mu()
@@ -330,7 +344,7 @@ def final_edges(part: Part, j: int, fence: Fence) -> frozenset[int]:
             continue
         seen.add(e)
         _, length, _ = part.edge(e)
-        u = sorted(crossing(part, e, m, fence.sign) for m in mu)
+        u = crossing_span(part, e, mu, fence.sign, tol)
         if u[1] >= 0.0 and u[0] <= length:
             out.add(e)
         if u[0] < 0.0:
@@ -467,7 +481,8 @@ class Piece:
         return self.vertex - 1 if self.sense == "ccw" else self.vertex
 
 
-def _reach_after_flush(part: Part, fence: Fence, j: int, pivot_slip: Callable[[int, str], float]) -> float:
+def _reach_after_flush(part: Part, fence: Fence, j: int, pivot_slip: Callable[[int, str], float],
+                       tol: FeederTolerances = DEFAULT) -> float:
     """Reach needed once edge j is flush until E meets u_X of the edge that stays (phase 6),
     the largest over the edges it may stay on (phase 4's chains): the pivots on the way
     (onto edge e - 1 about vertex e turning CCW, onto e + 1 about vertex e + 1 turning CW,
@@ -480,7 +495,7 @@ def _reach_after_flush(part: Part, fence: Fence, j: int, pivot_slip: Callable[[i
         e, slip = j % part.m, 0.0
         for _ in range(part.m):
             length = part.edge(e)[1]
-            u = sorted(crossing(part, e, x, fence.sign) for x in mu)
+            u = crossing_span(part, e, mu, fence.sign, tol)
             if u[1] >= 0.0 and u[0] <= length:  # e may stay: slide until E meets u_X
                 ell0 = min(canonical_edge(part, e, fence, float(x))[3] for x in mu)
                 need = max(need, slip + length - ell0)
@@ -547,7 +562,7 @@ def unaligned_orientations(part: Part, fence: Fence, pieces: list[Piece], tol: F
             checkpoint(f"the reach needed from vertex {piece.vertex} turning {piece.sense}")
         k = piece.vertex
         j = piece.flushed_edge % part.m
-        after = _reach_after_flush(part, fence, j, pivot_slip)
+        after = _reach_after_flush(part, fence, j, pivot_slip, tol)
         c_start, c_width = contact_interval(part, k, fence.angle)
         # the offsets are the cuts themselves: recomputing them from start and width left a
         # rounding-sized span before the last piece, 0/0 in its upper sum, so the whole
@@ -662,7 +677,7 @@ def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT,
     With ``own_rate`` the extremes B are bounded by the part's own loci (``bound`` "part");
     the reach (phase 6) stays bounded by the disk."""
     gamma = fence.angle
-    finals_of_flush = {j: final_edges(part, j, fence) for j in range(part.m)}
+    finals_of_flush = {j: final_edges(part, j, fence, tol) for j in range(part.m)}
     kernels: dict[int, list[tuple[float, float]]] = {}
     pieces: list[Piece] = []
     for k in range(part.m):

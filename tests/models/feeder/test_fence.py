@@ -139,6 +139,19 @@ def test_an_own_slip_bound_narrows_extreme_b_and_none_is_the_disk_5_1():
     assert any(lost)  # a bound between: E leaves an edge between B and A
 
 
+def test_a_force_line_through_a_vertex_may_leave_the_part_on_either_edge_phase_4():
+    """The 4 x 1 rectangle at mu_c = 0.25: on a short edge u_X = u_c - mu_c h_c = 0.5 - 0.25 * 2
+    = 0, the force line passes through the edge's vertex, and rounding decides whether the
+    part stays or pivots onto the long edge (the simulator did pivot, the map once said it
+    stays). Within crossing_rel of an end both are final; well away from 0.25 only the
+    short edge is."""
+    part = Part.create(RECT, [2, 0.5])
+    fence = Fence.create(math.radians(40), 0.25)
+    assert [sorted(final_edges(part, j, fence)) for j in range(4)] == [[0], [0, 1], [2], [2, 3]]
+    assert [sorted(final_edges(part, j, Fence.create(math.radians(40), 0.2))) for j in range(4)] == [[0], [1], [2], [3]]
+    assert [sorted(final_edges(part, j, Fence.create(math.radians(40), 0.3))) for j in range(4)] == [[0], [0], [2], [2]]
+
+
 def mirrored(vertices):
     return [[-x, y] for x, y in vertices]
 

@@ -292,6 +292,20 @@ def test_an_edge_flush_past_the_end_slides_on_from_its_lower_end_and_leaves_in_i
     assert fence_map(the_part, fence).map.allows(theta, run.theta_final, SLACK)
 
 
+def test_a_rectangle_whose_force_line_passes_through_a_vertex_pivots_inside_its_map_phase_4():
+    """Found by the part-bound benchmark (seed 20261126, rectangle at +40 deg, run 2): the
+    short edge comes flush with u_X exactly at its vertex (mu_c = 0.25), the part pivots
+    onto the long edge and leaves there, which the map once did not allow."""
+    the_part = part("rectangle")
+    body = [[1.6929772521993534, -0.3321003033615051], [-1.7906592485903805, 0.29556866008676375],
+            [1.370169414558387, -0.06128308904738089]]
+    wts = [0.39853822477614437, 0.47418599261326055, 0.1272757826105951]
+    fence, theta = Fence.create(math.radians(40.0), 0.25), -1.0318023906939398
+    run = simulate_fence(the_part, fence, 0.25, body, wts, theta)
+    assert run.status == "left" and run.flush_edges == [0]
+    assert fence_map(the_part, fence).map.allows(theta, run.theta_final, SLACK)
+
+
 def test_a_batch_of_parts_takes_exactly_the_steps_of_one_by_one_runs():
     """simulate_fence_batch steps many parts together (their forward solves batched per
     support size): every run has the events, steps, final orientation and solve count of
