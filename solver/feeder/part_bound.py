@@ -57,6 +57,7 @@ from models.footprint import Footprint
 from models.locus.cor_sketch import force_scene
 from models.mpp import perp
 from models.scene import PushScene
+from solver.core.errors import SolverError, TimeLimitReached
 from solver.locus.certified_locus import polygon_trace, trace_ray
 from solver.motion.forward import solve_forward_batch
 
@@ -101,13 +102,14 @@ PART_DIPODS = PartBoundSettings(contacts=17, rays_per_aim=0)
 @dataclass(frozen=True)
 class PartBoundCost:
     """What the part's own bound cost: loci searched, rays traced (bracketed or not),
-    dipods solved, and the seconds spent."""
+    dipods solved, the seconds spent, and the traces a failed conic solve cut short."""
 
     loci: int
     rays: int
     rays_bracketed: int
     dipods: int
     seconds: float
+    solver_failures: int = 0  # conic solves that failed inside a trace (the disk bounded there)
 
 
 def outline_dipods(outline: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -145,12 +147,12 @@ class PartLoci:
     def __init__(self, part: Part, fence: Fence, settings: PartBoundSettings = PART_DEFAULT,
                  checkpoint: Callable[[str], None] | None = None):
         self.part, self.fence, self.settings, self.checkpoint = part, fence, settings, checkpoint
-        self._loci = self._rays = self._bracketed = self._dipods = 0
+        self._loci = self._rays = self._bracketed = self._dipods = self._failed = 0
         self._seconds = 0.0
 
     @property
     def cost(self) -> PartBoundCost:
-        return PartBoundCost(self._loci, self._rays, self._bracketed, self._dipods, self._seconds)
+        return PartBoundCost(self._loci, self._rays, self._bracketed, self._dipods, self._seconds, self._failed)
 
     def _locus_points(self, footprint: Footprint, dipods: tuple[np.ndarray, np.ndarray], contact: np.ndarray,
                       edge_angle: float, mu: float, normals: list[np.ndarray]) -> np.ndarray | None:
@@ -185,7 +187,13 @@ class PartLoci:
         not certified (the disk decides there)."""
         if self.settings.rays_per_aim == 0:
             return True
-        trace = polygon_trace(turned, footprint)
+        try:
+            trace = polygon_trace(turned, footprint)
+        except TimeLimitReached:
+            raise
+        except SolverError:
+            self._failed += 1
+            return False
         aims: list[float] = []
         for w in normals:
             r = cors[int(np.argmax((cors - contact) @ w))] - trace.centre
@@ -198,8 +206,14 @@ class PartLoci:
                 if self.checkpoint is not None:  # a ray takes a few tenths of a second
                     self.checkpoint("a ray of the part's own locus")
                 phi = aim + float(off)
-                ray = trace_ray(trace, np.array([math.cos(phi), math.sin(phi)]), warm)
                 self._rays += 1
+                try:
+                    ray = trace_ray(trace, np.array([math.cos(phi), math.sin(phi)]), warm)
+                except TimeLimitReached:
+                    raise
+                except SolverError:  # a conic solve that failed certifies nothing: the disk decides
+                    self._failed += 1
+                    return False
                 if ray.verdict != "bracketed" or ray.inner is None:
                     return False
                 self._bracketed += 1

@@ -109,7 +109,7 @@ def part_bound_out(cost: PartBoundCost | None) -> FeederPartBoundOut | None:
     if cost is None:
         return None
     return FeederPartBoundOut(loci=cost.loci, dipods=cost.dipods, rays=cost.rays, rays_bracketed=cost.rays_bracketed,
-                              seconds=cost.seconds)
+                              solver_failures=cost.solver_failures, seconds=cost.seconds)
 
 
 def fence_map_out(fm: FenceMap, cost: PartBoundCost | None = None) -> FeederFenceMapOut:

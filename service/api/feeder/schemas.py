@@ -107,6 +107,7 @@ class FeederPartBoundOut(Strict):
     dipods: int = Field(description="Dipods on the outline solved (witness CORs).")
     rays: int = Field(description="Rays of the exact loci traced toward the dipods that bound the slip.")
     rays_bracketed: int = Field(description="Those whose crossing was certified (inside and outside points).")
+    solver_failures: int = Field(description="Traces a failed conic solve cut short (the disk bounded there).")
     seconds: float
 
 

@@ -132,3 +132,22 @@ def test_the_part_bound_keeps_mirror_symmetry_and_scale(deg):
         s = Part.create(np.array(verts) * scale, np.array(cm) * scale)
         scaled = fence_map(s, fence, own_rate=PartLoci(s, fence, DIPODS_ONLY).rate_for)
         assert [t.least for t in scaled.turns] == pytest.approx([t.least for t in ref.turns], abs=1e-6)
+
+
+def test_a_failed_conic_solve_hands_its_contact_to_the_disk(monkeypatch):
+    """A trace whose conic solve fails (Clarabel once did, on a restricted master) certifies
+    nothing: that contact is bounded by the disk, the failure is counted, and the map is
+    still made (never wider than the disk's, never narrower than its dipods allow)."""
+    import solver.feeder.part_bound as pb
+    from solver.core.errors import NotConverged
+
+    def failing(*args, **kwargs):
+        raise NotConverged("Clarabel failed on the restricted master")
+
+    monkeypatch.setattr(pb, "trace_ray", failing)
+    p, fence = part("right triangle"), Fence.create(math.radians(40.0), 0.25)
+    loci = PartLoci(p, fence, CHEAP)
+    got = fence_map(p, fence, own_rate=loci.rate_for)
+    disk = fence_map(p, fence)
+    assert [t.least for t in got.turns] == [t.least for t in disk.turns]
+    assert loci.cost.solver_failures == loci.cost.rays > 0 and loci.cost.rays_bracketed == 0
