@@ -270,8 +270,12 @@ FEEDER_MAX_WORLD_RADII = 1e5
 (rounding there stays far below the simulator's contact tolerance)."""
 FEEDER_MAX_PART_CONTACTS = 33
 """Contact positions per edge of the part's own bound (each a dipod sweep and traced rays)."""
-FEEDER_MAX_RAYS_PER_AIM = 9
-"""Certified rays per aim of the part's own bound (each a few tenths of a second)."""
+FEEDER_MAX_RAYS_PER_AIM = 40
+"""Certified rays of one climb of the part's own bound (each a few tenths of a second)."""
+FEEDER_PART_DEFAULT_TIME_LIMIT_S = 120.0
+FEEDER_PART_MAX_TIME_LIMIT_S = 300.0
+"""time_limit_s of a feeder map bounded by the part's own loci (a fence takes seconds to
+minutes: docs/benchmarks.md): default and cap."""
 FEEDER_MAX_CANDIDATES = 180
 """Candidate fences of one design (both sides together: a map each)."""
 FEEDER_MAX_DESIGN_DEPTH = 20

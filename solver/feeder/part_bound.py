@@ -16,10 +16,11 @@ only rotates the linear function. Per edge and mu_c the locus is searched once a
   workpieces other than disks, the boundary is not described by dipods"), and rays of the
   exact locus do reach a few per cent beyond them;
 * so rays of the exact locus (solver/locus/certified_locus.py: a certified inside point
-  and a certified outside point a bracket apart) are traced toward the dipods that
-  maximise the slip function at ``turns`` turns, ``rays_per_aim`` around each aim, and
-  their outer ends join the witnesses. A ray that is not certified hands that contact to
-  the disk.
+  and a certified outside point a bracket apart) climb along its boundary from the dipod
+  that maximises the slip function at each of ``turns`` turns, in the direction that
+  raises it, while it rises (the exact locus's maximiser lies up to a few degrees from the
+  dipods'), and their outer ends join the witnesses. A ray that is not certified, or a
+  conic solve that fails, hands that contact to the disk.
 
 The slip bound at (l, delta) is the largest value of the slip function over those points
 at the two contacts around l, each times (l_k - u_X) / (l - u_X): the slip per radian grows
@@ -61,9 +62,6 @@ from solver.core.errors import SolverError, TimeLimitReached
 from solver.locus.certified_locus import polygon_trace, trace_ray
 from solver.motion.forward import solve_forward_batch
 
-MIN_AIM_GAP = math.radians(0.1)
-"""Aims of rays closer than this (radians) are traced once."""
-
 
 @dataclass(frozen=True)
 class PartBoundSettings:
@@ -76,26 +74,24 @@ class PartBoundSettings:
         dipods: directions of the dipod sweep (half turn).
         turns: turns delta (evenly over [0, A), A excluded: there the slip normal is
             infinite) whose slip functions aim the rays.
-        rays_per_aim: certified rays traced around each aim, ``ray_spacing_deg`` apart and
-            centred on it (0: dipods only, a witness bound from inside the locus, not a bound).
+        ray_step_deg: the first step of the climb along the exact locus from each aim.
+        refine_levels: times that step is halved around the best ray.
+        max_rays_per_aim: most rays of one climb (0: dipods only, a witness bound from
+            inside the locus, not a bound).
     """
 
-    contacts: int = 9
+    contacts: int = 5
     dipods: int = 360
     turns: int = 2
-    rays_per_aim: int = 3
-    ray_spacing_deg: float = 1.0
-
-    @property
-    def ray_offsets(self) -> np.ndarray:
-        """Radians from the aim of each ray traced around it."""
-        k = np.arange(self.rays_per_aim) - 0.5 * (self.rays_per_aim - 1)
-        return np.radians(self.ray_spacing_deg * k)
+    ray_step_deg: float = 1.0
+    refine_levels: int = 0
+    max_rays_per_aim: int = 8
 
 
 PART_DEFAULT = PartBoundSettings()
-PART_FINE = PartBoundSettings(contacts=17, dipods=1440, turns=4, rays_per_aim=9, ray_spacing_deg=0.5)
-PART_DIPODS = PartBoundSettings(contacts=17, rays_per_aim=0)
+PART_FINE = PartBoundSettings(contacts=9, dipods=1440, turns=3, ray_step_deg=0.5, refine_levels=1,
+                              max_rays_per_aim=16)
+PART_DIPODS = PartBoundSettings(contacts=17, max_rays_per_aim=0)
 """Dipods only: fast, but from inside the locus (witnesses), so not a bound."""
 
 
@@ -182,10 +178,14 @@ class PartLoci:
 
     def _trace_aims(self, turned: PushScene, footprint: Footprint, cors: np.ndarray, contact: np.ndarray,
                     normals: list[np.ndarray], points: list[np.ndarray]) -> bool:
-        """Trace the rays around the dipods that maximise each slip normal, adding their
-        outer bracket ends (relative to the contact) to ``points``; False when a ray was
-        not certified (the disk decides there)."""
-        if self.settings.rays_per_aim == 0:
+        """For each slip normal w, climb along the exact locus's boundary from the ray
+        through the dipod that maximises w . (r - c): certified rays ``ray_step_deg`` apart
+        in the direction that raises w . (outer end - c) while it rises, then halving the
+        step ``refine_levels`` times around the best, at most ``max_rays_per_aim`` rays.
+        Every outer bracket end traced (relative to the contact) joins ``points``; False when
+        a ray was not certified (the disk decides there)."""
+        settings = self.settings
+        if settings.max_rays_per_aim == 0:
             return True
         try:
             trace = polygon_trace(turned, footprint)
@@ -194,31 +194,60 @@ class PartLoci:
         except SolverError:
             self._failed += 1
             return False
-        aims: list[float] = []
+        traced: dict[float, np.ndarray] = {}
+        warm: list[np.ndarray | None] = [None]
+
+        def outer(phi: float) -> np.ndarray | None:
+            """The certified outer end of the ray at ``phi`` (relative to the contact)."""
+            key = round(phi, 12)
+            if key in traced:
+                return traced[key]
+            if self.checkpoint is not None:  # a ray takes a few tenths of a second
+                self.checkpoint("a ray of the part's own locus")
+            self._rays += 1
+            try:
+                ray = trace_ray(trace, np.array([math.cos(phi), math.sin(phi)]), warm[0])
+            except TimeLimitReached:
+                raise
+            except SolverError:  # a conic solve that failed certifies nothing: the disk decides
+                self._failed += 1
+                return None
+            if ray.verdict != "bracketed" or ray.inner is None:
+                return None
+            self._bracketed += 1
+            warm[0] = ray.inner.witness_points if ray.inner.witness_points.size else None
+            traced[key] = trace.centre + ray.t_out * trace.length_scale * ray.direction - contact
+            return traced[key]
+
         for w in normals:
             r = cors[int(np.argmax((cors - contact) @ w))] - trace.centre
-            aim = math.atan2(float(r[1]), float(r[0]))
-            if all(abs(math.remainder(aim - b, 2.0 * math.pi)) > MIN_AIM_GAP for b in aims):
-                aims.append(aim)
-        warm = None
-        for aim in aims:
-            for off in self.settings.ray_offsets:
-                if self.checkpoint is not None:  # a ray takes a few tenths of a second
-                    self.checkpoint("a ray of the part's own locus")
-                phi = aim + float(off)
-                self._rays += 1
-                try:
-                    ray = trace_ray(trace, np.array([math.cos(phi), math.sin(phi)]), warm)
-                except TimeLimitReached:
-                    raise
-                except SolverError:  # a conic solve that failed certifies nothing: the disk decides
-                    self._failed += 1
-                    return False
-                if ray.verdict != "bracketed" or ray.inner is None:
-                    return False
-                self._bracketed += 1
-                warm = ray.inner.witness_points if ray.inner.witness_points.size else None
-                points.append((trace.centre + ray.t_out * trace.length_scale * ray.direction - contact)[None])
+            phi = math.atan2(float(r[1]), float(r[0]))
+            step = math.radians(settings.ray_step_deg)
+            spent = len(traced)
+            p = outer(phi)
+            if p is None:
+                return False
+            best = float(p @ w)
+            for level in range(settings.refine_levels + 1):
+                if level:
+                    step *= 0.5
+                direction = 0.0
+                for sign in (1.0, -1.0):  # which way rises from the best so far
+                    q = outer(phi + sign * step)
+                    if q is None:
+                        return False
+                    if float(q @ w) > best:
+                        best, direction = float(q @ w), sign
+                if direction:
+                    phi += direction * step
+                while direction and len(traced) - spent < settings.max_rays_per_aim:
+                    q = outer(phi + direction * step)
+                    if q is None:
+                        return False
+                    if float(q @ w) <= best:
+                        break
+                    best, phi = float(q @ w), phi + direction * step
+        points.extend(q[None] for q in traced.values())
         return True
 
     def rate_for(self, j: int, mu: float) -> Callable[[float, float], float]:

@@ -96,7 +96,7 @@ def map_problem(req: FeederMapRequest) -> FeederMapProblem:
     if req.bound == "part":  # the part's own loci need its outline as a footprint
         footprint_of(req.part.vertices, req.part.center_of_mass, ("part", "vertices"))
     settings = PartBoundSettings() if req.part_bound is None else PartBoundSettings(
-        contacts=req.part_bound.contacts, rays_per_aim=req.part_bound.rays_per_aim)
+        contacts=req.part_bound.contacts, max_rays_per_aim=req.part_bound.max_rays_per_aim)
     return FeederMapProblem(part, tuple(map_fence_of(f, i, part) for i, f in enumerate(req.fences)), req.resolution,
                             bound=req.bound, part_bound=settings)
 

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import ConfigDict, Field
+from pydantic import ConfigDict, Field, ValidationInfo, field_validator
 
 from service.common.fields import Angle, MuC, Point, Strict, TimeLimit
 from service.limits import (
+    DEFAULT_TIME_LIMIT_S,
     FEEDER_MAX_DESIGN_DEPTH,
     FEEDER_MAX_FENCE_LENGTH_RADII,
     FEEDER_MAX_FENCES,
@@ -25,6 +26,9 @@ from service.limits import (
     FEEDER_MAX_VALIDATION_PARTS,
     FEEDER_MAX_VERTICES,
     FEEDER_MAX_WORLD_RADII,
+    FEEDER_PART_DEFAULT_TIME_LIMIT_S,
+    FEEDER_PART_MAX_TIME_LIMIT_S,
+    MAX_TIME_LIMIT_S,
     MAX_WEIGHT,
     MIN_POLYGON_VERTICES,
 )
@@ -55,11 +59,11 @@ Fences = Annotated[list[FeederFenceIn], Field(min_length=1, max_length=FEEDER_MA
 
 class FeederPartBoundIn(Strict):
     contacts: Annotated[int, Field(strict=True, ge=3, le=FEEDER_MAX_PART_CONTACTS)] = Field(
-        default=9, description="Contact positions per edge and mu_c at which the part's locus is searched (more: "
+        default=5, description="Contact positions per edge and mu_c at which the part's locus is searched (more: "
                                "narrower bands, slower).")
-    rays_per_aim: Annotated[int, Field(strict=True, ge=1, le=FEEDER_MAX_RAYS_PER_AIM)] = Field(
-        default=3, description="Certified rays of the exact locus traced around each dipod that bounds the slip, "
-                               "one degree apart.")
+    max_rays_per_aim: Annotated[int, Field(strict=True, ge=3, le=FEEDER_MAX_RAYS_PER_AIM)] = Field(
+        default=8, description="Most certified rays of one climb along the exact locus from a dipod that bounds "
+                               "the slip (a degree apart, while the slip rises).")
 
 
 class FeederMapRequest(Strict):
@@ -84,9 +88,26 @@ class FeederMapRequest(Strict):
                     "degrees narrower; docs/benchmarks.md). Ask for `part` only when the disk's bands are too wide. "
                     "The outline must then be a simple polygon.")
     part_bound: FeederPartBoundIn | None = Field(
-        default=None, description="How finely the part's own loci are searched with `bound` `part` (null: 9 contacts, "
-                                  "3 rays per aim).")
-    time_limit_s: TimeLimit | None = None
+        default=None, description="How finely the part's own loci are searched with `bound` `part` (null: 5 contacts, "
+                                  "climbs of at most 8 rays).")
+    time_limit_s: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=FEEDER_PART_MAX_TIME_LIMIT_S)] | None = Field(
+        default=None, description=f"Seconds, at most {MAX_TIME_LIMIT_S:g} with `bound` `disk` (default "
+                                  f"{DEFAULT_TIME_LIMIT_S:g}); with `part` at most {FEEDER_PART_MAX_TIME_LIMIT_S:g} "
+                                  f"(default {FEEDER_PART_DEFAULT_TIME_LIMIT_S:g}): a fence takes seconds to minutes.")
+
+    @field_validator("time_limit_s")
+    @classmethod
+    def _disk_maps_keep_the_common_cap(cls, value: float | None, info: ValidationInfo) -> float | None:
+        if value is not None and info.data.get("bound", "disk") != "part" and value > MAX_TIME_LIMIT_S:
+            raise ValueError(f"must be at most {MAX_TIME_LIMIT_S:g} s unless bound is \"part\"")
+        return value
+
+    @property
+    def deadline_s(self) -> float | None:
+        """The time limit the request runs under (None: the service's default)."""
+        if self.time_limit_s is None and self.bound == "part":
+            return FEEDER_PART_DEFAULT_TIME_LIMIT_S
+        return self.time_limit_s
 
 
 class FeederBandOut(Strict):

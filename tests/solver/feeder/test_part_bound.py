@@ -32,8 +32,8 @@ from solver.sim.feeder import simulate_fence_batch
 from tests.feeder_cases import PARTS, part, random_encounter
 
 SEED = 20261126
-CHEAP = PartBoundSettings(contacts=5, turns=1, rays_per_aim=1)
-DIPODS_ONLY = PartBoundSettings(contacts=9, rays_per_aim=0)
+CHEAP = PartBoundSettings(contacts=5, turns=1, refine_levels=0, max_rays_per_aim=2)
+DIPODS_ONLY = PartBoundSettings(contacts=9, max_rays_per_aim=0)
 
 
 @pytest.mark.parametrize("name", ["pentagon", "L-shape", "right triangle"])
@@ -61,7 +61,7 @@ def test_the_slip_bound_holds_every_sampled_cor_and_is_tighter_than_the_disk_5_1
     ratios = []
     for j in (0, 3):
         u_c, h_c, length, ell0 = canonical_edge(p, j, fence, mu)
-        loci = PartLoci(p, fence, PartBoundSettings(contacts=3, turns=1, rays_per_aim=3))
+        loci = PartLoci(p, fence, PartBoundSettings(contacts=3, turns=1))
         rate = loci.rate_for(j, mu)
         assert loci.cost.rays == loci.cost.rays_bracketed > 0
         outline = canonical_outline(p, j, fence)

@@ -35,7 +35,7 @@ def test_a_map_with_the_parts_own_bound_says_so_and_what_it_cost_and_stops_at_th
     the request with what was finished; an unknown bound is refused."""
     tri = part("right triangle")
     fences = (Fence.create(math.radians(40), 0.25),)
-    settings = PartBoundSettings(contacts=3, turns=1, rays_per_aim=1)
+    settings = PartBoundSettings(contacts=3, turns=1, refine_levels=0, max_rays_per_aim=2)
     done = feeder_map(FeederMapProblem(tri, fences, bound="part", part_bound=settings))
     assert done.complete and done.bound == "part" and done.maps[0].bound == "part"
     assert "own loci" in done.message and len(done.part_bound_costs) == 1
