@@ -103,7 +103,9 @@ def feeder_map(problem: FeederMapProblem, budget: Budget = UNLIMITED) -> FeederM
     matrix = product.matrix(problem.resolution) if problem.resolution > 0 else None
     n = len(maps)
     how = ("bounded with the circumscribing disk" if problem.bound == "disk" else
-           "with the turns off the end bounded by the part's own loci (the reach by the disk)")
+           "with the turns off the end bounded by the part's own loci (the reach by the disk; interpolated "
+           "between traced rays and contacts, so measured, not proven: within about 1 degree of a finer search, "
+           "docs/benchmarks.md)")
     return FeederMapResult(tuple(maps), product, matrix, "ok", time.perf_counter() - t0,
                            f"{n} fence map{'s' if n > 1 else ''} and {'their product' if n > 1 else 'its matrix'} "
                            f"{how}", problem.bound, tuple(costs))
