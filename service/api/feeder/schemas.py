@@ -13,7 +13,6 @@ from pydantic import ConfigDict, Field, ValidationInfo, field_validator
 
 from service.common.fields import Angle, MuC, Point, Strict, TimeLimit
 from service.limits import (
-    DEFAULT_TIME_LIMIT_S,
     FEEDER_MAX_DESIGN_DEPTH,
     FEEDER_MAX_FENCE_LENGTH_RADII,
     FEEDER_MAX_FENCES,
@@ -91,9 +90,10 @@ class FeederMapRequest(Strict):
         default=None, description="How finely the part's own loci are searched with `bound` `part` (null: 5 contacts, "
                                   "climbs of at most 8 rays).")
     time_limit_s: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=FEEDER_PART_MAX_TIME_LIMIT_S)] | None = Field(
-        default=None, description=f"Seconds, at most {MAX_TIME_LIMIT_S:g} with `bound` `disk` (default "
-                                  f"{DEFAULT_TIME_LIMIT_S:g}); with `part` at most {FEEDER_PART_MAX_TIME_LIMIT_S:g} "
-                                  f"(default {FEEDER_PART_DEFAULT_TIME_LIMIT_S:g}): a fence takes seconds to minutes.")
+        default=None, description=f"Seconds, at most {MAX_TIME_LIMIT_S:g} with `bound` `disk`; with `part` at most "
+                                  f"{FEEDER_PART_MAX_TIME_LIMIT_S:g} (default {FEEDER_PART_DEFAULT_TIME_LIMIT_S:g}): a "
+                                  "fence takes seconds to a minute. The deployment's PESHKIN_MAX_TIME_LIMIT_S (30 s "
+                                  "unless raised) caps every deadline and is the default without one.")
 
     @field_validator("time_limit_s")
     @classmethod
