@@ -368,15 +368,21 @@ class EndpointTurn:
     sense_flags: int  # steps where Mason's rule at E did not give the turn's sense
 
 
+def canonical_crossing(part: Part, j: int, fence: Fence, mu: float) -> float:
+    """u_X of edge j in the frame where gamma > 0 (mirrored for gamma < 0: u -> L - u),
+    not clipped to the edge."""
+    u_x = crossing(part, j, mu, fence.sign)
+    return part.edge(j)[1] - u_x if fence.sign < 0.0 else u_x
+
+
 def canonical_edge(part: Part, j: int, fence: Fence, mu: float) -> tuple[float, float, float, float]:
     """(u_c, h_c, L, l_0) of edge j in the frame where gamma > 0 (mirrored for gamma < 0:
     u -> L - u); l_0 = u_X clipped to the edge."""
     u_c, h_c = part.cm_in_edge_frame(j)
     _, length, _ = part.edge(j)
-    u_x = crossing(part, j, mu, fence.sign)
     if fence.sign < 0.0:
-        u_c, u_x = length - u_c, length - u_x
-    return u_c, h_c, length, min(max(u_x, 0.0), length)
+        u_c = length - u_c
+    return u_c, h_c, length, min(max(canonical_crossing(part, j, fence, mu), 0.0), length)
 
 
 def canonical_outline(part: Part, j: int, fence: Fence) -> np.ndarray:

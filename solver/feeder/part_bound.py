@@ -48,9 +48,9 @@ from models.feeder.fence import (
     PUSH_ANGLE,
     Fence,
     Part,
+    canonical_crossing,
     canonical_edge,
     canonical_outline,
-    crossing,
     rotation,
     slip_normal,
 )
@@ -278,8 +278,7 @@ class PartLoci:
                 self.checkpoint(f"the part's own locus on edge {j} at l = {ell:.4g}")
             points.append(self._locus_points(footprint, dipods, (ell - u_c) * t0 - h_c * perp(t0), g, mu, normals))
 
-        u_x = crossing(part, j, mu, fence.sign)
-        u_x = length - u_x if fence.sign < 0.0 else u_x  # unclipped, in the canonical frame
+        u_x = canonical_crossing(part, j, fence, mu)  # unclipped
 
         def rate(ell: float, delta: float) -> float:
             """The larger of the two nodes around ell of R (l - u_X), over (ell - u_X): R
