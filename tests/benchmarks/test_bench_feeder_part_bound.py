@@ -19,12 +19,12 @@ from models.feeder.fence import Fence, fence_map, flush_orientation
 from solver.feeder.part_bound import PART_DEFAULT, PART_DIPODS, PART_FINE, PartBoundSettings, PartLoci
 from solver.sim.feeder import simulate_fence_batch
 from tests.benchmarks._docs import write_section
+from tests.benchmarks.test_bench_feeder import SIM_FENCES  # the same fences as the simulations there
 from tests.feeder_cases import PARTS, part, random_encounter
 
 pytestmark = pytest.mark.benchmark
 
 SEED = 20261126
-SIM_FENCES = ((40.0, 0.25), (-55.0, 0.15), (24.0, 0.43))
 RUNS = 40
 SLACK = 1e-6
 
