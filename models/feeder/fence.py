@@ -416,13 +416,19 @@ def _slip_per_radian(turned: PushScene, c: np.ndarray, e: np.ndarray, n_points: 
     return (boundary - c) @ slip_normal(e)
 
 
+def upward_slip_scene(a: float, c: np.ndarray, psi: float, mu: float) -> tuple[PushScene, int]:
+    """The frictionless scene of the cone edge n_e + mu e at contact c on an edge at angle
+    psi (E slipping toward the edge's upstream end, phase 5) and the sign of its moment arm
+    (force_scene): 0 through the CM, > 0 turning the part CW (no such slip)."""
+    return force_scene(PushScene.create(a, c, psi, PUSH_ANGLE), -math.atan(mu))
+
+
 def max_slip_rate(a: float, c: np.ndarray, psi: float, mu: float, n_points: int) -> tuple[float, bool]:
     """Largest dl/ddelta over the disk's motions at contact c (CM frame), edge angle psi
     (phase 5), and whether Mason's rule at c gives CCW."""
     e = np.array([math.cos(psi), math.sin(psi)])
     ccw = mason_sense(c, perp(e), PUSH, mu) == "ccw"
-    scene = PushScene.create(a, c, psi, PUSH_ANGLE)
-    turned, m_sign = force_scene(scene, -math.atan(mu))  # the cone edge n_e + mu e
+    turned, m_sign = upward_slip_scene(a, c, psi, mu)
     if m_sign == 0:
         return math.inf, ccw  # that force passes through the CM: slip without turning
     if m_sign > 0:

@@ -45,7 +45,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from models.feeder.fence import (
-    PUSH_ANGLE,
     Fence,
     Part,
     canonical_crossing,
@@ -53,9 +52,9 @@ from models.feeder.fence import (
     canonical_outline,
     rotation,
     slip_normal,
+    upward_slip_scene,
 )
 from models.footprint import Footprint
-from models.locus.cor_sketch import force_scene
 from models.mpp import perp
 from models.scene import PushScene
 from solver.core.errors import SolverError, TimeLimitReached
@@ -157,8 +156,7 @@ class PartLoci:
         CORs (witnesses) and the outer ends of certified rays aimed at the dipods that
         maximise each of ``normals``; None where the disk decides (the force through the
         CM, or turning the part CW: no upward slip, endpoint_turn; or a ray not certified)."""
-        scene = PushScene.create(self.part.radius, contact, edge_angle, PUSH_ANGLE)
-        turned, m_sign = force_scene(scene, -math.atan(mu))
+        turned, m_sign = upward_slip_scene(self.part.radius, contact, edge_angle, mu)
         if m_sign >= 0:
             return None
         t0 = time.perf_counter()
