@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Run the test suite.
 #
-#   bash scripts/test.sh                      # whole suite (benchmarks skipped): what CI runs
+#   bash scripts/test.sh                      # whole suite (benchmarks skipped), 2 workers: what CI runs
 #   bash scripts/test.sh --fast               # everyday tier: no tests marked slow, 2 workers
+#   bash scripts/test.sh -n 0 tests/models    # one process (e.g. for pdb)
 #   bash scripts/test.sh tests/models -k disk # extra args go to pytest
 #   bash scripts/test.sh --run-benchmarks     # include benchmark-marked tests
 #
 # Creates ./.venv with Python 3.11 if it is missing, installs the pinned
 # dev dependencies (skipped when the requirement files are unchanged since
-# the last install), then runs `python -m pytest -q`.
+# the last install), then runs `python -m pytest -q -n $PYTEST_WORKERS` (pytest-xdist,
+# default 2 workers; later arguments win, so `-n 0` runs in one process).
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -30,8 +32,9 @@ if [[ "$(cat "$dev_stamp" 2>/dev/null || true)" != "$want_dev" ]]; then
     cat requirements.txt | sha256sum | cut -d' ' -f1 >"$runtime_stamp"
 fi
 
+workers="${PYTEST_WORKERS:-2}"
 if [[ "${1:-}" == "--fast" ]]; then
     shift
-    exec "$VENV/bin/python" -m pytest -q -m "not slow" -n 2 "$@"
+    exec "$VENV/bin/python" -m pytest -q -m "not slow" -n "$workers" "$@"
 fi
-exec "$VENV/bin/python" -m pytest -q "$@"
+exec "$VENV/bin/python" -m pytest -q -n "$workers" "$@"
