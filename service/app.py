@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import logging
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
@@ -10,14 +11,7 @@ from fastapi import FastAPI
 from fastapi_offline import FastAPIOffline
 
 from service import __version__, errors
-from service.api.feeder import routes as feeder
-from service.api.health import routes as health
-from service.api.locus import routes as locus
-from service.api.motion import routes as motion
-from service.api.particle import routes as particle
-from service.api.push import routes as push
-from service.api.sketch import routes as sketch
-from service.api.spiral import routes as spiral
+from service.api import ROUTE_MODULES
 from service.runtime.intake import Intake
 from service.runtime.jobs import Runner
 from service.settings import Settings
@@ -77,7 +71,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     and solver workers, :mod:`service.runtime`) is made here and closed at shutdown."""
     settings = Settings.from_env() if settings is None else settings
     logging.getLogger("service").setLevel(settings.log_level.upper().replace("TRACE", "DEBUG"))
-    runner = Runner.from_settings(settings)
+    runner = Runner.from_settings(settings, preload=ROUTE_MODULES)
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -99,8 +93,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     errors.install(app)
     app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s,
                        max_body_bytes=settings.max_body_bytes)
-    for resource in (health, locus, motion, particle, push, sketch, spiral, feeder):
-        app.include_router(resource.router)
+    for module in ROUTE_MODULES:
+        app.include_router(importlib.import_module(module).router)
     _in_published_order(app)
     return app
 

@@ -7,3 +7,11 @@ it and the request's budget, and converts the result back. The packages are inde
 of each other (import-linter contract ``api-independent``); what several share is in
 :mod:`service.common`.
 """
+
+RESOURCES = ("health", "locus", "motion", "particle", "push", "sketch", "spiral", "feeder")
+"""Every resource, in the order the app includes their routers: the one list of them
+(``tests/service/test_resources.py`` checks it against the folders)."""
+
+ROUTE_MODULES = tuple(f"service.api.{name}.routes" for name in RESOURCES)
+"""Their route modules: what the app includes and what a solver worker imports before it
+forks (their jobs and, through them, the solver stack)."""

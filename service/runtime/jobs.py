@@ -19,7 +19,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -124,9 +124,11 @@ class Runner:
     retry_after_s: int
 
     @classmethod
-    def from_settings(cls, settings: Settings) -> Runner:
+    def from_settings(cls, settings: Settings, preload: Sequence[str] = ()) -> Runner:
+        """The runner of ``settings``; its solver workers import the modules ``preload``
+        names (the routes, whose jobs they run) once, before they are forked."""
         workers = settings.solver_processes()
-        pool = SolverPool(workers, settings.worker_max_tasks) if workers > 0 else None
+        pool = SolverPool(workers, settings.worker_max_tasks, preload) if workers > 0 else None
         return cls(
             requests=Gate("requests", settings.max_requests_in_flight),
             expensive=Gate("expensive", max(workers, 1) + settings.solver_queue),

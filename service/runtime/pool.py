@@ -14,7 +14,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import threading
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 from pebble import ProcessFuture, ProcessPool
@@ -28,19 +28,22 @@ ONE_THREAD_ENV = {
 }
 """The environment of the workers: one thread per numerical library."""
 
-PRELOAD = ("service.runtime.preload",)
-"""What the forkserver imports once before it forks workers."""
+RUNS_JOBS = "service.runtime.jobs"
+"""What a worker runs: imported by the forkserver besides the caller's modules."""
 
 
 class SolverPool:
     """``workers`` solver processes, started on first use. ``max_tasks`` > 0 replaces a
-    worker after that many tasks (a bound on slow leaks in native code); 0 keeps it."""
+    worker after that many tasks (a bound on slow leaks in native code); 0 keeps it.
+    ``preload``: the modules whose functions the workers will run (the routes, which import
+    the solver stack), imported once by the forkserver."""
 
-    def __init__(self, workers: int, max_tasks: int = 0) -> None:
+    def __init__(self, workers: int, max_tasks: int = 0, preload: Sequence[str] = ()) -> None:
         if workers < 1:
             raise ValueError(f"a solver pool needs at least one worker, got {workers}")
         self.workers = workers
         self.max_tasks = max_tasks
+        self.preload = (*preload, RUNS_JOBS)
         self._lock = threading.Lock()
         self._pool: ProcessPool | None = None
 
@@ -50,7 +53,7 @@ class SolverPool:
                 for key, value in ONE_THREAD_ENV.items():
                     os.environ.setdefault(key, value)
                 ctx = multiprocessing.get_context("forkserver")
-                ctx.set_forkserver_preload(list(PRELOAD))
+                ctx.set_forkserver_preload(list(self.preload))
                 self._pool = ProcessPool(max_workers=self.workers, max_tasks=self.max_tasks, context=ctx)
             return self._pool
 
