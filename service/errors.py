@@ -8,7 +8,7 @@ a time limit that runs out is an HTTP 504 saying what was reached, and nothing i
   syntax error;
 * request validation (pydantic): FastAPI's own errors, with non-finite numbers in the
   echoed ``input``/``ctx`` turned into strings so the body stays valid JSON;
-* ``models.errors.InvalidInput(field, reason)``: ``loc`` ["body", field], type
+* ``models.core.errors.InvalidInput(field, reason)``: ``loc`` ["body", field], type
   ``value_error``;
 * :class:`FieldError` (an ``InvalidInput`` located inside a nested field, e.g. the
   weights of the third support of a batch): ``loc`` ["body", *path], type ``value_error``;
@@ -18,7 +18,7 @@ a time limit that runs out is an HTTP 504 saying what was reached, and nothing i
   and, when a route converted it (:func:`time_limited`), the partial result;
 * any other ``solver.core.errors.SolverError`` (an optimisation back end failed or ended
   with an unusable status): ``loc`` ["body"], type ``solver_error``;
-* any other ``models.errors.ModelError`` (e.g. a boundary solve that missed its
+* any other ``models.core.errors.ModelError`` (e.g. a boundary solve that missed its
   tolerance): ``loc`` ["body"], type ``model_error``;
 * :class:`NonFiniteResult`: the input is valid but so extreme that a result overflowed;
   ``loc`` ["body"], type ``numeric_range``. Python's own ``ArithmeticError`` (a float
@@ -44,7 +44,7 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
-from models.errors import InvalidInput, ModelError
+from models.core.errors import InvalidInput, ModelError
 from service.limits import ECHO_MAX_CHARS, ECHO_MAX_DEPTH, ECHO_MAX_ERRORS, ECHO_MAX_ITEMS
 from solver import SolverError, TimeLimitReached
 

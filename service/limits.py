@@ -162,21 +162,21 @@ the COR locus; the smaller maximum bounds one request to about a second)."""
 
 SKETCH_MIN_LENGTH = 1e-100
 """Smallest disk radius (or polygon circumradius) of a COR sketch: the sense of rotation
-(models.mpp.mason_sense) squares lengths, which underflow below about 1e-154 and turn every
+(models.core.mpp.mason_sense) squares lengths, which underflow below about 1e-154 and turn every
 push into a translation."""
 
 # ---------------------------------------------------------------------------------------
 # Gross motions (book 3.4, 4.3, 4.4): POST /v1/push/align and POST /v1/push/disk-encounter.
-# An exact bound (models.gross.gross_bounds) builds one COR sketch per Gauss node at n_nodes and
+# An exact bound (models.push.gross_bounds) builds one COR sketch per Gauss node at n_nodes and
 # at n_nodes // 2 nodes (the error estimate). The cost model of the sketches is
-# solver.gross.bounds.SKETCH_COST; a request whose predicted cost exceeds its time_limit_s is
+# solver.push.bounds.SKETCH_COST; a request whose predicted cost exceeds its time_limit_s is
 # refused (422 at time_limit_s) before any work, and one that runs out on the way is answered
 # 504 with the stages it finished.
 # ---------------------------------------------------------------------------------------
 
 GROSS_MIN_N_NODES = 4
 GROSS_MAX_N_NODES = 64
-"""Gauss-Legendre nodes of an exact gross-motion bound (models.gross.gross_bounds needs >= 4)."""
+"""Gauss-Legendre nodes of an exact gross-motion bound (models.push.gross_bounds needs >= 4)."""
 
 ALIGN_DEFAULT_N_NODES = 8
 ENCOUNTER_DEFAULT_N_NODES = 16

@@ -14,35 +14,7 @@ from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
 from solver.feeder.design import BeltSpec, FeederDesignProblem, FeederDesignResult, angle_count, feeder_design
 from solver.feeder.part_bound import PartBoundCost, PartBoundSettings
-from solver.feeder.workflow import (
-    FeederMapProblem,
-    FeederMapResult,
-    FeederSimProblem,
-    FeederSimResult,
-    feeder_map,
-    feeder_simulate,
-)
-from solver.gross.align import AlignProblem, AlignResult, AlignStage, Slip, align, below_line_of_motion
-from solver.gross.bounds import ENCOUNTER_SKETCH_COST, SKETCH_COST, Bound, QuasiStaticQuery
-from solver.gross.disk_encounter import DiskEncounterProblem, DiskEncounterResult, disk_encounter
-from solver.locus.certified_locus import (
-    CertifiedDiskBoundary,
-    CertifiedPolygonBoundary,
-    certified_disk_boundary,
-    certified_polygon_boundary,
-)
-from solver.locus.certified_sketch import CertifiedSketch, certified_sketch
-from solver.locus.cor_locus import LocusProblem, LocusResult, cor_locus
-from solver.locus.membership import MembershipProblem, MembershipResult, decide_membership, membership
-from solver.locus.sketch import SketchProblem, SketchResult, sketch
-from solver.locus.sticking import StickingResult, sticking_feasibility
-from solver.locus.sticking_locus import LocusEnd, StickingLocus, sticking_locus
-from solver.motion.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch
-from solver.motion.particle import ParticleProblem, ParticleSolution, particle
-from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure, solve_motion
-from solver.motion.statistics import HistogramQuery, TripodStatistics, TripodStatisticsProblem, tripod_statistics
-from solver.motion.tripod_search import ExtremeCorResult, extreme_cor_search
-from solver.sim.feeder import (
+from solver.feeder.simulate import (
     DEFAULT_FENCE_LENGTH_RADII,
     BeltRun,
     FeederSimSettings,
@@ -52,7 +24,31 @@ from solver.sim.feeder import (
     simulate_belt_batch,
     simulate_fence,
 )
-from solver.sim.push import (
+from solver.feeder.workflow import (
+    FeederMapProblem,
+    FeederMapResult,
+    FeederSimProblem,
+    FeederSimResult,
+    feeder_map,
+    feeder_simulate,
+)
+from solver.locus.certified_locus import (
+    CertifiedDiskBoundary,
+    CertifiedPolygonBoundary,
+    certified_disk_boundary,
+    certified_polygon_boundary,
+)
+from solver.locus.cor_locus import LocusProblem, LocusResult, cor_locus
+from solver.locus.membership import MembershipProblem, MembershipResult, decide_membership, membership
+from solver.motion.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch
+from solver.motion.solve import Impact, MotionProblem, MotionResult, UniformPressure, solve_motion
+from solver.motion.statistics import HistogramQuery, TripodStatistics, TripodStatisticsProblem, tripod_statistics
+from solver.motion.tripod_search import ExtremeCorResult, extreme_cor_search
+from solver.particle.solve import ParticleProblem, ParticleSolution, mpp_particle
+from solver.push.align import AlignProblem, AlignResult, AlignStage, Slip, align, below_line_of_motion
+from solver.push.bounds import ENCOUNTER_SKETCH_COST, SKETCH_COST, Bound, QuasiStaticQuery
+from solver.push.disk_encounter import DiskEncounterProblem, DiskEncounterResult, disk_encounter
+from solver.push.simulate import (
     BatchSimulation,
     PushSimulation,
     simulate_disk_encounter,
@@ -60,7 +56,10 @@ from solver.sim.push import (
     simulate_fence_alignment,
     simulate_fence_alignment_batch,
 )
-from solver.sim.spiral import SpiralBatch, SpiralRun, simulate_spiral, simulate_spiral_batch, spiral_check
+from solver.sketch.certified_sketch import CertifiedSketch, certified_sketch
+from solver.sketch.cor_sketch import SketchProblem, SketchResult, cor_sketch
+from solver.sketch.sticking import StickingResult, sticking_feasibility
+from solver.sketch.sticking_locus import LocusEnd, StickingLocus, sticking_locus
 from solver.spiral.critical_radius import (
     CriticalRadii,
     CriticalRadiusProblem,
@@ -70,16 +69,17 @@ from solver.spiral.critical_radius import (
 )
 from solver.spiral.plan import PathQuery, SimulationQuery, SpiralPlan, SpiralProblem, plan_spiral
 from solver.spiral.schedule import SpiralSchedule, spiral_schedule
+from solver.spiral.simulate import SpiralBatch, SpiralRun, simulate_spiral, simulate_spiral_batch, spiral_check
 
 ENTRY_POINTS = (
     align,
     disk_encounter,
     cor_locus,
-    sketch,
+    cor_sketch,
     decide_membership,
     solve_motion,
     tripod_statistics,
-    particle,
+    mpp_particle,
     plan_spiral,
     critical_radii,
     feeder_map,
@@ -152,7 +152,7 @@ __all__ = [
     "membership",
     "SketchProblem",
     "SketchResult",
-    "sketch",
+    "cor_sketch",
     "StickingResult",
     "sticking_feasibility",
     "LocusEnd",
@@ -164,7 +164,7 @@ __all__ = [
     "solve_forward_batch",
     "ParticleProblem",
     "ParticleSolution",
-    "particle",
+    "mpp_particle",
     "Impact",
     "MotionProblem",
     "MotionResult",

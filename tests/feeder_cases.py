@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.feeder.fence import Fence, Part
-from models.footprint import Footprint
-from models.support import random_balanced_tripods
+from models.core.footprint import Footprint
+from models.core.support import random_balanced_tripods
+from models.feeder.fence import Fence, feeder_part
 
 # (vertices, centre of mass); the CM of a uniform plate unless said otherwise
 PARTS = {
@@ -26,8 +26,8 @@ PARTS = {
 }
 
 
-def part(name: str) -> Part:
-    return Part.create(*PARTS[name])
+def part(name: str) -> Footprint:
+    return feeder_part(*PARTS[name])
 
 
 @dataclass(frozen=True)
@@ -35,7 +35,7 @@ class Encounter:
     """One part with one support, its body points relative to the CM."""
 
     name: str
-    part: Part
+    part: Footprint
     body: np.ndarray
     weights: np.ndarray
     theta: float
@@ -44,7 +44,8 @@ class Encounter:
 def random_support(rng: np.random.Generator, name: str) -> tuple[np.ndarray, np.ndarray]:
     """A balanced tripod inside the part's outline (body frame, relative to the CM)."""
     verts, cm = PARTS[name]
-    pts, wts = random_balanced_tripods(rng, 1, Part.create(verts, cm).radius, footprint=Footprint.create(verts, cm))
+    footprint = Footprint.create(verts, cm)
+    pts, wts = random_balanced_tripods(rng, 1, footprint.circumradius, footprint=footprint)
     return pts[0] - np.asarray(cm, dtype=float), wts[0]
 
 
@@ -89,4 +90,4 @@ def first_contact_reach(the_part, fence, run):
     hull = cm + the_part.hull @ np.array([[math.cos(theta), math.sin(theta)], [-math.sin(theta), math.cos(theta)]])
     z = hull @ fence.normal
     along = float(hull[int(np.argmin(z))] @ (fence.sign * np.array([math.cos(fence.angle), math.sin(fence.angle)])))
-    return along if z.min() <= 1e-9 * the_part.radius and along > 0.0 else None
+    return along if z.min() <= 1e-9 * the_part.circumradius and along > 0.0 else None

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from models.scene import PushScene
+from models.core.scene import PushScene
 
 SEED = 20261122
 

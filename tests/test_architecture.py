@@ -84,6 +84,12 @@ def test_config_declares_expected_contracts() -> None:
         "pydantic", "starlette", "matplotlib", "uvicorn",
     }
 
+    inside_models = by_id["models-layers"]
+    assert inside_models["type"] == "layers" and inside_models["containers"] == ["models"]
+    assert inside_models["exhaustive"]
+    folders = sorted(p.name for p in (REPO_ROOT / "models").iterdir() if (p / "__init__.py").is_file())
+    assert sorted(name.strip() for layer in inside_models["layers"] for name in layer.split("|")) == folders
+
     solver = by_id["solver-no-web"]
     assert solver["type"] == "forbidden" and solver["source_modules"] == ["solver"]
     assert set(solver["forbidden_modules"]) >= {
@@ -99,6 +105,10 @@ def test_config_declares_expected_contracts() -> None:
     public = by_id["solver-public"]
     assert public["type"] == "protected" and public["allowed_importers"] == ["solver"]
     assert sorted(public["protected_modules"]) == [f"solver.{name}" for name in capabilities]
+
+    below = by_id["service-runtime-below-api"]
+    assert below["type"] == "forbidden" and set(below["source_modules"]) == {"service.runtime", "service.common"}
+    assert set(below["forbidden_modules"]) >= {"service.api", "service.app"}
 
     api = by_id["api-independent"]
     assert api["type"] == "independence"
@@ -162,8 +172,13 @@ def test_models_imports_only_numpy_and_stdlib() -> None:
 _VIOLATIONS = {
     "solver-core-imports-certify": ("solver/core/bad.py", "import solver.certify\n", "Inside solver"),
     "solver-locus-imports-spiral": ("solver/locus/bad.py", "import solver.spiral\n", "Inside solver"),
-    "solver-gross-imports-spiral": ("solver/gross/bad.py", "import solver.spiral\n", "Inside solver"),
+    "solver-push-imports-spiral": ("solver/push/bad.py", "import solver.spiral\n", "Inside solver"),
+    "models-core-imports-feeder": ("models/core/bad.py", "import models.feeder\n", "Inside models"),
+    "models-locus-imports-sketch": ("models/locus/bad.py", "import models.sketch\n", "Inside models"),
+    "models-push-imports-spiral": ("models/push/bad.py", "import models.spiral\n", "Inside models"),
     "service-imports-a-solver-module": ("service/bad.py", "import solver.locus\n", "Outside solver"),
+    "runtime-imports-a-resource": ("service/runtime/bad.py", "import service.api.locus\n", "service runtime and common"),
+    "common-imports-the-app": ("service/common/bad.py", "import service.app\n", "service runtime and common"),
     "api-resource-imports-another": ("service/api/sketch/bad.py", "import service.api.locus\n", "service/api resources"),
     "models-imports-solver": ("models/bad.py", "import solver\n", "Layers"),
     "solver-imports-service": ("solver/bad.py", "import service\n", "Layers"),
@@ -184,6 +199,9 @@ def test_contracts_catch_violations(tmp_path: Path, case: str) -> None:
             packages += [m.replace(".", "/") for m in contract["modules"]]
         elif contract["type"] == "protected":
             packages += [m.replace(".", "/") for m in contract["protected_modules"]]
+        elif contract["type"] == "forbidden":
+            packages += [m.replace(".", "/") for m in (*contract["source_modules"], *contract["forbidden_modules"])
+                         if m.split(".")[0] in cfg["root_packages"]]
         elif contract.get("containers"):
             for container in contract["containers"]:
                 for layer in contract["layers"]:

@@ -32,7 +32,7 @@ def private_uses(path: Path) -> list[str]:
                 if _is_private(alias.name):
                     found.append(f"{path.relative_to(REPO_ROOT)}:{node.lineno}: from {node.module} import {alias.name}")
                 else:
-                    aliases.add(alias.asname or alias.name)  # may be a module (from solver.locus import sticking)
+                    aliases.add(alias.asname or alias.name)  # may be a module (from solver.sketch import sticking)
         elif isinstance(node, ast.Import):
             for alias in node.names:
                 if _project(alias.name):
@@ -50,7 +50,7 @@ def private_uses(path: Path) -> list[str]:
 def test_the_scan_finds_both_kinds_of_use(tmp_path, monkeypatch):
     bad = REPO_ROOT / "tests" / "_private_probe_for_the_scan.py"
     try:
-        bad.write_text("from solver.locus.sticking import _hidden\nfrom solver.locus import sticking as st\nst._geo\n")
+        bad.write_text("from solver.sketch.sticking import _hidden\nfrom solver.sketch import sticking as st\nst._geo\n")
         uses = private_uses(bad)
     finally:
         bad.unlink()

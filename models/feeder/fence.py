@@ -9,8 +9,9 @@ perpendicular to the belt's motion, in (-pi/2, pi/2): the book's "fence angle" o
 belt's right side, and the part slides down it to the left; gamma < 0 is its mirror image.
 Its face has the normal n = (-sin gamma, cos gamma) (into the part, which comes from +y).
 
-Part: a polygon's convex hull h_0..h_{m-1} (CCW, CM at the origin, body frame); edge j
-runs from h_j to h_{j+1}, its direction angle phi_j. Orientation theta turns the body frame
+The part: its footprint in the body frame (:func:`feeder_part`, CM at the origin), whose
+convex hull h_0..h_{m-1} (CCW) meets the fence; edge j runs from h_j to h_{j+1}, its
+direction angle phi_j. Orientation theta turns the body frame
 into the world frame.
 
 The phases of one encounter, each derived in docs/architecture.md ("Chapter 5: a part
@@ -64,14 +65,14 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.mpp import mason_sense, perp
+from models.core.scene import PushScene
 from models.feeder.arcs import Arcs, wrap
 from models.feeder.maps import ConfigurationMap
-from models.gross.fence_geometry import convex_hull_indices
 from models.locus.cor_disk import disk_cor_locus
-from models.locus.cor_sketch import force_scene
-from models.mpp import mason_sense, perp
-from models.scene import PushScene
+from models.sketch.disk_sketch import force_scene
 
 PUSH = np.array([0.0, 1.0])
 """The fence's velocity in the belt's frame (unit speed)."""
@@ -88,8 +89,8 @@ class FeederTolerances:
     """Named tolerances of the fence map.
 
     Attributes:
-        collinear_rel: a hull point whose turn is at most this times the squared span is
-            dropped (convex_hull_indices).
+        collinear_rel: the CM must lie inside every hull edge by more than this times the
+            squared radius (:func:`feeder_part`; the hull itself is the footprint's).
         endpoint_steps: Heun steps of the extreme-B integration along the edge (5.1).
         locus_points: boundary points of each disk locus in that integration.
         grazing_margin: radians short of A at which that integration stops (the edge is
@@ -125,65 +126,20 @@ DEFAULT = FeederTolerances()
 FINE = FeederTolerances(endpoint_steps=200, locus_points=400, b_margin=0.0)
 
 
-@dataclass(frozen=True)
-class Part:
-    """A part's convex hull in its body frame (CM at the origin, CCW), its circumscribing
-    radius about the CM (the disk bound's a), which input vertex each hull vertex is, and
-    the outline as given (body frame: where its pressure distribution may lie, the part's
-    own bound's footprint)."""
-
-    hull: np.ndarray
-    vertex_index: tuple[int, ...]
-    radius: float
-    outline: np.ndarray
-
-    @classmethod
-    def create(cls, vertices: ArrayLike, center_of_mass: ArrayLike = (0.0, 0.0),
-               tol: FeederTolerances = DEFAULT) -> Part:
-        v = np.asarray(vertices, dtype=float)
-        if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3:
-            raise InvalidInput("vertices", "need at least three points [x, y]")
-        if not np.all(np.isfinite(v)):
-            raise InvalidInput("vertices", "must be finite numbers")
-        cm = np.asarray(center_of_mass, dtype=float)
-        if cm.shape != (2,) or not np.all(np.isfinite(cm)):
-            raise InvalidInput("center_of_mass", "must be a finite point [x, y]")
-        # Work relative to the CM and per unit size, so that hull and tests do not depend
-        # on the scale (1e-6 .. 1e6 parts give the same map).
-        q = v - cm
-        scale = float(np.max(np.hypot(q[:, 0], q[:, 1])))
-        if not scale > 0.0:
-            raise InvalidInput("vertices", "all vertices lie at the centre of mass")
-        idx = convex_hull_indices(q / scale, tol.collinear_rel)
-        if len(idx) < 3:
-            raise InvalidInput("vertices", "the part's outline has no area (collinear vertices)")
-        hull = q[idx]
-        e = np.roll(hull, -1, axis=0) - hull
-        inside = e[:, 0] * (-hull[:, 1]) - e[:, 1] * (-hull[:, 0])  # edge x (CM - h_j)
-        if not np.all(inside > tol.collinear_rel * scale * scale):
-            raise InvalidInput("center_of_mass", "must lie strictly inside the part's convex hull")
-        return cls(hull=hull, vertex_index=tuple(int(i) for i in idx),
-                   radius=float(np.max(np.hypot(hull[:, 0], hull[:, 1]))), outline=q)
-
-    @property
-    def m(self) -> int:
-        return len(self.hull)
-
-    def edge(self, j: int) -> tuple[np.ndarray, float, np.ndarray]:
-        """(start h_j, length L_j, unit direction e_j) of edge j."""
-        p = self.hull[j % self.m]
-        d = self.hull[(j + 1) % self.m] - p
-        length = float(math.hypot(float(d[0]), float(d[1])))
-        return p, length, d / length
-
-    def edge_angle(self, j: int) -> float:
-        _, _, e = self.edge(j)
-        return math.atan2(float(e[1]), float(e[0]))
-
-    def cm_in_edge_frame(self, j: int) -> tuple[float, float]:
-        """(u_c, h_c): the CM from h_j along edge j, and its height above the edge (> 0)."""
-        p, _, e = self.edge(j)
-        return float(-p @ e), float(-p @ perp(e))
+def feeder_part(vertices: ArrayLike, center_of_mass: ArrayLike = (0.0, 0.0),
+                tol: FeederTolerances = DEFAULT) -> Footprint:
+    """The part as the fence maps take it: its footprint (:meth:`Footprint.create`, one
+    validation for every route) in the body frame, the CM at the origin
+    (:meth:`Footprint.centred`; ``center_of_mass`` defaults to the origin of ``vertices``).
+    The CM must lie strictly inside the convex hull: on a hull edge, that edge has no height
+    above the CM and phase 4 could not decide it."""
+    part = Footprint.create(vertices, center_of_mass).centred()
+    hull = part.hull
+    e = np.roll(hull, -1, axis=0) - hull
+    inside = e[:, 0] * (-hull[:, 1]) - e[:, 1] * (-hull[:, 0])  # edge x (CM - h_j)
+    if not np.all(inside > tol.collinear_rel * part.circumradius ** 2):
+        raise InvalidInput("center_of_mass", "must lie strictly inside the part's convex hull")
+    return part
 
 
 @dataclass(frozen=True)
@@ -246,16 +202,16 @@ class Fence:
         return self.mu_high >= self.jam_threshold
 
 
-def flush_orientation(part: Part, j: int, gamma: float) -> float:
+def flush_orientation(part: Footprint, j: int, gamma: float) -> float:
     """theta with edge j flush on the fence (the part above it): theta + phi_j = gamma."""
-    return wrap(gamma - part.edge_angle(j))
+    return wrap(gamma - part.hull_edge_angle(j))
 
 
-def contact_interval(part: Part, k: int, gamma: float) -> tuple[float, float]:
+def contact_interval(part: Footprint, k: int, gamma: float) -> tuple[float, float]:
     """(start, width): the orientations in which hull vertex k meets the fence first,
     [flush_k, flush_{k-1}] (phase 1)."""
     start = flush_orientation(part, k, gamma)
-    width = wrap(part.edge_angle(k) - part.edge_angle(k - 1))
+    width = wrap(part.hull_edge_angle(k) - part.hull_edge_angle(k - 1))
     return start, width
 
 
@@ -285,7 +241,7 @@ def _mu_samples_for_sense(c: np.ndarray, n: np.ndarray, mu: tuple[float, float])
     return out
 
 
-def senses_at(part: Part, k: int, theta: float, fence: Fence) -> set[str]:
+def senses_at(part: Footprint, k: int, theta: float, fence: Fence) -> set[str]:
     """The senses ('ccw', 'cw') Mason's rule allows at vertex k, orientation theta, over the
     fence's mu_c interval (phase 2); a translation ('none') allows both."""
     c = rotation(theta) @ part.hull[k]
@@ -297,7 +253,7 @@ def senses_at(part: Part, k: int, theta: float, fence: Fence) -> set[str]:
     return out
 
 
-def vote_breakpoints(part: Part, k: int, fence: Fence) -> list[float]:
+def vote_breakpoints(part: Footprint, k: int, fence: Fence) -> list[float]:
     """Orientations where a ray of Mason's rule at vertex k passes through the CM: the
     push direction and the cone edges at both ends of the mu_c interval (phase 2)."""
     n = fence.normal
@@ -314,22 +270,22 @@ def vote_breakpoints(part: Part, k: int, fence: Fence) -> list[float]:
     return out
 
 
-def crossing(part: Part, j: int, mu: float, sign: float) -> float:
+def crossing(part: Footprint, j: int, mu: float, sign: float) -> float:
     """u_X of edge j (phase 4): where the force line n + mu sgn t through the CM meets it."""
-    u_c, h_c = part.cm_in_edge_frame(j)
+    u_c, h_c = part.cm_over_hull_edge(j)
     return u_c - mu * sign * h_c
 
 
-def crossing_span(part: Part, e: int, mu: tuple[float, float], sign: float,
+def crossing_span(part: Footprint, e: int, mu: tuple[float, float], sign: float,
                   tol: FeederTolerances = DEFAULT) -> tuple[float, float]:
     """The least and largest u_X of edge e over [mu_low, mu_high] (phase 4), widened by
     ``tol.crossing_rel`` part radii either way."""
     u = sorted(crossing(part, e, m, sign) for m in mu)
-    pad = tol.crossing_rel * part.radius
+    pad = tol.crossing_rel * part.circumradius
     return u[0] - pad, u[1] + pad
 
 
-def final_edges(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFAULT) -> frozenset[int]:
+def final_edges(part: Footprint, j: int, fence: Fence, tol: FeederTolerances = DEFAULT) -> frozenset[int]:
     """Every edge a part flush on edge j can come to rest on (phase 4), over the sliding
     part of the mu_c interval; empty when it always jams."""
     mu = fence.sliding_mu()
@@ -337,20 +293,20 @@ def final_edges(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFAUL
         return frozenset()
     out: set[int] = set()
     seen: set[int] = set()
-    todo = [j % part.m]
+    todo = [j % part.hull_size]
     while todo:
         e = todo.pop()
         if e in seen:
             continue
         seen.add(e)
-        _, length, _ = part.edge(e)
+        _, length, _ = part.hull_edge(e)
         u = crossing_span(part, e, mu, fence.sign, tol)
         if u[1] >= 0.0 and u[0] <= length:
             out.add(e)
         if u[0] < 0.0:
-            todo.append((e - 1) % part.m)
+            todo.append((e - 1) % part.hull_size)
         if u[1] > length:
-            todo.append((e + 1) % part.m)
+            todo.append((e + 1) % part.hull_size)
     return frozenset(out)
 
 
@@ -368,31 +324,31 @@ class EndpointTurn:
     sense_flags: int  # steps where Mason's rule at E did not give the turn's sense
 
 
-def canonical_crossing(part: Part, j: int, fence: Fence, mu: float) -> float:
+def canonical_crossing(part: Footprint, j: int, fence: Fence, mu: float) -> float:
     """u_X of edge j in the frame where gamma > 0 (mirrored for gamma < 0: u -> L - u),
     not clipped to the edge."""
     u_x = crossing(part, j, mu, fence.sign)
-    return part.edge(j)[1] - u_x if fence.sign < 0.0 else u_x
+    return part.hull_edge(j)[1] - u_x if fence.sign < 0.0 else u_x
 
 
-def canonical_edge(part: Part, j: int, fence: Fence, mu: float) -> tuple[float, float, float, float]:
+def canonical_edge(part: Footprint, j: int, fence: Fence, mu: float) -> tuple[float, float, float, float]:
     """(u_c, h_c, L, l_0) of edge j in the frame where gamma > 0 (mirrored for gamma < 0:
     u -> L - u); l_0 = u_X clipped to the edge."""
-    u_c, h_c = part.cm_in_edge_frame(j)
-    _, length, _ = part.edge(j)
+    u_c, h_c = part.cm_over_hull_edge(j)
+    _, length, _ = part.hull_edge(j)
     if fence.sign < 0.0:
         u_c = length - u_c
     return u_c, h_c, length, min(max(canonical_crossing(part, j, fence, mu), 0.0), length)
 
 
-def canonical_outline(part: Part, j: int, fence: Fence) -> np.ndarray:
+def canonical_outline(part: Footprint, j: int, fence: Fence) -> np.ndarray:
     """The part's outline (CM frame) in canonical_edge's frame with no turn yet: edge j
     along t0 = (cos |gamma|, sin |gamma|), the part above it (toward n0 = J t0), a point at
     (u, h) in the edge's frame (u mirrored to L - u for gamma < 0) at (u - u_c) t0 + (h - h_c) n0,
     as the contact of endpoint_turn at l = u. Mirrored outlines run clockwise."""
-    p, length, e = part.edge(j)
-    u = (part.outline - p) @ e
-    h = (part.outline - p) @ perp(e)
+    p, length, e = part.hull_edge(j)
+    u = (part.vertices - p) @ e
+    h = (part.vertices - p) @ perp(e)
     u_c, h_c, _, _ = canonical_edge(part, j, fence, fence.mu_low)
     if fence.sign < 0.0:
         u = length - u
@@ -455,7 +411,7 @@ def face_slip_rate(a: float, c: np.ndarray, fence: Fence, mu: float, n_points: i
     return max(float(np.max(sense * fence.sign * _slip_per_radian(turned, c, fence.tangent, n_points))), 0.0)
 
 
-def _face_rate_over_mu(part: Part, k: int, theta: float, fence: Fence, tol: FeederTolerances) -> float:
+def _face_rate_over_mu(part: Footprint, k: int, theta: float, fence: Fence, tol: FeederTolerances) -> float:
     """face_slip_rate at vertex k and orientation theta, the largest over the fence's mu_c
     interval: inf when some mu_c in it puts the cone edge through the CM."""
     c = rotation(theta) @ part.hull[k]
@@ -465,7 +421,7 @@ def _face_rate_over_mu(part: Part, k: int, theta: float, fence: Fence, tol: Feed
         if star is not None and lo <= star <= hi:
             return math.inf
     mus = tol.mu_values(lo, hi)
-    return max(face_slip_rate(part.radius, c, fence, float(m), tol.locus_points) for m in mus)
+    return max(face_slip_rate(part.circumradius, c, fence, float(m), tol.locus_points) for m in mus)
 
 
 def _reach_nodes(lo: float, hi: float, cells: int) -> np.ndarray:
@@ -493,7 +449,7 @@ class Piece:
         return self.vertex - 1 if self.sense == "ccw" else self.vertex
 
 
-def _reach_after_flush(part: Part, fence: Fence, j: int, pivot_slip: Callable[[int, str], float],
+def _reach_after_flush(part: Footprint, fence: Fence, j: int, pivot_slip: Callable[[int, str], float],
                        tol: FeederTolerances = DEFAULT) -> float:
     """Reach needed once edge j is flush until E meets u_X of the edge that stays (phase 6),
     the largest over the edges it may stay on (phase 4's chains): the pivots on the way
@@ -504,25 +460,25 @@ def _reach_after_flush(part: Part, fence: Fence, j: int, pivot_slip: Callable[[i
     assert mu is not None
     need = 0.0
     for step in (-1, 1):
-        e, slip = j % part.m, 0.0
-        for _ in range(part.m):
-            length = part.edge(e)[1]
+        e, slip = j % part.hull_size, 0.0
+        for _ in range(part.hull_size):
+            length = part.hull_edge(e)[1]
             u = crossing_span(part, e, mu, fence.sign, tol)
             if u[1] >= 0.0 and u[0] <= length:  # e may stay: slide until E meets u_X
                 ell0 = min(canonical_edge(part, e, fence, float(x))[3] for x in mu)
                 need = max(need, slip + length - ell0)
             if step < 0 and u[0] < 0.0:
                 slip += pivot_slip(e, "ccw")
-                e = (e - 1) % part.m
+                e = (e - 1) % part.hull_size
             elif step > 0 and u[1] > length:
-                slip += pivot_slip((e + 1) % part.m, "cw")
-                e = (e + 1) % part.m
+                slip += pivot_slip((e + 1) % part.hull_size, "cw")
+                e = (e + 1) % part.hull_size
             else:
                 break
     return need
 
 
-def unaligned_orientations(part: Part, fence: Fence, pieces: list[Piece], tol: FeederTolerances = DEFAULT,
+def unaligned_orientations(part: Footprint, fence: Fence, pieces: list[Piece], tol: FeederTolerances = DEFAULT,
                            checkpoint: Callable[[str], None] | None = None) -> Arcs:
     """Initial orientations from which the fence's ``reach`` may not be enough for an edge
     to come flush and slide until the end meets u_X (phase 6): in each piece, cells of
@@ -573,7 +529,7 @@ def unaligned_orientations(part: Part, fence: Fence, pieces: list[Piece], tol: F
         if checkpoint is not None:
             checkpoint(f"the reach needed from vertex {piece.vertex} turning {piece.sense}")
         k = piece.vertex
-        j = piece.flushed_edge % part.m
+        j = piece.flushed_edge % part.hull_size
         after = _reach_after_flush(part, fence, j, pivot_slip, tol)
         c_start, c_width = contact_interval(part, k, fence.angle)
         # the offsets are the cuts themselves: recomputing them from start and width left a
@@ -601,7 +557,7 @@ of the contact l (part units, canonical_edge's frame) and the turn delta, at mos
 (the circumscribing disk's loci contain the part's, 7.5); inf where it has none."""
 
 
-def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFAULT,
+def endpoint_turn(part: Footprint, j: int, fence: Fence, tol: FeederTolerances = DEFAULT,
                   own_rate: OwnRate | None = None) -> EndpointTurn:
     """Extremes A and B of leaving the fence's end on edge j (phase 5), with the disk bound,
     or the smaller of it and ``own_rate``'s (the part's own loci).
@@ -626,7 +582,7 @@ def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFA
     lost = False
     evaluations = flags = 0
     cap = most - tol.grazing_margin
-    a = part.radius
+    a = part.circumradius
     t0 = np.array([math.cos(g), math.sin(g)])
     n0 = perp(t0)
     for mu in mus:
@@ -637,7 +593,7 @@ def endpoint_turn(part: Part, j: int, fence: Fence, tol: FeederTolerances = DEFA
             """(dl / a, ddelta)/ds at contact l = ell_a a and turn delta."""
             nonlocal evaluations, flags
             c = rotation(delta) @ ((ell_a * a - u_c) * t0 - h_c * n0)
-            r, ccw = max_slip_rate(part.radius, c, g + delta, float(mu), tol.locus_points)
+            r, ccw = max_slip_rate(part.circumradius, c, g + delta, float(mu), tol.locus_points)
             evaluations += 1
             if math.isinf(r):  # the slipping force through the CM: slide without turning
                 return np.array([1.0, 0.0])
@@ -677,22 +633,22 @@ class FenceMap:
     final_edges: tuple[int, ...]  # the hull edge of each band
     turns: tuple[EndpointTurn, ...]
     fence: Fence
-    part: Part
+    part: Footprint
     bound: str = "disk"
     notes: tuple[str, ...] = field(default=())
 
 
-def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT,
+def fence_map(part: Footprint, fence: Fence, tol: FeederTolerances = DEFAULT,
               checkpoint: Callable[[str], None] | None = None, own_rate: OwnRate | None = None) -> FenceMap:
     """The configuration map of ``part`` meeting ``fence`` (phases 1-6); ``checkpoint``
     (the caller's deadline: it raises to stop) is called before each edge's extremes.
     With ``own_rate`` the extremes B are bounded by the part's own loci (``bound`` "part");
     the reach (phase 6) stays bounded by the disk."""
     gamma = fence.angle
-    finals_of_flush = {j: final_edges(part, j, fence, tol) for j in range(part.m)}
+    finals_of_flush = {j: final_edges(part, j, fence, tol) for j in range(part.hull_size)}
     kernels: dict[int, list[tuple[float, float]]] = {}
     pieces: list[Piece] = []
-    for k in range(part.m):
+    for k in range(part.hull_size):
         start, width = contact_interval(part, k, gamma)
         cuts = sorted({0.0, width} | {d for b in vote_breakpoints(part, k, fence)
                                       if 0.0 < (d := wrap(b - start)) < width})
@@ -701,7 +657,7 @@ def fence_map(part: Part, fence: Fence, tol: FeederTolerances = DEFAULT,
             for sense in sorted(senses):
                 piece = Piece(vertex=k, start=start + a, width=b - a, sense=sense, lo=a, hi=b)
                 pieces.append(piece)
-                for f in finals_of_flush[piece.flushed_edge % part.m]:
+                for f in finals_of_flush[piece.flushed_edge % part.hull_size]:
                     kernels.setdefault(f, []).append((piece.start, piece.width))
     edges = tuple(sorted(kernels))
     turns_made = []

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
 
 
 @dataclass(frozen=True)

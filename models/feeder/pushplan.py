@@ -34,10 +34,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
 from models.feeder.arcs import TWO_PI, wrap
-from models.feeder.design import DESIGN_DEFAULT, DesignTolerances, rotational_symmetry
-from models.feeder.fence import Part
+from models.feeder.design_graph import DESIGN_DEFAULT, DesignTolerances, rotational_symmetry
 
 
 @dataclass(frozen=True)
@@ -51,14 +51,14 @@ class PushFunction:
     edges: tuple[int, ...]
 
     @classmethod
-    def of(cls, part: Part) -> PushFunction:
+    def of(cls, part: Footprint) -> PushFunction:
         hull = part.hull
-        m = part.m
+        m = part.hull_size
         normals, stable, edges = [], [], []
         for j in range(m):
-            _, length, e = part.edge(j)
+            _, length, e = part.hull_edge(j)
             normals.append(math.atan2(-float(e[0]), float(e[1])))  # outward normal: e turned by -90 degrees
-            u_c, _ = part.cm_in_edge_frame(j)
+            u_c, _ = part.cm_over_hull_edge(j)
             if 0.0 < u_c < length:  # the CM's foot strictly inside the edge: a minimum
                 stable.append(wrap(normals[j]))
                 edges.append(j)
@@ -111,7 +111,7 @@ def _classes(pf: PushFunction, state: frozenset[int]) -> list[tuple[float, float
     return out
 
 
-def plan_pushes(part: Part, max_pushes: int = 20, tol: DesignTolerances = DESIGN_DEFAULT,
+def plan_pushes(part: Footprint, max_pushes: int = 20, tol: DesignTolerances = DESIGN_DEFAULT,
                 checkpoint: Callable[[str], None] | None = None) -> PushPlan:
     """The shortest push plan (module docstring), breadth first; among the shortest the one
     whose least tolerance is largest."""
@@ -120,7 +120,7 @@ def plan_pushes(part: Part, max_pushes: int = 20, tol: DesignTolerances = DESIGN
     k = rotational_symmetry(part, tol)
 
     def goal(state: frozenset[int]) -> bool:  # one class of edges under the hull's symmetry (as the design's orbits)
-        return len({pf.edges[s] % (part.m // k) for s in state}) == 1
+        return len({pf.edges[s] % (part.hull_size // k) for s in state}) == 1
 
     start = frozenset(range(len(pf.stable)))
     if goal(start):

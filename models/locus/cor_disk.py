@@ -29,10 +29,10 @@ from typing import Any, Iterable
 
 import numpy as np
 
-from models.arrays import Real
-from models.errors import InvalidInput, ModelError
-from models.scene import PushScene
-from models.tolerances import DEFAULT, Tolerances
+from models.core.arrays import Real
+from models.core.errors import InvalidInput, ModelError
+from models.core.scene import PushScene
+from models.core.tolerances import DEFAULT, Tolerances
 
 SQRT_HALF = math.sqrt(0.5)
 

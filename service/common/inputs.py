@@ -11,8 +11,8 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
 from service.errors import FieldError
 
 Loc = tuple[str | int, ...]
@@ -48,5 +48,5 @@ def exactly_one(req, names: tuple[str, ...]) -> str:
 def footprint_of(vertices, center_of_mass, field: Loc) -> Footprint:
     """``Footprint.create`` with its errors located at ``field`` (it calls the polygon
     "workpiece")."""
-    with located(rename={"workpiece": field, "vertices": field}):
+    with located(rename={"workpiece": field}):
         return Footprint.create(vertices, center_of_mass)

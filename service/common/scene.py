@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
-from models.scene import PushScene
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.scene import PushScene
 from service.common.inputs import exactly_one, footprint_of, located
 from service.limits import CONTACT_IN_DISK_REL, CONTACT_ON_OUTLINE_REL
 

@@ -1,7 +1,7 @@
 """Column generation: decide one candidate r of a certified COR problem, with a witness
 or a certificate.
 
-A problem (:mod:`solver.locus.membership`, :mod:`solver.locus.sticking`) describes itself
+A problem (:mod:`solver.locus.membership`, :mod:`solver.sketch.sticking`) describes itself
 at r by a :class:`Rows` object: its columns at outline points, the point-mass columns when
 r lies in the footprint, the right-hand side b, the dual functional of a (y, lambda), and
 the outline seen from r. :func:`decide` then runs the loop

@@ -21,8 +21,8 @@ from typing import Protocol
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.footprint import Footprint, inside_polygon
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint, inside_polygon
 from solver.core.tolerances import SolverTolerances
 
 ON_BOUNDARY_REL = 1e-9

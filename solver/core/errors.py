@@ -1,7 +1,7 @@
 """The optimisation layer's errors.
 
 * :class:`SolverError`: a back end failed; the base of the others (and a
-  :class:`models.errors.ModelError`).
+  :class:`models.core.errors.ModelError`).
 * :class:`NotConverged`: a back end stopped without an answer it could vouch for (an
   iteration cap, a numerical failure, an unusable status).
 * :class:`Infeasible`: the problem has no solution (e.g. no pressure distribution gives
@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from models.errors import InvalidInput, ModelError
+from models.core.errors import InvalidInput, ModelError
 
 
 class SolverError(ModelError):

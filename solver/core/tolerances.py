@@ -1,5 +1,5 @@
 """Named tolerances of the optimisation engine, passed in explicitly; never bare
-literals in code bodies. (The closed forms' tolerances are :mod:`models.tolerances`.)"""
+literals in code bodies. (The closed forms' tolerances are :mod:`models.core.tolerances`.)"""
 
 from __future__ import annotations
 

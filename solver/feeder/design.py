@@ -1,9 +1,9 @@
 """Designing a parts feeder end to end (issue 13; book 5.3, 5.4, 1.8.6): the baseline push
 plan of a frictionless pusher for the same part (models/feeder/pushplan.py), the maps of the
 candidate fences, the shortest design by the breadth-first search of
-models/feeder/design.py (optionally proven again by CP-SAT, solver/feeder/design_cpsat.py),
+models/feeder/design_graph.py (optionally proven again by CP-SAT, solver/feeder/design_cpsat.py),
 and its validation by simulation: random parts (support, orientation, mu_c in the interval)
-through the designed fences (solver/sim/feeder.py, batched), each of which must end in the
+through the designed fences (solver/feeder/simulate.py, batched), each of which must end in the
 promised bands. Under a budget: past the deadline the answer says how far it got (maps
 made, depth proven, the design if one was found, the parts simulated).
 """
@@ -16,9 +16,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from models.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.support import random_balanced_tripods
 from models.feeder.arcs import Arcs
-from models.feeder.design import (
+from models.feeder.design_graph import (
     DESIGN_DEFAULT,
     Design,
     DesignGraph,
@@ -27,16 +28,14 @@ from models.feeder.design import (
     SearchResult,
     search_design,
 )
-from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, Part, fence_map
+from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, fence_map
 from models.feeder.layout import CLEARANCE_RADII, SPACING_RADII, BeltLayout, check_belt, lay_out
 from models.feeder.maps import ConfigurationMap, sequence
 from models.feeder.pushplan import PushPlan, plan_pushes
-from models.footprint import Footprint
-from models.support import random_balanced_tripods
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import TimeLimitReached
 from solver.feeder.design_cpsat import CpSatDesign, shortest_design_cpsat
-from solver.sim.feeder import BeltRun, FenceSegment, simulate_belt_batch, simulate_fence_batch
+from solver.feeder.simulate import BeltRun, FenceSegment, simulate_belt_batch, simulate_fence_batch
 
 VALIDATION_MU_VALUES = 5
 """mu_c values, evenly over the interval, among which each validation part draws its own."""
@@ -85,7 +84,7 @@ class FeederDesignProblem:
     the deepest design sought, whether consecutive fences alternate sides, whether CP-SAT
     proves the depth again, and how many simulated parts validate the design (seeded)."""
 
-    part: Part
+    part: Footprint
     angle_min: float
     angle_max: float
     angle_step: float
@@ -95,7 +94,6 @@ class FeederDesignProblem:
     prove_with_cp_sat: bool = False
     validation_parts: int = 0
     seed: int = 0
-    footprint: Footprint | None = None  # the outline (body frame), for the validation supports
     belt: BeltSpec | None = None
     tol: FeederTolerances = DEFAULT
     design_tol: DesignTolerances = DESIGN_DEFAULT
@@ -195,10 +193,7 @@ def _validate(problem: FeederDesignProblem, fences: list[Fence], final: Arcs, la
     rng = np.random.default_rng(problem.seed)
     part = problem.part
     n = problem.validation_parts
-    footprint = problem.footprint
-    assert footprint is not None  # checked before the maps
-    pts, wts = random_balanced_tripods(rng, n, part.radius, footprint=footprint)
-    body = pts - footprint.center_of_mass
+    body, wts = random_balanced_tripods(rng, n, part.circumradius, footprint=part)  # CM at the origin
     lo, hi = problem.mu_c
     mus = np.linspace(lo, hi, VALIDATION_MU_VALUES) if hi > lo else np.array([lo])
     mu_of = mus[rng.integers(0, len(mus), n)]
@@ -210,7 +205,7 @@ def _validate(problem: FeederDesignProblem, fences: list[Fence], final: Arcs, la
         examples: tuple[BeltRun, ...] = ()
     else:
         segs = [FenceSegment.create(f, p.end, p.length) for f, p in zip(fences, layout.fences)]
-        start = np.array([layout.entry_x, float(layout.fences[0].root[1]) + part.radius * (1.0 + ENTRY_CLEARANCE)])
+        start = np.array([layout.entry_x, float(layout.fences[0].root[1]) + part.circumradius * (1.0 + ENTRY_CLEARANCE)])
         runs = simulate_belt_batch(part, segs, mu_of, supports, theta, np.tile(start, (n, 1)), budget=budget)
         finished = np.array([r.status == "left" for r in runs], dtype=bool)
         missed = np.array([r.missed for r in runs], dtype=bool)
@@ -226,7 +221,7 @@ def _validate(problem: FeederDesignProblem, fences: list[Fence], final: Arcs, la
                       on_belt=layout is not None, off_belt=int(off_belt.sum()), examples=examples)
 
 
-def _through_each_fence(part: Part, fences: list[Fence], mu_of: np.ndarray, supports: list[tuple[np.ndarray, np.ndarray]],
+def _through_each_fence(part: Footprint, fences: list[Fence], mu_of: np.ndarray, supports: list[tuple[np.ndarray, np.ndarray]],
                         theta: np.ndarray, budget: Budget) -> tuple[np.ndarray, np.ndarray]:
     """Each fence in its own frame (the part meets it at 0.7 of a 40-radius fence), the final
     orientation of one the initial of the next: (finished, unflushed) per part; ``theta``
@@ -246,7 +241,7 @@ def _through_each_fence(part: Part, fences: list[Fence], mu_of: np.ndarray, supp
     return finished, unflushed
 
 
-def _leaves_belt(part: Part, run: BeltRun, half_width: float) -> bool:
+def _leaves_belt(part: Footprint, run: BeltRun, half_width: float) -> bool:
     """Whether the part's outline crossed x = +-half_width at any recorded pose."""
     for r in run.runs:
         c, s_ = np.cos(r.thetas)[:, None], np.sin(r.thetas)[:, None]
@@ -262,7 +257,7 @@ def _place(problem: FeederDesignProblem, graph: DesignGraph, design: Design,
     at it that the reach may not align (phase 6: the map of that fence with its reach)."""
     assert problem.belt is not None
     b = problem.belt
-    a = problem.part.radius
+    a = problem.part.circumradius
     fences = [graph.maps[f].fence for f in design.fences]
     layout = lay_out([f.angle for f in fences], a, b.width, *b.gaps(a), b.entry_x)
     checks = []
@@ -291,10 +286,8 @@ def _measure_within(a: Arcs, b: Arcs) -> float:
 def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> FeederDesignResult:
     t0 = time.perf_counter()
     # what would fail only after the maps and the search is refused first
-    if problem.validation_parts > 0 and problem.footprint is None:
-        raise InvalidInput("validation_parts", "validation needs the part's outline (footprint)")
     if problem.belt is not None:
-        check_belt(problem.part.radius, problem.belt.width, *problem.belt.gaps(problem.part.radius),
+        check_belt(problem.part.circumradius, problem.belt.width, *problem.belt.gaps(problem.part.circumradius),
                    problem.belt.entry_x)
     timings: dict[str, float] = {}
     maps: list[FenceMap] = []

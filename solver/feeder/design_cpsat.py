@@ -3,7 +3,7 @@ a proof that no shorter design exists, or that none exists up to a depth.
 
 For a depth D the model chooses one candidate fence per position d (``sel[d][f]``),
 alternating sides when asked, and tracks which bands of the chosen fence the part may be in
-(``occ[d][f][j]``, models/feeder/design.py's code sets):
+(``occ[d][f][j]``, models/feeder/design_graph.py's code sets):
 
 * position 0: every band of f with a kernel, and only fences that can come first;
 * position d > 0: band j of f is occupied when f is chosen and some occupied band i of the
@@ -15,7 +15,7 @@ alternating sides when asked, and tracks which bands of the chosen fence the par
 Occupancies are only bounded below, which is exact for feasibility: the solver can always
 set them to the code sets themselves. Depths are tried in order 1, 2, ...: the first
 feasible one is the least (every smaller one was proven infeasible), as the breadth-first
-search of models/feeder/design.py finds; the two are independent and must agree.
+search of models/feeder/design_graph.py finds; the two are independent and must agree.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from models.feeder.design import DesignGraph
+from models.feeder.design_graph import DesignGraph
 from solver.core.budget import UNLIMITED, Budget
 
 MIN_TIME_LIMIT_S = 1e-3

@@ -44,9 +44,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from models.core.footprint import Footprint
+from models.core.mpp import perp
+from models.core.scene import PushScene
 from models.feeder.fence import (
     Fence,
-    Part,
     canonical_crossing,
     canonical_edge,
     canonical_outline,
@@ -54,9 +56,6 @@ from models.feeder.fence import (
     slip_normal,
     upward_slip_scene,
 )
-from models.footprint import Footprint
-from models.mpp import perp
-from models.scene import PushScene
 from solver.core.errors import SolverError, TimeLimitReached
 from solver.locus.certified_locus import polygon_trace, trace_ray
 from solver.motion.forward import solve_forward_batch
@@ -139,7 +138,7 @@ class PartLoci:
     (the caller's deadline) is called before each locus is searched. Not shared between
     threads: each map builds its own."""
 
-    def __init__(self, part: Part, fence: Fence, settings: PartBoundSettings = PART_DEFAULT,
+    def __init__(self, part: Footprint, fence: Fence, settings: PartBoundSettings = PART_DEFAULT,
                  checkpoint: Callable[[str], None] | None = None):
         self.part, self.fence, self.settings, self.checkpoint = part, fence, settings, checkpoint
         self._loci = self._rays = self._bracketed = self._dipods = self._failed = 0
@@ -156,7 +155,7 @@ class PartLoci:
         CORs (witnesses) and the outer ends of certified rays aimed at the dipods that
         maximise each of ``normals``; None where the disk decides (the force through the
         CM, or turning the part CW: no upward slip, endpoint_turn; or a ray not certified)."""
-        turned, m_sign = upward_slip_scene(self.part.radius, contact, edge_angle, mu)
+        turned, m_sign = upward_slip_scene(self.part.circumradius, contact, edge_angle, mu)
         if m_sign >= 0:
             return None
         t0 = time.perf_counter()

@@ -4,7 +4,7 @@
   bounded with the circumscribing disk, or on request the part's own loci), their product (5.1, 5.4, 5.5), and optionally its
   boolean matrix on an orientation grid.
 * :func:`feeder_simulate`: one part with one known support through the fences in order
-  (solver/sim/feeder.py), the final orientation of each fence the initial one of the next,
+  (solver/feeder/simulate.py), the final orientation of each fence the initial one of the next,
   and whether each outcome lies in its fence's map. Fences are either each in its own
   frame (the part placed above it), or segments placed in the world frame of a belt, met
   one after the other from a start pose (a fence passed untouched is "missed").
@@ -20,13 +20,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, Part, fence_map
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, fence_map
 from models.feeder.maps import ConfigurationMap, sequence
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import TimeLimitReached
 from solver.feeder.part_bound import PART_DEFAULT, PartBoundCost, PartBoundSettings, PartLoci
-from solver.sim.feeder import (
+from solver.feeder.simulate import (
     DEFAULT_SIM,
     FeederSimSettings,
     FenceRun,
@@ -50,7 +51,7 @@ class FeederMapProblem:
     """The part, the fences in the order the part meets them, the grid (cells of the
     circle; 0: no matrix) of the product's boolean matrix, and the bound (BOUNDS)."""
 
-    part: Part
+    part: Footprint
     fences: tuple[Fence, ...]
     resolution: int = 0
     tol: FeederTolerances = DEFAULT
@@ -119,7 +120,7 @@ class FeederSimProblem:
     placed and the part starts with its CM at ``start`` (None: above the first fence, as a
     fence alone)."""
 
-    part: Part
+    part: Footprint
     fences: tuple[tuple[Fence, float], ...]
     support_points: np.ndarray
     weights: np.ndarray

@@ -32,12 +32,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import nnls
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.mpp import membership_columns
+from models.core.scene import PushScene
+from models.core.support import Support, uniform_polygon_support
 from models.locus.cor_disk import disk_cor_locus
-from models.mpp import membership_columns
-from models.scene import PushScene
-from models.support import Support, uniform_polygon_support
 from solver.certify.witness import heaviest_points
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
@@ -350,7 +350,7 @@ def _residual_slope(scene: PushScene, ell: float, res: MembershipResult, directi
     """d e / d t of the restricted master's optimum e = -y . b along the ray at an outside
     probe: by the envelope theorem sum_j P_j y . dG_j/dt (plus the point mass's term) with
     the probe's support P and dual y held fixed; the columns' derivative is a forward
-    difference of :func:`models.mpp.membership_columns`. NaN when unusable."""
+    difference of :func:`models.core.mpp.membership_columns`. NaN when unusable."""
     y = res.dual
     if y is None or not y[0] < 0.0 or res.witness_points.size == 0:
         return math.nan

@@ -14,9 +14,9 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from models.footprint import Footprint
+from models.core.footprint import Footprint
+from models.core.scene import PushScene
 from models.locus.cor_disk import OUTPUTS, DiskCorLocus, disk_cor_locus
-from models.scene import PushScene
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import BackendNotFound
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances

@@ -13,7 +13,7 @@ of a support {w_i, P_i} with no mass at r exactly when the gradient (3.8) of the
     g_r(w) = |w - r| alpha - s (w - r) / |w - r|            ((3.8)-(3.10) times P_i),
 
 together with sum_i P_i = 1 and sum_i P_i w_i = 0 (the centroid is the CM, 3.1.5). With
-the columns G(w) = (1, w/L, g_r(w)/L) in R^5 (:func:`models.mpp.membership_columns`) and
+the columns G(w) = (1, w/L, g_r(w)/L) in R^5 (:func:`models.core.mpp.membership_columns`) and
 b = (1, 0, 0, 0, 0): r is a COR for some pressure distribution on the footprint F iff b
 lies in the convex hull of
 
@@ -40,7 +40,7 @@ again on an equivalent, conditioned pair in place of g_r . alpha and g_r . n
 
 rewritten with u = d0 + Delta (d0 the direction from r to c, Delta = O(D/|r|) computed
 without cancellation, :func:`solver.certify.functional.far_delta`) and scaled by
-kappa = |c - r| / D, exactly as the sticking locus's rows (:mod:`solver.locus.sticking`).
+kappa = |c - r| / D, exactly as the sticking locus's rows (:mod:`solver.sketch.sticking`).
 On the plain rows a point delta beyond a boundary |s| ~ 185 L away is separated by a
 margin of order delta / s^2 (below ``certificate_margin``, "undecided"); on the
 conditioned rows by order delta / |s|. The reported dual is always converted back to the
@@ -70,11 +70,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
-from models.mpp import perp
-from models.scene import PushScene
-from models.support import Support
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.mpp import perp
+from models.core.scene import PushScene
+from models.core.support import Support
 from solver.certify.answer import CertifiedPoint, answer_fields
 from solver.certify.colgen import Decision, Messages, decide
 from solver.certify.functional import RayFunctional, far_delta
@@ -105,7 +105,7 @@ class MembershipResult(CertifiedPoint):
       conditioned rows for a far candidate, ``rows`` "far");
     * ``witness_forward_cor_error`` compares with the forward minimum-power solver's COR;
     * ``dual`` (5,) is the separating functional y on the columns of
-      :func:`models.mpp.membership_columns` (world-aligned CM frame, lengths / L). Near the
+      :func:`models.core.mpp.membership_columns` (world-aligned CM frame, lengths / L). Near the
       footprint it is computed with |y|_inf <= 1 in the locus frame, so |y_w|, |y_g| <=
       sqrt(2) here; a far candidate's is converted from the conditioned rows and can be
       larger; ``dual_margin`` = m_F - y . b;

@@ -34,10 +34,10 @@ from typing import Literal
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.mpp import perp
-from models.scene import PushScene
-from models.support import Support
+from models.core.errors import InvalidInput
+from models.core.mpp import perp
+from models.core.scene import PushScene
+from models.core.support import Support
 from solver.core.errors import BackendNotFound, NotConverged
 from solver.core.threads import PerThreadCache, ignore_inaccurate_solution_warning
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances

@@ -14,17 +14,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
-from models.inertia import (
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.inertia import (
     disk_radius_of_gyration,
     impact_cor,
     impact_cor_distance,
     polygon_radius_of_gyration,
     support_radius_of_gyration,
 )
-from models.scene import PushScene
-from models.support import Support
+from models.core.scene import PushScene
+from models.core.support import Support
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import BackendNotFound
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances

@@ -12,11 +12,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
-from models.mpp import perp
-from models.scene import PushScene
-from models.support import random_balanced_tripods, uniform_disk_support, uniform_polygon_support
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.mpp import perp
+from models.core.scene import PushScene
+from models.core.support import random_balanced_tripods, uniform_disk_support, uniform_polygon_support
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.motion.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch

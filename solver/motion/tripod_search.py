@@ -56,11 +56,11 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from models import mpp
-from models.errors import InvalidInput, ModelError
-from models.footprint import Footprint, triangle_areas, triangulate
-from models.scene import PushScene
-from models.support import Support
+from models.core import mpp
+from models.core.errors import InvalidInput, ModelError
+from models.core.footprint import Footprint, triangle_areas, triangulate
+from models.core.scene import PushScene
+from models.core.support import Support
 from solver.core.budget import Budget
 from solver.core.errors import NotConverged, SolverError
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
@@ -93,7 +93,7 @@ class TripodStart:
     ``verification``: "cor", "power", "failed" or "none" (module docstring).
     ``forward_distance``: |forward COR - cor| / max(a, |cor - CM|). ``power_excess``:
     (power about cor - forward power) / forward power, (3.7). ``stationarity``: |(3.8)| / a
-    at the optimum (models.mpp.stationarity_residual, weights as returned).
+    at the optimum (models.core.mpp.stationarity_residual, weights as returned).
     """
 
     index: int

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.mpp import perp
+from models.core.mpp import perp
 
 TRANSLATION_TURN = 1e-14
 """A step whose turn |omega h| is at most this (radians) is taken as the translation v h

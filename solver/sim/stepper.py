@@ -22,8 +22,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from models.scene import PushScene
-from models.support import Support
+from models.core.scene import PushScene
+from models.core.support import Support
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import NotConverged
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances

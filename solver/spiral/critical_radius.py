@@ -1,26 +1,26 @@
 """Spiral localization of a disk (book 4.5): the critical radius r*(beta), its table and
 the limiting radius b_inf.
 
-Critical radius (4.5.2-4.5.3). In the frame of models.gross.gross_bounds.encounter_scene (disk
+Critical radius (4.5.2-4.5.3). In the frame of models.push.gross_bounds.encounter_scene (disk
 radius a, CM at the origin, contact a(-cos beta, sin beta), push along +x, pusher line
 y = a sin beta) the sticking line is the vertical through the contact, and positions on
 it are s = (r - c) . J p. The pusher centre PC must lie below the lower end of the
 sticking locus (figure 4-18), so r*(beta) = -s_lower, the distance from the pusher line
 to that end. Three ways to get it (``method``):
 
-* "exact": solver/locus/sticking.py's certified lower end (convex feasibility in the pressure
+* "exact": solver/sketch/sticking.py's certified lower end (convex feasibility in the pressure
   distribution, a witness inside and a branch-and-bound dual outside). The safe value is
   the OUTSIDE (infeasible) end of the bracket: PC there is certainly below the locus. The
   midpoint and the bracket width are reported beside it.
 * "sweep": the book's construction (4.1.4), a sweep of the force angle over the cone with
-  the analytic loci (models/locus/cor_sketch.py), exact up to the loci's polygon resolution
+  the analytic loci (models/sketch/disk_sketch.py), exact up to the loci's polygon resolution
   (~1e-5 a at 1024 points, from the inscribed polygons: it errs slightly low, not safe).
 * "tip_line": the book's approximation, r* = 2a / sin beta (4.13), independent of mu_c.
 
 (4.5.4) b_inf = r*(beta -> pi/2); :func:`limiting_radius_check` compares the numerical
 limit (at beta = pi/2 - grazing_delta; exactly pi/2 is a grazing touch and is refused)
-with (4.25). (4.5.5) the schedule: models/spiral.py holds the envelope, the recursion
-(4.26) and the grid graph; :func:`spiral_schedule` solves the shortest path on OR-Tools
+with (4.25). (4.5.5) the schedule: models/spiral/ holds the envelope (critical.py), the
+recursion (4.26) (path.py) and the grid graph (graph.py); :func:`spiral_schedule` solves the shortest path on OR-Tools
 (SimpleMinCostFlow, or CP-SAT with a time limit) and certifies it by shortest-path
 potentials (an LP dual whose bound equals the objective).
 
@@ -44,21 +44,21 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.gross.gross_bounds import encounter_scene
-from models.locus.cor_sketch import sticking_locus_sweep
-from models.spiral import (
+from models.core.errors import InvalidInput
+from models.core.tolerances import SPIRAL_DEFAULT, SpiralTolerances
+from models.push.gross_bounds import encounter_scene
+from models.sketch.disk_sketch import sticking_locus_sweep
+from models.spiral.critical import (
     CriticalEnvelope,
     critical_envelope,
     distance_from_grazing,
     limiting_radius,
     tip_line_critical_radius,
 )
-from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.locus.sticking_locus import sticking_locus
+from solver.sketch.sticking_locus import sticking_locus
 
 METHODS = ("exact", "sweep", "tip_line")
 """Ways to compute r*(beta) (module docstring)."""
@@ -75,7 +75,7 @@ KINK_ITERATIONS = 12
 EMPTY_RETRY_SCAN = (384, 1536)
 """Scan probes of the retries when the exact sticking locus comes back empty: for small
 mu_c near grazing the locus is ~2 mu_c a long and the default 96-probe scan of
-solver/locus/sticking.py can miss it (mu_c = 0.01 needs ~400 probes, 0.003 ~2000)."""
+solver/sketch/sticking.py can miss it (mu_c = 0.01 needs ~400 probes, 0.003 ~2000)."""
 
 MIN_BETA = 1e-3
 """Smallest collision parameter accepted: r* ~ 2a / beta, so beta = 1e-3 is r* ~ 2000 a."""

@@ -2,7 +2,7 @@
 table (cached, or computed for the problem), the fastest guaranteed spiral on OR-Tools and
 the recursion (4.26) beside it, the tip-line recursion with its unsafe revolutions, the
 power law of figure 4-21, the pusher's path as a polyline and, on request, disks with
-random pressure distributions pushed along it (:func:`solver.sim.spiral.spiral_check`).
+random pressure distributions pushed along it (:func:`solver.spiral.simulate.spiral_check`).
 
 One budget serves the table, the schedule and the simulation, in that order. A table cut
 short by the budget before it covers the start radius raises
@@ -17,24 +17,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.spiral import (
+from models.core.errors import InvalidInput
+from models.core.tolerances import SPIRAL_DEFAULT, SpiralTolerances
+from models.spiral.critical import limiting_radius
+from models.spiral.path import (
     PowerLawFit,
     SpiralPolyline,
     SpiralRecursion,
     fastest_spiral,
-    limiting_radius,
     power_law_fit,
     spiral_polyline,
     tip_line_spiral,
     unsafe_revolutions,
 )
-from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import NotConverged, TimeLimitReached
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.sim.spiral import SpiralBatch, spiral_check, spiral_path
 from solver.spiral.critical_radius import (
     BETA_GRID,
     SWEEP_POINTS,
@@ -44,6 +43,7 @@ from solver.spiral.critical_radius import (
     critical_radius_table,
 )
 from solver.spiral.schedule import SpiralSchedule, spiral_schedule
+from solver.spiral.simulate import SpiralBatch, spiral_check, spiral_path
 
 
 @dataclass(frozen=True)
@@ -114,7 +114,7 @@ class SpiralProblem:
 class TipLineComparison:
     """The recursion (4.26) with the tip line's d* (closed form): its ``radii`` and the
     number of its steps that the problem's own r* table shows unsafe (a witness collision
-    parameter each, :func:`models.spiral.unsafe_revolutions`)."""
+    parameter each, :func:`models.spiral.path.unsafe_revolutions`)."""
 
     radii: np.ndarray
     unsafe_revolutions: int

@@ -2,7 +2,8 @@
 solved by OR-Tools (SimpleMinCostFlow, or CP-SAT with a time limit) and certified by
 shortest-path potentials (an LP dual whose bound equals the objective). The critical
 radius it rests on is :mod:`solver.spiral.critical_radius`; the envelope, the recursion
-(4.26) and the grid graph are :mod:`models.spiral`.
+(4.26) and the grid graph are :mod:`models.spiral.critical`, :mod:`models.spiral.path` and
+:mod:`models.spiral.graph`.
 """
 
 from __future__ import annotations
@@ -13,18 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.errors import InvalidInput
-from models.spiral import (
-    SpiralRecursion,
-    arc_costs,
-    fastest_spiral,
-    greedy_on_graph,
-    schedule_graph,
-    schedule_grid,
-    shortest_path_potentials,
-    spiral_path_length,
-)
-from models.tolerances import SPIRAL_DEFAULT, SpiralTolerances
+from models.core.errors import InvalidInput
+from models.core.tolerances import SPIRAL_DEFAULT, SpiralTolerances
+from models.spiral.graph import arc_costs, greedy_on_graph, schedule_graph, schedule_grid, shortest_path_potentials
+from models.spiral.path import SpiralRecursion, fastest_spiral, spiral_path_length
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import SolverError
 from solver.spiral.critical_radius import envelope_of
@@ -70,7 +63,7 @@ class SpiralSchedule:
     """The fastest guaranteed spiral on a grid of radii (4.5.5), solved on OR-Tools.
 
     ``radii`` b_1 ... b_N (grid points, b_N = target); ``revolutions`` = N (the last is
-    the final circle, models/spiral.py); ``steps``; ``path_length`` (+ its quadrature error
+    the final circle, models/spiral/path.py); ``steps``; ``path_length`` (+ its quadrature error
     bound ``path_length_error``); ``time_s`` = path_length / speed. ``objective`` and
     ``objective_value`` (revolutions, or the length). ``solver_status``: "OPTIMAL",
     "FEASIBLE" (CP-SAT stopped by the time limit: ``stopped_early``), "INFEASIBLE" (no safe
@@ -205,7 +198,7 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
     (``objective`` "revolutions") or the shortest path ("length"; "time" = length / speed,
     the same optimum, needs ``speed``), every revolution safe (b_{n-1} - b_n <= d*(b_n),
     4.26) and within the robot's ``min_step`` / ``max_step``, as a shortest path over the
-    grid of :func:`models.spiral.schedule_grid` (uniform ``spacing`` or adaptive with
+    grid of :func:`models.spiral.graph.schedule_grid` (uniform ``spacing`` or adaptive with
     ``resolution`` points per safe step). ``table``: a CriticalRadiusTable or a
     CriticalEnvelope. ``backend`` "min_cost_flow" (OR-Tools SimpleMinCostFlow; ``budget``
     is checked between the build and the solve) or "cp_sat" (the remaining time is CP-SAT's

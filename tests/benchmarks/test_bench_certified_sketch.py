@@ -1,4 +1,4 @@
-"""Benchmark (not a test): certified COR sketches (solver/locus/certified_sketch.py; book 4.1,
+"""Benchmark (not a test): certified COR sketches (solver/sketch/certified_sketch.py; book 4.1,
 3.3.13, 7.5).
 
 Writes its section of docs/benchmarks.md: the time of a polygon's own sketch against the
@@ -16,10 +16,10 @@ import time
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
-from models.locus.cor_sketch import cor_sketch
-from models.scene import PushScene
-from solver.locus.certified_sketch import certified_sketch
+from models.core.footprint import Footprint
+from models.core.scene import PushScene
+from models.sketch.disk_sketch import disk_cor_sketch
+from solver.sketch.certified_sketch import certified_sketch
 from tests.benchmarks._docs import write_section
 
 pytestmark = pytest.mark.benchmark
@@ -45,14 +45,14 @@ def test_bench_certified_sketch():
         f"Machine: {platform.machine()}, Python {platform.python_version()}; one core, in-process. "
         "A polygon's own sketch: the exact sticking locus on the footprint plus {COR}_(alpha+-nu) traced "
         "with certified brackets along `n_rays` rays (wrapped loci are not traced). "
-        "'disk t range' is the circumscribing disk's sticking segment (models.locus.cor_sketch), 'polygon t "
+        "'disk t range' is the circumscribing disk's sticking segment (models.sketch.disk_sketch), 'polygon t "
         "range' the polygon's (certified); both along J p from the contact.",
         "",
         "| scene | mu_c | n_rays | time (s) | complete | disk sketch | polygon sketch | disk t range | polygon t range |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
     for name, sc, fp, mu in cases():
-        disk = cor_sketch(sc, mu, n_points=1024)
+        disk = disk_cor_sketch(sc, mu, n_points=1024)
         for n_rays in (8, 16, 32):
             t0 = time.perf_counter()
             cs = certified_sketch(sc, mu, fp, n_rays=n_rays)
@@ -74,7 +74,7 @@ def test_bench_certified_sketch():
         for mu in (0.25, 1.0):
             sc = PushScene.create(1.0, np.array([-math.cos(beta), math.sin(beta)]), 0.5 * math.pi - beta, 0.0)
             t0 = time.perf_counter()
-            sw = cor_sketch(sc, mu)
+            sw = disk_cor_sketch(sc, mu)
             t_sw = time.perf_counter() - t0
             t0 = time.perf_counter()
             cs = certified_sketch(sc, mu)

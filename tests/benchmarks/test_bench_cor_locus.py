@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from models.core.tolerances import HIGH_ACCURACY
 from models.locus import cor_disk as cd
-from models.tolerances import HIGH_ACCURACY
 from tests.scenes import distance_to_polyline, scene_for_mu
 
 pytestmark = pytest.mark.benchmark

@@ -1,5 +1,5 @@
 """Benchmark (not a test): configuration maps of one fence and the fence simulator
-(models/feeder/fence.py, solver/sim/feeder.py; book 5.1, 5.2, 6.4-6.6).
+(models/feeder/fence.py, solver/feeder/simulate.py; book 5.1, 5.2, 6.4-6.6).
 
 Writes its section of docs/benchmarks.md: the map's time against the extreme-B
 integration's steps and the error of its band edges against FINE; the boolean matrix's
@@ -20,7 +20,7 @@ import pytest
 
 from models.feeder.arcs import ccw_distance
 from models.feeder.fence import FINE, FeederTolerances, Fence, fence_map
-from solver.sim.feeder import FeederSimSettings, simulate_fence, simulate_fence_batch
+from solver.feeder.simulate import FeederSimSettings, simulate_fence, simulate_fence_batch
 from tests.benchmarks._docs import write_section
 from tests.benchmarks._timing import timed
 from tests.feeder_cases import PARTS, part, random_encounter

@@ -14,8 +14,7 @@ from dataclasses import replace
 
 import pytest
 
-from models.feeder.fence import Part
-from models.footprint import Footprint
+from models.feeder.fence import feeder_part
 from solver import BeltSpec, FeederDesignProblem, feeder_design
 from tests.benchmarks._docs import write_section
 from tests.feeder_cases import PARTS
@@ -39,9 +38,9 @@ ALL_PARTS = {**PARTS, **EXTRA_PARTS}
 
 def problem(name, step_deg=5.0, mu=(0.25, 0.25), alternate=True, validation=0, cp_sat=True, max_depth=10):
     v, cm = ALL_PARTS[name]
-    return FeederDesignProblem(Part.create(v, cm), math.radians(20), math.radians(70), math.radians(step_deg), mu,
+    return FeederDesignProblem(feeder_part(v, cm), math.radians(20), math.radians(70), math.radians(step_deg), mu,
                                max_depth=max_depth, alternate=alternate, prove_with_cp_sat=cp_sat,
-                               validation_parts=validation, seed=SEED, footprint=Footprint.create(v, cm))
+                               validation_parts=validation, seed=SEED)
 
 
 def describe(res):
@@ -164,10 +163,10 @@ def belt_rows():
     for name in PARTS:
         for alternate in (True, False):
             v, cm = ALL_PARTS[name]
-            part = Part.create(v, cm)
+            part = feeder_part(v, cm)
             base = problem(name, alternate=alternate, validation=BELT_VALIDATION if alternate else VALIDATION,
                            cp_sat=False)
-            res = feeder_design(replace(base, belt=BeltSpec(width=BELT_RADII * part.radius)))
+            res = feeder_design(replace(base, belt=BeltSpec(width=BELT_RADII * part.circumradius)))
             if res.design is None:
                 continue
             val = res.validation
@@ -175,7 +174,7 @@ def belt_rows():
             missable = sum(c.may_miss for c in res.placed)
             unaligned = max(c.unaligned_arriving for c in res.placed)
             rows.append(
-                f"| {name} | {'yes' if alternate else 'no'} | {describe(res)} | {res.layout.belt_length / part.radius:.0f} | "
+                f"| {name} | {'yes' if alternate else 'no'} | {describe(res)} | {res.layout.belt_length / part.circumradius:.0f} | "
                 f"{missable} | {math.degrees(unaligned):.2f} | {val.in_band}/{val.parts} | {val.missed} | "
                 f"{val.unflushed} | {val.unfinished} | {val.off_belt} | {1e3 * t['layout']:.0f} | "
                 f"{val.parts / t['validation']:.1f} |")

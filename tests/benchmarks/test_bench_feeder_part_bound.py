@@ -17,7 +17,7 @@ import pytest
 
 from models.feeder.fence import Fence, fence_map, flush_orientation
 from solver.feeder.part_bound import PART_DEFAULT, PART_DIPODS, PART_FINE, PartBoundSettings, PartLoci
-from solver.sim.feeder import simulate_fence_batch
+from solver.feeder.simulate import simulate_fence_batch
 from tests.benchmarks._docs import write_section
 from tests.benchmarks.test_bench_feeder import SIM_FENCES  # the same fences as the simulations there
 from tests.feeder_cases import PARTS, part, random_encounter

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from models.feeder.fence import FeederTolerances, Fence, fence_map
-from solver.sim.feeder import simulate_fence
+from solver.feeder.simulate import simulate_fence
 from tests.benchmarks._docs import write_section
 from tests.benchmarks._timing import timed
 from tests.feeder_cases import first_contact_reach, part, random_support
@@ -36,7 +36,7 @@ RUNS = 60
 
 def map_rows():
     pent = part("pentagon")
-    a = pent.radius
+    a = pent.circumradius
     rows = []
     for gamma, mu in FENCES:
         t_none, _ = timed(lambda: fence_map(pent, Fence.create(gamma, mu)), repeat=3)
@@ -55,7 +55,7 @@ def sim_rows(rng):
     rows, total = [], dict(runs=0, unflushed=0, missed_flags=0)
     for name, gamma, mu in SIM_CASES:
         p = part(name)
-        a = p.radius
+        a = p.circumradius
         maps = {r: fence_map(p, Fence.create(gamma, mu, reach=r * a)).map for r in SIM_REACHES}
         fence = Fence.create(gamma, mu)
         c = dict(runs=0, flushed=0, unflushed=0, flagged=0, unflushed_flagged=0, stalled=0, outside=0)

@@ -14,7 +14,7 @@ import time
 import numpy as np
 import pytest
 
-from models.support import Support, random_balanced_tripods
+from models.core.support import Support, random_balanced_tripods
 from solver.core.tolerances import SOLVER_DEFAULT
 from solver.motion.forward import solve_forward, solve_forward_batch
 from tests.benchmarks._docs import write_section

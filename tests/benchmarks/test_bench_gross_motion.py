@@ -10,10 +10,10 @@ import time
 
 import pytest
 
-from models.gross import gross_motion as gm
-from models.gross.gross_bounds import encounter_bounds_exact, fence_push_bound_exact
-from models.locus.cor_sketch import cor_sketch
-from models.scene import PushScene
+from models.core.scene import PushScene
+from models.push import gross_motion as gm
+from models.push.gross_bounds import encounter_bounds_exact, fence_push_bound_exact
+from models.sketch.disk_sketch import disk_cor_sketch
 from tests.benchmarks._docs import write_section
 
 pytestmark = pytest.mark.benchmark
@@ -31,7 +31,7 @@ def timed(fn, repeats=3):
 
 def test_gross_motion_bounds():
     lines = [
-        "COR sketch (`models/locus/cor_sketch.py`) of the book-like scene (contact (-0.3, -0.9), disk a = 1,",
+        "COR sketch (`models/sketch/disk_sketch.py`) of the book-like scene (contact (-0.3, -0.9), disk a = 1,",
         "edge at 120 deg, push along +x): time against the boundary resolution, and the sticking",
         "locus's far end against a 4096-point reference.",
         "",
@@ -39,9 +39,9 @@ def test_gross_motion_bounds():
         "|---:|---:|---:|---:|",
     ]
     scene = PushScene.create(1.0, (-0.3, -0.9), math.radians(120), 0.0)
-    ref = cor_sketch(scene, 0.5, n_points=4096, sweep_points=4096).sticking.t_high
+    ref = disk_cor_sketch(scene, 0.5, n_points=4096, sweep_points=4096).sticking.t_high
     for n in (128, 256, 512, 1024):
-        sk, t = timed(lambda: cor_sketch(scene, 0.5, n_points=n, sweep_points=n))
+        sk, t = timed(lambda: disk_cor_sketch(scene, 0.5, n_points=n, sweep_points=n))
         lines.append(f"| {n} | {t * 1e3:.0f} | {sk.sticking.t_high:.6f} | {abs(sk.sticking.t_high - ref):.1e} |")
     lines += [
         "",

@@ -17,7 +17,7 @@ import time
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
+from models.core.footprint import Footprint
 from models.locus import cor_disk as cd
 from solver.core.tolerances import SOLVER_DEFAULT
 from solver.locus.certified_locus import certified_disk_boundary, certified_polygon_boundary, outward_normals

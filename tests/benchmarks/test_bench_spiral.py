@@ -1,4 +1,4 @@
-"""Benchmark (not a test): spiral localization of a disk (models/spiral.py,
+"""Benchmark (not a test): spiral localization of a disk (models/spiral/,
 solver/spiral/critical_radius.py; book 4.5).
 
 Writes the section "Spiral localization (4.5)" of docs/benchmarks.md: r*(beta) tables by
@@ -18,8 +18,9 @@ import time
 import numpy as np
 import pytest
 
-from models.spiral import fastest_spiral, limiting_radius, power_law_fit, spiral_polyline, tip_line_envelope
-from models.tolerances import SpiralTolerances
+from models.core.tolerances import SpiralTolerances
+from models.spiral.critical import limiting_radius, tip_line_envelope
+from models.spiral.path import fastest_spiral, power_law_fit, spiral_polyline
 from solver.core.budget import Budget
 from solver.spiral.critical_radius import (
     BetaGrid,
@@ -56,10 +57,10 @@ def fmt(x, spec=".4f"):
 
 def test_spiral_benchmark():
     lines = [
-        f"`models/spiral.py`, `solver/spiral/critical_radius.py`; {platform.machine()}, Python {platform.python_version()}, one core. "
+        f"`models/spiral/`, `solver/spiral/critical_radius.py`; {platform.machine()}, Python {platform.python_version()}, one core. "
         "Disk radius a = 1; r* is the distance from the pusher line to the lower end of the sticking locus "
-        "(4.5.3); exact = the outside end of the certified bracket (solver/locus/sticking.py), sweep = the book's "
-        "force-angle sweep with 1024-point loci (models/locus/cor_sketch.py), tip line = 2a/sin(beta) (4.13).",
+        "(4.5.3); exact = the outside end of the certified bracket (solver/sketch/sticking.py), sweep = the book's "
+        "force-angle sweep with 1024-point loci (models/sketch/disk_sketch.py), tip line = 2a/sin(beta) (4.13).",
         "",
     ]
 
@@ -141,7 +142,7 @@ def test_spiral_benchmark():
         "recursion (exact least safe radius per step) and the shortest path on OR-Tools (min cost flow on",
         "an adaptive grid with `resolution` radii per safe step, or a uniform one; CP-SAT on a small",
         "grid). *Certified*: shortest-path potentials give a dual bound equal to the objective. The grid",
-        "optimum equals the greedy on the same grid (proved in models/spiral.py) and lies above the",
+        "optimum equals the greedy on the same grid (proved in models/spiral/path.py) and lies above the",
         "continuous recursion by the grid's rounding. The revolutions objective breaks ties by length",
         "(to 1e-4 a), so it returns the greedy schedule; *greedy on grid* gives its revolutions.",
         "",

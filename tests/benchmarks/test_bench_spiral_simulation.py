@@ -1,8 +1,8 @@
 """Benchmark (not a test): a disk herded along the planned spiral, simulated with the
-forward solver (solver/sim/spiral.py; book 4.4, 4.5).
+forward solver (solver/spiral/simulate.py; book 4.4, 4.5).
 
 Writes its section of docs/benchmarks.md: supports simulated per second on a schedule
-planned by the book's recursion (4.26) (models/spiral.py on solver/spiral/critical_radius.py's exact
+planned by the book's recursion (4.26) (models/spiral/path.py on solver/spiral/critical_radius.py's exact
 critical radius), the worst-case margins found, the step size against the error, the
 worst-case (witness) support against the shrinkage of the spiral during a contact, and a
 schedule made exactly critical in the true collision depth. Run with
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from solver.sim import spiral as ss
+from solver.spiral import simulate as ss
 from tests.benchmarks._docs import write_section
 
 pytestmark = pytest.mark.benchmark
@@ -104,7 +104,7 @@ def tight_schedule(table, b_1, target):
 
 def test_spiral_simulation_benchmark():
     spiral = pytest.importorskip("solver.spiral.critical_radius")
-    mspiral = pytest.importorskip("models.spiral")
+    mspiral = pytest.importorskip("models.spiral.path")
     t0 = time.perf_counter()
     table = spiral.critical_radius_table(A, MU, "exact", r_max=B1 + 1.0)
     t_table = time.perf_counter() - t0
@@ -116,10 +116,10 @@ def test_spiral_simulation_benchmark():
     b_n = float(rec.radii[-1])
 
     lines = [
-        f"`solver/sim/spiral.py`; {platform.machine()}, Python {platform.python_version()}, one core, "
+        f"`solver/spiral/simulate.py`; {platform.machine()}, Python {platform.python_version()}, one core, "
         f"seed {SEED}. Disk radius a = 1, mu_c = {MU:g} (b_inf = {A * (1 + MU):g} a, (4.25)).",
         "",
-        "Schedule: the recursion (4.26) (`models.spiral.fastest_spiral`) on the exact critical radius",
+        "Schedule: the recursion (4.26) (`models.spiral.path.fastest_spiral`) on the exact critical radius",
         f"(`solver.spiral.critical_radius.critical_radius_table`, method exact, {table.n_done} betas, {t_table:.0f} s), from",
         f"b_1 = {B1:g} a to b_N = {b_n:.4f} a in {rec.revolutions} revolutions (then one circle at b_N). Each",
         "run: a random support, random orientation, CM uniform inside b_1 - a; settings FAST (step 0.1 a).",
@@ -179,7 +179,7 @@ def test_spiral_simulation_benchmark():
     lines += [
         "",
         f"The worst support: the witness of the lowest sticking COR at beta = {beta:g} (r* = {r_crit:.5f} a,",
-        "solver/locus/sticking.py), hit at beta by a pusher of radius r at the contact whose radius keeps falling",
+        "solver/sketch/sticking.py), hit at beta by a pusher of radius r at the contact whose radius keeps falling",
         "by Delta per revolution (a spiral of one revolution; Delta = 0: 0.3 turns of a circle). *in*: pushed",
         "in; *chased*: beta constant to the end; *falls*: beta fell, contact open at the end; *OUT*: left",
         "outside the path (lost).",

@@ -1,4 +1,4 @@
-"""Benchmark (not a test): the exact sticking locus (solver/locus/sticking_locus.py; book 4.1.4,
+"""Benchmark (not a test): the exact sticking locus (solver/sketch/sticking_locus.py; book 4.1.4,
 3.3.11.1, 6.3).
 
 Writes its section of docs/benchmarks.md: the time of one sticking-feasibility query
@@ -18,11 +18,11 @@ import time
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
-from models.scene import PushScene
+from models.core.footprint import Footprint
+from models.core.scene import PushScene
 from solver.core.tolerances import SOLVER_DEFAULT
-from solver.locus.sticking import sticking_feasibility, sticking_point
-from solver.locus.sticking_locus import sticking_locus
+from solver.sketch.sticking import sticking_feasibility, sticking_point
+from solver.sketch.sticking_locus import sticking_locus
 from tests.benchmarks._docs import write_section
 
 pytestmark = pytest.mark.benchmark
@@ -72,7 +72,7 @@ def test_sticking_locus_benchmark():
     sticking_locus(warm[1], warm[3], scan_points=16, seed_tripods=0)
 
     lines = [
-        f"`solver/locus/sticking.py`, `solver/locus/sticking_locus.py`; {platform.machine()}, Python {platform.python_version()}, one core. "
+        f"`solver/sketch/sticking.py`, `solver/sketch/sticking_locus.py`; {platform.machine()}, Python {platform.python_version()}, one core. "
         "Positions s are along J p from the contact (world units), a = disk radius or circumradius.",
         "",
         "Whole sticking locus (`sticking_locus`, default settings: 96 scan probes, 256 seed tripods,",

@@ -26,12 +26,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from models.support import Support, random_balanced_tripods
+from models.core.support import Support, random_balanced_tripods
 from solver.core.threads import ignore_inaccurate_solution_warning
 from solver.locus.membership import membership
-from solver.locus.sticking import sticking_feasibility, sticking_point
 from solver.motion.forward import solve_forward, solve_forward_batch
-from solver.motion.particle import solve_particle
+from solver.particle.solve import solve_particle
+from solver.sketch.sticking import sticking_feasibility, sticking_point
 from tests.scenes import SEED, scene_for_mu
 
 N_THREADS = 16

@@ -6,8 +6,9 @@ import math
 
 import numpy as np
 
+from models.core.footprint import Footprint
 from models.feeder.arcs import Arcs
-from models.feeder.fence import Fence, FenceMap, Part
+from models.feeder.fence import Fence, FenceMap, feeder_part
 from service.api.feeder.schemas import (
     FeederCpSatOut,
     FeederDesignFenceOut,
@@ -33,7 +34,7 @@ from service.api.feeder.schemas import (
     FeederSimulateResponse,
     FeederValidationOut,
 )
-from service.common.inputs import footprint_of, located
+from service.common.inputs import located
 from service.errors import FieldError
 from service.limits import FEEDER_MAX_CANDIDATES, FEEDER_MAX_FENCE_LENGTH_RADII, FEEDER_MAX_WORLD_RADII
 from solver import (
@@ -57,9 +58,11 @@ CENTROID_REL = 1e-6
 """The support's weighted centroid must lie this close (times the part's radius) to the CM."""
 
 
-def part_of(p: FeederPartIn) -> Part:
-    with located(("part",)):
-        return Part.create(p.vertices, p.center_of_mass)
+def part_of(p: FeederPartIn) -> Footprint:
+    """The part in its body frame; an outline the footprint refuses is refused at
+    part.vertices, a centre of mass at part.center_of_mass."""
+    with located(("part",), rename={"workpiece": ("part", "vertices")}):
+        return feeder_part(p.vertices, p.center_of_mass)
 
 
 def mu_of(mu_c: float | None, mu_c_range: list[float] | None, loc: tuple) -> float | tuple[float, float]:
@@ -69,9 +72,9 @@ def mu_of(mu_c: float | None, mu_c_range: list[float] | None, loc: tuple) -> flo
     return mu_c if mu_c is not None else (mu_c_range[0], mu_c_range[1])  # type: ignore[index]
 
 
-def at_most_radii(value: float, part: Part, limit: float, loc: tuple, message: str = AT_MOST) -> None:
+def at_most_radii(value: float, part: Footprint, limit: float, loc: tuple, message: str = AT_MOST) -> None:
     """Refuse a length (or a distance from the origin) beyond ``limit`` part radii."""
-    if value > limit * part.radius:
+    if value > limit * part.circumradius:
         raise FieldError(loc, message.format(limit=limit))
 
 
@@ -83,7 +86,7 @@ def fence_of(f: FeederFenceIn, i: int) -> Fence:
         return Fence.create(f.angle, mu, reach=f.reach)
 
 
-def map_fence_of(f: FeederFenceIn, i: int, part: Part) -> Fence:
+def map_fence_of(f: FeederFenceIn, i: int, part: Footprint) -> Fence:
     if f.reach is not None:
         at_most_radii(f.reach, part, FEEDER_MAX_FENCE_LENGTH_RADII, ("fences", i, "reach"))
     return fence_of(f, i)
@@ -93,8 +96,6 @@ def map_problem(req: FeederMapRequest) -> FeederMapProblem:
     part = part_of(req.part)
     if req.part_bound is not None and req.bound != "part":
         raise FieldError(("part_bound",), "is only used with bound \"part\"")
-    if req.bound == "part":  # the part's own loci need its outline as a footprint
-        footprint_of(req.part.vertices, req.part.center_of_mass, ("part", "vertices"))
     settings = PartBoundSettings() if req.part_bound is None else PartBoundSettings(
         contacts=req.part_bound.contacts, max_rays_per_aim=req.part_bound.max_rays_per_aim)
     return FeederMapProblem(part, tuple(map_fence_of(f, i, part) for i, f in enumerate(req.fences)), req.resolution,
@@ -116,7 +117,7 @@ def fence_map_out(fm: FenceMap, cost: PartBoundCost | None = None) -> FeederFenc
     bands = []
     for j, turn, band, kernel in zip(fm.final_edges, fm.turns, fm.map.bands, fm.map.kernels):
         bands.append(FeederFenceBandOut(band=arcs_out(band), kernel=arcs_out(kernel), edge=j,
-                                  vertex=fm.part.vertex_index[j], turn_least=turn.least, turn_most=turn.most,
+                                  vertex=fm.part.input_index(fm.part.hull_indices[j]), turn_least=turn.least, turn_most=turn.most,
                                   contact_lost=turn.contact_lost))
     return FeederFenceMapOut(angle=fm.fence.angle, mu_c_range=[fm.fence.mu_low, fm.fence.mu_high],
                        jams_possible=fm.fence.may_jam(), bands=bands, jam=arcs_out(fm.map.jam),
@@ -152,9 +153,9 @@ def simulate_problem(req: FeederSimulateRequest) -> FeederSimProblem:
     if w.sum() <= 0.0:
         raise FieldError(("support", "weights"), "must not all be 0")
     centroid = (w[:, None] * pts).sum(axis=0) / w.sum()
-    if np.hypot(*(centroid - cm)) > CENTROID_REL * part.radius:
+    if np.hypot(*(centroid - cm)) > CENTROID_REL * part.circumradius:
         raise FieldError(("support", "points"), "their weighted centroid must be the centre of mass "
-                         f"(it is {np.hypot(*(centroid - cm)) / part.radius:.3g} part radii away)")
+                         f"(it is {np.hypot(*(centroid - cm)) / part.circumradius:.3g} part radii away)")
     fences = []
     for i, f in enumerate(req.fences):
         fences.append((fence_of(FeederFenceIn(angle=f.angle, mu_c=f.mu_c), i), f.mu_c))
@@ -167,7 +168,7 @@ def simulate_problem(req: FeederSimulateRequest) -> FeederSimProblem:
 
 
 def placed_fences(req: FeederSimulateRequest,
-                  part: Part) -> tuple[tuple[tuple[np.ndarray, float], ...] | None, np.ndarray | None]:
+                  part: Footprint) -> tuple[tuple[tuple[np.ndarray, float], ...] | None, np.ndarray | None]:
     """Each fence's (end, length) when every one has ``end`` and ``length``, and the start;
     (None, None) when none has; anything between is refused."""
     placed = [f.end is not None or f.length is not None for f in req.fences]
@@ -225,14 +226,12 @@ def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
             value = getattr(req.belt, name)
             if value is not None:
                 at_most_radii(abs(value), part, FEEDER_MAX_WORLD_RADII, ("belt", name))
-    footprint = (footprint_of(req.part.vertices, req.part.center_of_mass, ("part", "vertices"))
-                 if req.validation_parts > 0 else None)
     return FeederDesignProblem(
         part=part, angle_min=a.min, angle_max=a.max, angle_step=a.step, mu_c=(float(mu[0]), float(mu[1])),
         max_depth=req.max_depth, alternate=req.alternate, prove_with_cp_sat=req.prove_with_cp_sat,
         validation_parts=req.validation_parts, seed=req.seed,
         belt=None if req.belt is None else BeltSpec(req.belt.width, req.belt.clearance, req.belt.spacing, req.belt.entry_x),
-        footprint=footprint)
+)
 
 
 def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignResponse:

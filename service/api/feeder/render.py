@@ -28,8 +28,9 @@ import numpy as np
 from matplotlib.patches import Polygon as PolygonPatch
 from matplotlib.patches import Rectangle
 
+from models.core.footprint import Footprint
 from models.feeder.arcs import TWO_PI, Arcs
-from models.feeder.fence import FenceMap, Part, rotation
+from models.feeder.fence import FenceMap, rotation
 from models.feeder.maps import ConfigurationMap
 from service.common.svg import COLORS as LOCUS_COLORS
 from service.common.svg import FIGSIZE_IN, SquareView, axis_label, clip_polygon_to_box, new_figure, svg_bytes
@@ -122,7 +123,7 @@ def map_label(fm: FenceMap) -> str:
     return f"fence γ = {math.degrees(f.angle):+.1f}°, {mu}"
 
 
-def render_maps_svg(part: Part, maps: Sequence[FenceMap], product: ConfigurationMap | None, title: str,
+def render_maps_svg(part: Footprint, maps: Sequence[FenceMap], product: ConfigurationMap | None, title: str,
                     belt: BeltPicture | None = None) -> str:
     """Figure 1-8 per fence, and the product (figure 5-2) when there are several, after the
     belt's top view (figure 1-9) when given; SVG text."""
@@ -131,7 +132,7 @@ def render_maps_svg(part: Part, maps: Sequence[FenceMap], product: Configuration
         panels.append((f"product of the {len(maps)} fences (5.4, 5.5)", product))
     if not panels:
         raise ValueError("no map to draw")
-    hull_unit = part.hull / part.radius
+    hull_unit = part.hull / part.circumradius
     if not np.all(np.isfinite(hull_unit)):
         raise NonFiniteResult("the part's outline")
     extra = 0 if belt is None else 1
@@ -151,7 +152,7 @@ def render_maps_svg(part: Part, maps: Sequence[FenceMap], product: Configuration
     return svg_bytes(fig, " ".join(title.split())).decode("utf-8")
 
 
-def _outlines(part: Part, cms: np.ndarray, thetas: np.ndarray, count: int) -> list[np.ndarray]:
+def _outlines(part: Footprint, cms: np.ndarray, thetas: np.ndarray, count: int) -> list[np.ndarray]:
     """The part's outline at ``count`` poses evenly over a path, its first and last included."""
     idx = np.unique(np.linspace(0, len(cms) - 1, min(count, len(cms))).round().astype(int))
     return [cms[k] + (rotation(float(thetas[k])) @ part.hull.T).T for k in idx]
@@ -169,7 +170,7 @@ def _draw_outlines(ax, view: SquareView, outlines: list[np.ndarray], color, box:
                                   edgecolor=color, linewidth=widths[0] if bold else widths[1]))
 
 
-def render_runs_svg(part: Part, runs: Sequence[FenceRun], segments: Sequence[FenceSegment], title: str) -> str:
+def render_runs_svg(part: Footprint, runs: Sequence[FenceRun], segments: Sequence[FenceSegment], title: str) -> str:
     """A top view of each run in its fence's frame (the fence from its end E to its root,
     the belt moving in -y); SVG text."""
     if not runs:
@@ -205,7 +206,7 @@ def render_runs_svg(part: Part, runs: Sequence[FenceRun], segments: Sequence[Fen
     return svg_bytes(fig, " ".join(title.split())).decode("utf-8")
 
 
-def _draw_belt(ax, part: Part, belt: BeltPicture, label: str) -> None:
+def _draw_belt(ax, part: Footprint, belt: BeltPicture, label: str) -> None:
     """The top view of placed fences and the parts' paths through them (world frame)."""
     paths = [[(run.cms, run.thetas) for run in runs] for runs in belt.parts]
     poses = [(np.vstack([c for c, _ in p]), np.concatenate([t for _, t in p])) for p in paths if p]
@@ -236,7 +237,7 @@ def _draw_belt(ax, part: Part, belt: BeltPicture, label: str) -> None:
     ax.legend(loc="lower right", fontsize=7)
 
 
-def render_belt_svg(part: Part, belt: BeltPicture, title: str) -> str:
+def render_belt_svg(part: Footprint, belt: BeltPicture, title: str) -> str:
     """A top view of placed fences and the parts' paths through them; SVG text."""
     fig = new_figure(PANEL_IN * 1.2, PANEL_IN * 1.25)
     ax = fig.subplots(1, 1)

@@ -17,10 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from models.footprint import Footprint, area_centroid
-from models.mpp import mason_sense
-from models.scene import PushScene
-from models.support import Support
+from models.core.footprint import Footprint, area_centroid
+from models.core.mpp import mason_sense
+from models.core.scene import PushScene
+from models.core.support import Support
 from service.api.motion.schemas import (
     BatchSummaryOut,
     CorSolveRequest,

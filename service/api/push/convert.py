@@ -1,15 +1,15 @@
 """Schema <-> problem <-> schema of the push endpoints (no mechanics here).
 
 ``POST /v1/push/quasistatic``: the request becomes a
-:class:`models.gross.quasistatic.PartGeometry` (disk or polygon footprint) and a g (given,
+:class:`models.push.quasistatic.ShapeMoments` (disk or polygon footprint) and a g (given,
 or 9.81 m/s^2 in the named length unit) for the closed forms of
-:func:`models.gross.quasistatic.assess`; the answer goes back as plain finite floats.
+:func:`models.push.quasistatic.assess`; the answer goes back as plain finite floats.
 Domain ``InvalidInput`` errors name the request's own fields (speed, mu_s, g,
 disk_radius, angular_error, translational_error); the polygon's are located at
 ``footprint``.
 
 ``POST /v1/push/align`` and ``POST /v1/push/disk-encounter``: the request becomes a
-:class:`solver.gross.align.AlignProblem` / :class:`solver.gross.disk_encounter.DiskEncounterProblem`
+:class:`solver.push.align.AlignProblem` / :class:`solver.push.disk_encounter.DiskEncounterProblem`
 (with the optional quasi-static check); the result goes back with the request's vertex
 indices, the notes and the references. The solver refuses (422 at ``time_limit_s``) what
 its cost model predicts to exceed the time limit; a time limit reached on the way is a
@@ -21,11 +21,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
-from models.footprint import Footprint
-from models.gross import fence_geometry as fg
-from models.gross import quasistatic as qs
+from models.push import fence_geometry as fg
+from models.push import quasistatic as qs
 from service.api.push.schemas import (
     BoundOut,
     ErrorSpeedOut,
@@ -123,10 +120,10 @@ def _message(res: qs.QuasiStaticAssessment, unit: str | None) -> str:
 
 @dataclass(frozen=True)
 class QuasistaticInputs:
-    """What ``models.gross.quasistatic.assess`` needs of a /v1/push/quasistatic request,
+    """What ``models.push.quasistatic.assess`` needs of a /v1/push/quasistatic request,
     and what the answer repeats: where g came from, the polygon's centre of mass."""
 
-    part: qs.PartGeometry
+    part: qs.ShapeMoments
     g: float
     g_source: str
     center_of_mass: list[float] | None
@@ -137,9 +134,9 @@ def quasistatic_inputs(req: PushQuasistaticRequest) -> QuasistaticInputs:
     g_source = exactly_one(req, ("g", "length_unit"))
     g = req.g if g_source == "g" else qs.gravity(req.length_unit)
     if shape == "disk_radius":
-        return QuasistaticInputs(qs.PartGeometry.disk(req.disk_radius), g, g_source, None)
+        return QuasistaticInputs(qs.ShapeMoments.disk(req.disk_radius), g, g_source, None)
     fp = footprint_of(req.footprint, None, ("footprint",))
-    return QuasistaticInputs(qs.PartGeometry.polygon(fp), g, g_source, finite_list(fp.center_of_mass, "part.center_of_mass"))
+    return QuasistaticInputs(qs.ShapeMoments.polygon(fp), g, g_source, finite_list(fp.center_of_mass, "part.center_of_mass"))
 
 
 def quasistatic_response(req: PushQuasistaticRequest, inputs: QuasistaticInputs, res: qs.QuasiStaticAssessment,
@@ -182,8 +179,8 @@ GROSS_REFERENCE = (
     "M. A. Peshkin, Robotic Manipulation Strategies (1990): 3.4 (aligning a workpiece with a fence, "
     "(3.39)-(3.41)), 4.2 (from instantaneous to gross motion), 4.3 (the fence with contact friction, "
     "(4.2)-(4.8)), 4.4 (a disk pushed aside, (4.9)-(4.24)); 3.1.8 (the circumscribing disk); 6.8 "
-    "(quasi-static speeds). Closed forms re-derived in models/gross/gross_motion.py, exact bounds in "
-    "models/gross/gross_bounds.py, the fence geometry in models/gross/fence_geometry.py"
+    "(quasi-static speeds). The closed forms re-derived, with the corrections to the printed text, "
+    "in the service's docs/mechanics.md (gross motion)"
 )
 
 ALIGN_NOTE = (
@@ -193,7 +190,7 @@ ALIGN_NOTE = (
     "their quadrature error and the sampling of the loci, n_points). The "
     "book's closed forms take the tips of {COR}_(alpha+-nu) and the tip line instead of the exact "
     "slowest CORs: they are approximations, not bounds (the exact longest push exceeds them by up to a "
-    "few per cent at large mu_c, models/gross/gross_motion.py). With mu_c = 0 the closed forms are exact (the "
+    "few per cent at large mu_c, docs/mechanics.md). With mu_c = 0 the closed forms are exact (the "
     "tip of {COR}_alpha is the slowest COR and r_min the fastest). A stage ends when its edge is flush; "
     "the part stops when the frictionless line of force through the CM meets that edge."
 )
@@ -299,14 +296,6 @@ def _slip_out(slip: Slip | None) -> FenceSlipOut | None:
     )
 
 
-def request_index(request_vertices, fp: Footprint):
-    """Footprint.create reverses a clockwise outline: map its vertex indices back to the
-    request's."""
-    n = len(fp.vertices)
-    same = np.array_equal(np.asarray(request_vertices, dtype=float), fp.vertices)
-    return (lambda i: int(i)) if same else (lambda i: n - 1 - int(i))
-
-
 def _stage_out(s: AlignStage, index) -> FenceStageOut:
     st = s.stage
     return FenceStageOut(
@@ -339,7 +328,7 @@ def align_problem(req: PushAlignRequest) -> AlignProblem:
 
 def align_partial(req: PushAlignRequest, problem: AlignProblem):
     """The converter of the stages done when the time limit runs out (the 504's ``partial``)."""
-    index = request_index(req.footprint, problem.footprint)
+    index = problem.footprint.input_index
 
     def convert(stages: tuple[AlignStage, ...]) -> dict:
         return {"stages": [_stage_out(s, index).model_dump() for s in stages]}
@@ -387,7 +376,7 @@ def _quadrature_warning(bounds: list[BoundOut]) -> str:
 
 def align_response(req: PushAlignRequest, result: AlignResult, elapsed_ms: float) -> PushAlignResponse:
     al = result.alignment
-    index = request_index(req.footprint, result.problem.footprint)
+    index = result.problem.footprint.input_index
     stages = [_stage_out(s, index) for s in result.stages]
     longest = _bound_out(result.longest, "longest_push")
     shortest = _bound_out(result.shortest, "shortest_push")

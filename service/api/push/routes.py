@@ -3,8 +3,8 @@ fence push to align a part (3.4, 4.3)? How long does a moving point push a disk 
 (4.4)?
 
 Each route: request -> problem (:mod:`service.api.push.convert`) -> one call
-(:func:`models.gross.quasistatic.assess`, a closed form; :func:`solver.gross.align.align`,
-:func:`solver.gross.disk_encounter.disk_encounter`, which take the request's budget) ->
+(:func:`models.push.quasistatic.assess`, a closed form; :func:`solver.push.align.align`,
+:func:`solver.push.disk_encounter.disk_encounter`, which take the request's budget) ->
 response. The closed form runs in the web process, the bounds (seconds) in a solver
 worker (:mod:`service.runtime.jobs`).
 """
@@ -14,7 +14,7 @@ from __future__ import annotations
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
-from models.gross.quasistatic import assess
+from models.push.quasistatic import assess
 from service.api.push.convert import (
     ALIGN_FIELDS,
     ENCOUNTER_FIELDS,

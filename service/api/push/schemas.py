@@ -16,7 +16,7 @@ from typing import Annotated, Literal
 from pydantic import ConfigDict, Field, field_validator
 from pydantic_core import PydanticCustomError
 
-from models.gross.quasistatic import (
+from models.push.quasistatic import (
     BOOK_TRANSLATIONAL_ERROR_REL,
     GRAVITY_M_S2,
     METRES_PER_UNIT,
@@ -54,7 +54,7 @@ from service.limits import (
 from solver import ENCOUNTER_SKETCH_COST, SKETCH_COST
 
 LengthUnit = Literal["m", "cm", "mm", "um", "in", "ft"]
-assert set(LengthUnit.__args__) == set(METRES_PER_UNIT), "LengthUnit must list models.gross.quasistatic.METRES_PER_UNIT"  # type: ignore[attr-defined]
+assert set(LengthUnit.__args__) == set(METRES_PER_UNIT), "LengthUnit must list models.push.quasistatic.METRES_PER_UNIT"  # type: ignore[attr-defined]
 
 Gravity = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=QS_MIN_GRAVITY, le=QS_MAX_GRAVITY)]
 Length = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=QS_MIN_LENGTH, le=MAX_DISK_RADIUS)]
@@ -201,7 +201,7 @@ GrossLength = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=GROSS_
 
 METHOD_DESCRIPTION = (
     "`closed_form`: the book's closed forms only (fast); `exact`: the bounds integrated over the "
-    "exact COR sketch (models.gross.gross_bounds; costs about (n_nodes + n_nodes // 2) sketches per bound); "
+    "exact COR sketch (costs about (n_nodes + n_nodes // 2) sketches per bound); "
     "`both` (default): both and their difference."
 )
 N_NODES_DESCRIPTION = (

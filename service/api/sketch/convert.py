@@ -3,14 +3,14 @@
 The request becomes a ``PushScene`` exactly as for ``/v1/cor/locus``
 (:func:`service.common.scene.prepare_push`: a disk, or a polygon bounded by its
 circumscribing disk, with the same warnings) and a
-:class:`solver.locus.sketch.SketchProblem`; :func:`sketch_response` turns the
-:class:`solver.locus.sketch.SketchResult` into the response schema with plain floats and
+:class:`solver.sketch.cor_sketch.SketchProblem`; :func:`sketch_response` turns the
+:class:`solver.sketch.cor_sketch.SketchResult` into the response schema with plain floats and
 no NaN/inf (with the certification report of method ``certified``).
 """
 
 from __future__ import annotations
 
-from models.locus.cor_sketch import CorSketch, ElementaryLocus
+from models.sketch.disk_sketch import CorSketch, ElementaryLocus
 from service.api.sketch.schemas import (
     CorSketchRequest,
     CorSketchResponse,

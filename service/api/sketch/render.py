@@ -26,7 +26,7 @@ from matplotlib.patches import Circle, FancyArrowPatch, Wedge
 from matplotlib.patches import Polygon as PolygonPatch
 
 from models.locus.cor_disk import TipLine
-from models.locus.cor_sketch import CorSketch
+from models.sketch.disk_sketch import CorSketch
 from service.api.sketch.convert import IMPLICATION_TEXT, is_translation
 from service.common.scene import PreparedPush
 from service.common.svg import (

@@ -1,7 +1,7 @@
 """``POST /v1/cor/sketch``: the COR sketch of a push with pusher friction (book 4.1).
 
 Request -> :func:`service.api.sketch.convert.sketch_problem` (the scene, as for
-``/v1/cor/locus``) -> :func:`solver.locus.sketch.sketch` -> response or picture, in a
+``/v1/cor/locus``) -> :func:`solver.sketch.cor_sketch.cor_sketch` -> response or picture, in a
 solver worker (:mod:`service.runtime.jobs`; a sketch takes a few hundred milliseconds, a
 certified one seconds).
 """
@@ -18,7 +18,7 @@ from service.common.fields import ResponseFormat
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
-from solver import sketch
+from solver import cor_sketch
 
 router = APIRouter()
 
@@ -58,7 +58,7 @@ async def cor_sketch_route(
 def sketch_job(req: CorSketchRequest, svg: bool, deadline: Deadline) -> CorSketchResponse | Response:
     budget = deadline.budget()
     prep, problem = sketch_problem(req, with_tip_line=svg)
-    result = sketch(problem, budget)
+    result = cor_sketch(problem, budget)
     body = sketch_response(prep, result, budget.elapsed() * 1e3)  # also the NaN/inf guard of the picture
     if svg:
         return Response(content=render_sketch_svg(prep, result.sketch, result.tip_line), media_type=SVG_MEDIA_TYPE)

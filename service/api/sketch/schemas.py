@@ -1,5 +1,5 @@
 """Request and response schemas of ``POST /v1/cor/sketch``: the COR sketch with pusher
-friction (book 4.1, :mod:`models.locus.cor_sketch`).
+friction (book 4.1, :mod:`models.sketch.disk_sketch`).
 
 Conventions as in :mod:`service.common.fields`: world frame (x right, y up), angles in radians
 counter-clockwise, lengths in the client's unit, strict finite numbers, unknown fields
@@ -16,7 +16,7 @@ from typing import Annotated, Literal
 from pydantic import ConfigDict, Field, field_validator
 from pydantic_core import PydanticCustomError
 
-from models.locus.cor_sketch import CONFIG_ORDER, IMPLIED_MODES, SKETCHES
+from models.sketch.disk_sketch import CONFIG_ORDER, IMPLIED_MODES, SKETCHES
 from service.common.fields import (
     CONTACT_POINT_DESCRIPTION,
     EDGE_ANGLE_DESCRIPTION,

@@ -16,7 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from models.tolerances import SPIRAL_DEFAULT
+from models.core.tolerances import SPIRAL_DEFAULT
 from service.api.spiral.schemas import (
     REFERENCE,
     CertificateOut,

@@ -45,8 +45,8 @@ Beta = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=SPIRAL_MIN_BE
 REFERENCE = (
     "M. A. Peshkin, Robotic Manipulation Strategies (1990): 4.5 (spiral localization of a disk: "
     "4.5.2 the critical case, 4.5.3 r*(beta) and (4.24), 4.5.4 b_inf (4.25), 4.5.5 the recursion (4.26), "
-    "figures 4-19 and 4-21); 4.1.4 (the sticking locus). Re-derived in models/spiral.py and "
-    "solver/spiral/, simulated in solver/sim/spiral.py"
+    "figures 4-19 and 4-21); 4.1.4 (the sticking locus). Re-derived, with the findings against the "
+    "printed text, in the service's docs/mechanics.md (spiral localization)"
 )
 
 METHOD_DESCRIPTION = (
@@ -336,7 +336,7 @@ TipLineOut = create_model(
     reaches_target=(bool, Field(description="False: the tip line stalls at 2a above the target.")),
     unsafe_revolutions=(int, Field(
         description="Its revolutions shown unsafe by the request's r* table: some collision parameter the step "
-        "allows has r* above the new radius (models.spiral.unsafe_revolutions; no margin)."
+        "allows has r* above the new radius (no margin)."
     )),
     revolutions_difference=(int | None, Field(description="Tip line minus the OR-Tools schedule.")),
 )

@@ -5,16 +5,16 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
 from models.feeder.arcs import TWO_PI
 from models.feeder.fence import (
     FINE,
     Fence,
-    Part,
     canonical_edge,
     canonical_outline,
     contact_interval,
     endpoint_turn,
+    feeder_part,
     fence_map,
     final_edges,
     rotation,
@@ -32,11 +32,11 @@ def arcs_deg(arcs):
 
 
 def test_contact_intervals_partition_the_circle_phase_1():
-    part = Part.create(*PENTAGON)
+    part = feeder_part(*PENTAGON)
     gamma = math.radians(-60)
-    widths = [contact_interval(part, k, gamma)[1] for k in range(part.m)]
+    widths = [contact_interval(part, k, gamma)[1] for k in range(part.hull_size)]
     assert sum(widths) == pytest.approx(TWO_PI)
-    for k in range(part.m):  # vertex k is the lowest along n inside its interval
+    for k in range(part.hull_size):  # vertex k is the lowest along n inside its interval
         s, w = contact_interval(part, k, gamma)
         for theta in s + w * np.array([0.1, 0.5, 0.9]):
             c, si = math.cos(theta), math.sin(theta)
@@ -47,7 +47,7 @@ def test_contact_intervals_partition_the_circle_phase_1():
 
 def test_jam_at_the_friction_angle_6_4():
     """A flush part slides along the fence only if |tan gamma| > mu_c (6.4)."""
-    part = Part.create(SQUARE)
+    part = feeder_part(SQUARE)
     gamma = math.atan(0.25)
     jammed = fence_map(part, Fence.create(gamma, 0.25))
     assert jammed.map.bands == () and jammed.map.jam.measure == pytest.approx(TWO_PI)
@@ -62,9 +62,9 @@ def test_flush_edge_stability_by_hand_phase_4():
     """A 4 x 1 rectangle on a +60 degree fence: its short edge (L = 1, CM at u_c = 0.5,
     h_c = 2) is stable while u_X = 0.5 - 2 mu_c >= 0, i.e. mu_c <= 0.25; its long edges
     (u_X = 2 - 0.5 mu_c) always are."""
-    part = Part.create(RECT, [2.0, 0.5])
+    part = feeder_part(RECT, [2.0, 0.5])
     fence = Fence.create(math.radians(60), 0.2)
-    long_edges = {j for j in range(4) if part.edge(j)[1] == pytest.approx(4.0)}
+    long_edges = {j for j in range(4) if part.hull_edge(j)[1] == pytest.approx(4.0)}
     short = [j for j in range(4) if j not in long_edges]
     assert all(final_edges(part, j, fence) == {j} for j in range(4))
     steep = Fence.create(math.radians(60), 0.3)
@@ -80,7 +80,7 @@ def test_endpoint_extremes_5_1_6_5():
     ends between somewhat more than the fence angle and along the belt (6.5, figure 6-9).
     The default tolerances agree with FINE to 0.3 degrees and lie on its safe side (B
     smaller: a wider band)."""
-    part = Part.create(SQUARE)
+    part = feeder_part(SQUARE)
     last = 0.0
     for deg in (25, 35, 45, 55, 65):
         fence = Fence.create(math.radians(deg), 0.25)
@@ -102,18 +102,18 @@ def test_the_outline_in_the_frame_of_leaving_the_end_5_1(deg):
     origin, the part above the edge; mirrored (clockwise) for a fence with gamma < 0, the
     same shape (each vertex's distance from the CM kept)."""
     verts, cm = PENTAGON
-    part = Part.create(verts, cm)
+    part = feeder_part(verts, cm)
     fence = Fence.create(math.radians(deg), 0.25)
     g = abs(fence.angle)
     t0 = np.array([math.cos(g), math.sin(g)])
     n0 = np.array([-t0[1], t0[0]])
-    for j in range(part.m):
+    for j in range(part.hull_size):
         u_c, h_c, length, _ = canonical_edge(part, j, fence, 0.25)
         out = canonical_outline(part, j, fence)
-        assert np.allclose(np.hypot(out[:, 0], out[:, 1]), np.hypot(part.outline[:, 0], part.outline[:, 1]))
+        assert np.allclose(np.hypot(out[:, 0], out[:, 1]), np.hypot(part.vertices[:, 0], part.vertices[:, 1]))
         for ell in (0.0, length):
             contact = (ell - u_c) * t0 - h_c * n0
-            assert np.min(np.hypot(*(out - contact).T)) < 1e-12 * part.radius
+            assert np.min(np.hypot(*(out - contact).T)) < 1e-12 * part.circumradius
         assert np.all((out - ((0.0 - u_c) * t0 - h_c * n0)) @ n0 >= -1e-12)
         area = 0.5 * float(np.sum(out[:, 0] * np.roll(out[:, 1], -1) - np.roll(out[:, 0], -1) * out[:, 1]))
         assert math.copysign(1.0, area) == fence.sign
@@ -124,14 +124,14 @@ def test_an_own_slip_bound_narrows_extreme_b_and_none_is_the_disk_5_1():
     the disk's: an infinite own bound is the disk's B, a zero one (no slip) is A, and one
     between lies between."""
     verts, cm = PENTAGON
-    part = Part.create(verts, cm)
+    part = feeder_part(verts, cm)
     fence = Fence.create(math.radians(40), 0.25)
     lost = []
     for j in fence_map(part, fence).final_edges:
         disk = endpoint_turn(part, j, fence)
         inf = endpoint_turn(part, j, fence, own_rate=lambda j, mu: lambda ell, delta: math.inf)
         zero = endpoint_turn(part, j, fence, own_rate=lambda j, mu: lambda ell, delta: 0.0)
-        some = endpoint_turn(part, j, fence, own_rate=lambda j, mu: lambda ell, delta: 2.0 * part.radius)
+        some = endpoint_turn(part, j, fence, own_rate=lambda j, mu: lambda ell, delta: 2.0 * part.circumradius)
         assert inf.least == disk.least
         assert zero.least == zero.most and not zero.contact_lost
         assert disk.least < some.least <= zero.least
@@ -145,7 +145,7 @@ def test_a_force_line_through_a_vertex_may_leave_the_part_on_either_edge_phase_4
     part stays or pivots onto the long edge (the simulator did pivot, the map once said it
     stays). Within crossing_rel of an end both are final; well away from 0.25 only the
     short edge is."""
-    part = Part.create(RECT, [2, 0.5])
+    part = feeder_part(RECT, [2, 0.5])
     fence = Fence.create(math.radians(40), 0.25)
     assert [sorted(final_edges(part, j, fence)) for j in range(4)] == [[0], [0, 1], [2], [2, 3]]
     assert [sorted(final_edges(part, j, Fence.create(math.radians(40), 0.2))) for j in range(4)] == [[0], [1], [2], [3]]
@@ -161,8 +161,8 @@ def test_mirror_symmetry():
     theta -> -theta on both axes."""
     verts, cm = PENTAGON
     for deg in (30, 60):
-        a = fence_map(Part.create(verts, cm), Fence.create(math.radians(deg), 0.3))
-        b = fence_map(Part.create(mirrored(verts), [-cm[0], cm[1]]), Fence.create(math.radians(-deg), 0.3))
+        a = fence_map(feeder_part(verts, cm), Fence.create(math.radians(deg), 0.3))
+        b = fence_map(feeder_part(mirrored(verts), [-cm[0], cm[1]]), Fence.create(math.radians(-deg), 0.3))
         ma, mb = a.map.matrix(N), b.map.matrix(N)
         flip = (-np.arange(N) - 1) % N  # cell i covers [i, i+1]: its mirror is cell -i-1
         assert np.array_equal(ma, mb[np.ix_(flip, flip)])
@@ -171,10 +171,10 @@ def test_mirror_symmetry():
 def test_rotational_symmetry_of_the_square():
     """A square's map is unchanged by turning the part a quarter turn before and after:
     four bands a quarter turn apart."""
-    m = fence_map(Part.create(SQUARE), Fence.create(math.radians(50), 0.25)).map.matrix(N)
+    m = fence_map(feeder_part(SQUARE), Fence.create(math.radians(50), 0.25)).map.matrix(N)
     q = N // 4
     assert np.array_equal(m, np.roll(np.roll(m, q, axis=0), q, axis=1))
-    starts = sorted(s for b in fence_map(Part.create(SQUARE), Fence.create(math.radians(50), 0.25)).map.bands
+    starts = sorted(s for b in fence_map(feeder_part(SQUARE), Fence.create(math.radians(50), 0.25)).map.bands
                     for s, _ in b.arcs)
     assert np.allclose(np.diff(starts), math.pi / 2)
 
@@ -183,8 +183,8 @@ def test_rotational_symmetry_of_the_square():
 def test_scale_invariance(scale):
     verts, cm = PENTAGON
     fence = Fence.create(math.radians(-45), 0.25)
-    ref = fence_map(Part.create(verts, cm), fence)
-    got = fence_map(Part.create(np.array(verts) * scale, np.array(cm) * scale), fence)
+    ref = fence_map(feeder_part(verts, cm), fence)
+    got = fence_map(feeder_part(np.array(verts) * scale, np.array(cm) * scale), fence)
     assert got.final_edges == ref.final_edges
     for a, b in zip(got.map.bands + got.map.kernels, ref.map.bands + ref.map.kernels):
         assert np.allclose(np.array(a.arcs), np.array(b.arcs), atol=1e-9)
@@ -193,7 +193,7 @@ def test_scale_invariance(scale):
 def test_every_orientation_reaches_a_band_and_intervals_widen_the_map():
     """Without jams every initial orientation has an outcome; a mu_c interval's map holds
     the maps of its ends (both senses wherever Mason's rule changes within it)."""
-    part = Part.create(*PENTAGON)
+    part = feeder_part(*PENTAGON)
     lo = fence_map(part, Fence.create(math.radians(-55), 0.2)).map
     hi = fence_map(part, Fence.create(math.radians(-55), 0.35)).map
     both = fence_map(part, Fence.create(math.radians(-55), (0.2, 0.35))).map
@@ -204,9 +204,9 @@ def test_every_orientation_reaches_a_band_and_intervals_widen_the_map():
 
 def test_bad_parts_and_fences_are_refused():
     with pytest.raises(InvalidInput, match="center_of_mass"):
-        Part.create(SQUARE, center_of_mass=[5, 0])
+        feeder_part(SQUARE, center_of_mass=[5, 0])
     with pytest.raises(InvalidInput, match="vertices"):
-        Part.create([[0, 0], [1, 1], [2, 2]])
+        feeder_part([[0, 0], [1, 1], [2, 2]])
     with pytest.raises(InvalidInput, match="fence_angle"):
         Fence.create(0.0, 0.2)
     with pytest.raises(InvalidInput, match="fence_angle"):
@@ -221,9 +221,9 @@ def test_extreme_b_rises_with_mu_c_so_an_interval_takes_its_low_end_5_1():
     """More friction, less slip: B grows with mu_c on every edge (measured, not proved),
     which is why an interval's B, the least over samples including both ends, is the low
     end's."""
-    part = Part.create(*PENTAGON)
+    part = feeder_part(*PENTAGON)
     for deg in (30.0, -50.0):
-        for j in range(part.m):
+        for j in range(part.hull_size):
             bs = [endpoint_turn(part, j, Fence.create(math.radians(deg), mu)).least for mu in np.linspace(0.0, 0.5, 6)]
             assert np.all(np.diff(bs) > 0.0), (deg, j, bs)
             interval = endpoint_turn(part, j, Fence.create(math.radians(deg), (0.0, 0.5)))
@@ -236,8 +236,8 @@ def test_reach_phase_6_1_8_6():
     point mu_c (near each unstable balance the part can slide without turning); the same
     orientations when part and reach scale together; mirrored with the part and fence."""
     verts, cm = PENTAGON
-    part = Part.create(verts, cm)
-    a = part.radius
+    part = feeder_part(verts, cm)
+    a = part.circumradius
     assert fence_map(part, Fence.create(0.7, 0.25)).map.unaligned.is_empty
     # a reach of 0 (a part that may meet the fence at its end, as on a belt after a fence on
     # the same side) aligns nothing
@@ -255,11 +255,11 @@ def test_reach_phase_6_1_8_6():
     assert previous.measure < math.radians(5)
     for scale in (1e-6, 1e6):
         ref = fence_map(part, Fence.create(-0.9, 0.15, reach=2.0 * a)).map.unaligned
-        big = fence_map(Part.create(np.array(verts) * scale, np.array(cm) * scale),
+        big = fence_map(feeder_part(np.array(verts) * scale, np.array(cm) * scale),
                         Fence.create(-0.9, 0.15, reach=2.0 * a * scale)).map.unaligned
         assert np.allclose(np.array(big.arcs), np.array(ref.arcs), atol=1e-9)
     m1 = fence_map(part, Fence.create(0.6, 0.2, reach=2.0 * a)).map
-    m2 = fence_map(Part.create(mirrored(verts), [-cm[0], cm[1]]), Fence.create(-0.6, 0.2, reach=2.0 * a)).map
+    m2 = fence_map(feeder_part(mirrored(verts), [-cm[0], cm[1]]), Fence.create(-0.6, 0.2, reach=2.0 * a)).map
     c1, c2 = m1.unaligned.cells(N), m2.unaligned.cells(N)
     flip = (-np.arange(N) - 1) % N
     assert np.array_equal(c1, c2[flip])
@@ -268,8 +268,8 @@ def test_reach_phase_6_1_8_6():
 def test_unaligned_orientations_allow_everything_and_pass_through_products_5_4():
     """An orientation the map does not bound allows every outcome: its column of the matrix
     is full, and a product marks every initial orientation that may reach it."""
-    part = Part.create(*PENTAGON)
-    short = fence_map(part, Fence.create(0.7, 0.25, reach=1.0 * part.radius)).map
+    part = feeder_part(*PENTAGON)
+    short = fence_map(part, Fence.create(0.7, 0.25, reach=1.0 * part.circumradius)).map
     full = fence_map(part, Fence.create(-0.9, 0.15)).map
     assert not short.unaligned.is_empty and full.unaligned.is_empty
     cols = short.unaligned.cells(N)
@@ -304,6 +304,6 @@ def test_the_unaligned_set_does_not_depend_on_the_body_frame_phase_6(verts, cm, 
     for phi in (0.0, 0.3, 1.1, -2.0):
         v = np.array(verts) @ rotation(phi).T
         c = rotation(phi) @ np.array(cm)
-        got = fence_map(Part.create(v, c), Fence.create(gamma, (0.2, 0.4), reach=1e9)).map.unaligned.measure
+        got = fence_map(feeder_part(v, c), Fence.create(gamma, (0.2, 0.4), reach=1e9)).map.unaligned.measure
         ref = got if ref is None else ref
         assert got == pytest.approx(ref, abs=1e-6)

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
 from models.feeder.layout import lay_out
 
 

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from models.feeder.arcs import TWO_PI
-from models.feeder.design import rotational_symmetry
-from models.feeder.fence import Part
+from models.feeder.design_graph import rotational_symmetry
+from models.feeder.fence import feeder_part
 from models.feeder.pushplan import PushFunction, plan_pushes
 from tests.feeder_cases import PARTS, part
 
@@ -81,5 +81,5 @@ def test_known_plans_a_square_needs_one_push_a_rectangle_two():
     rect = plan_pushes(part("rectangle"))
     assert rect.alphas is not None and len(rect.alphas) == 1
     assert abs(math.remainder(rect.alphas[0], math.pi / 2)) == pytest.approx(math.pi / 4, abs=rect.tolerance)
-    tri = Part.create([[0, 0], [1, 0], [0.5, math.sqrt(3) / 2]], [0.5, math.sqrt(3) / 6])
+    tri = feeder_part([[0, 0], [1, 0], [0.5, math.sqrt(3) / 2]], [0.5, math.sqrt(3) / 6])
     assert plan_pushes(tri).alphas == ()  # an equilateral triangle: symmetry of order 3

@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
+from models.core.scene import PushScene
+from models.core.tolerances import DEFAULT, HIGH_ACCURACY
 from models.locus import cor_disk as cd
-from models.scene import PushScene
-from models.tolerances import DEFAULT, HIGH_ACCURACY
 from tests.scenes import ALL_MU, MU_ON_DISK, MU_OUTER_INNER, MU_WITH_ARC, circle_radius, scene_for_mu
 
 

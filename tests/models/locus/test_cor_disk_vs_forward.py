@@ -10,9 +10,9 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
+from models.core.support import Support
 from models.locus import cor_disk as cd
-from models.support import Support
 from solver.motion.forward import solve_forward
 from tests.scenes import (
     MU_OUTER_INNER,

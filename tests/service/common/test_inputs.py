@@ -6,7 +6,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
 from service.common.inputs import exactly_one, field_path, footprint_of, located
 from service.errors import FieldError
 

@@ -9,7 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
 from service.common.scene import contact_warnings, disk_or_footprint, prepare_push
 from service.errors import FieldError
 

@@ -8,7 +8,7 @@ import time
 
 from starlette.responses import JSONResponse
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
 from service.runtime.deadline import Deadline
 from solver import TimeLimitReached
 

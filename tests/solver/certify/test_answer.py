@@ -11,9 +11,9 @@ import math
 import numpy as np
 import pytest
 
+from models.core.scene import PushScene
+from models.core.support import Support
 from models.locus.cor_disk import disk_cor_locus
-from models.scene import PushScene
-from models.support import Support
 from solver.certify.answer import CertifiedPoint, answer_fields
 from solver.certify.colgen import Messages, decide
 from solver.core.budget import UNLIMITED

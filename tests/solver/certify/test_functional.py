@@ -11,7 +11,7 @@ from decimal import Decimal, getcontext
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
+from models.core.footprint import Footprint
 from solver.certify.functional import RayFunctional, far_delta
 from solver.certify.outline import Outline, outline_in_frame, pieces_seen_from
 from solver.core.tolerances import SOLVER_DEFAULT

@@ -11,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
 from solver.certify.outline import (
     ON_BOUNDARY_REL,
     DiskPieces,

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
+from models.core.footprint import Footprint
 from solver.certify.outline import Outline, grid
 from solver.certify.pricing import branch_and_bound, golden, local_minima
 from solver.core.budget import UNLIMITED, Budget

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from models.errors import InvalidInput, ModelError
+from models.core.errors import InvalidInput, ModelError
 from solver.core.errors import BackendNotFound, Infeasible, NotConverged, SolverError, TimeLimitReached
 
 

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import solver
-from models.scene import PushScene
-from models.support import Support
+from models.core.scene import PushScene
+from models.core.support import Support
 from solver.core.outcome import OUTCOME_FIELDS, Outcome
 
 RESULT_SUFFIXES = ("Result", "Solution", "Locus", "Boundary", "Sketch", "Table", "Schedule", "Plan", "Statistics", "Radii",

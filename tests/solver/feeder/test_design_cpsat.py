@@ -1,5 +1,5 @@
 """The CP-SAT feeder design (solver/feeder/design_cpsat.py, book 5.3, 5.4) against the
-breadth-first search of models/feeder/design.py: the same least number of fences, the same
+breadth-first search of models/feeder/design_graph.py: the same least number of fences, the same
 depths proven impossible, and a CP-SAT design that the code sets confirm."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import math
 
 import pytest
 
-from models.feeder.design import DesignGraph, search_design
+from models.feeder.design_graph import DesignGraph, search_design
 from models.feeder.fence import Fence, fence_map
 from solver import Budget
 from solver.feeder.design_cpsat import shortest_design_cpsat

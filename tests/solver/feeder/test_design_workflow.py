@@ -5,8 +5,7 @@ from __future__ import annotations
 
 import math
 
-from models.feeder.fence import Part
-from models.footprint import Footprint
+from models.feeder.fence import feeder_part
 from solver import Budget, FeederDesignProblem, feeder_design
 from solver.feeder.design import BeltSpec
 from tests.feeder_cases import PARTS, Clock, CountingClock
@@ -14,8 +13,8 @@ from tests.feeder_cases import PARTS, Clock, CountingClock
 
 def problem(name: str, **kw) -> FeederDesignProblem:
     v, cm = PARTS[name]
-    base = dict(part=Part.create(v, cm), angle_min=math.radians(20), angle_max=math.radians(70),
-                angle_step=math.radians(10), mu_c=(0.25, 0.25), footprint=Footprint.create(v, cm))
+    base = dict(part=feeder_part(v, cm), angle_min=math.radians(20), angle_max=math.radians(70),
+                angle_step=math.radians(10), mu_c=(0.25, 0.25))
     base.update(kw)
     return FeederDesignProblem(**base)
 
@@ -40,14 +39,14 @@ def test_on_a_belt_the_design_is_validated_through_its_placed_fences_1_8_6():
     shortest design (fences on one side, not alternating) lets every part pass a fence
     placed beside the previous one's end untouched (reach 0: ``may_miss``), which the
     validation counts as missed, never as in the band."""
-    radius = Part.create(*PARTS["rectangle"]).radius
+    radius = feeder_part(*PARTS["rectangle"]).circumradius
     res = feeder_design(problem("rectangle", validation_parts=12, seed=5, belt=BeltSpec(width=12.0 * radius)))
     v = res.validation
     assert v is not None and v.on_belt and v.parts == 12
     assert v.in_band == 12 and v.missed == v.outside == v.unflushed == v.unfinished == 0
     assert len(v.examples) == 3 and all(len(r.runs) == 2 for r in v.examples)
     assert not any(c.may_miss for c in res.placed)
-    radius = Part.create(*PARTS["pentagon"]).radius
+    radius = feeder_part(*PARTS["pentagon"]).circumradius
     res = feeder_design(problem("pentagon", alternate=False, validation_parts=6, seed=5,
                                 belt=BeltSpec(width=12.0 * radius)))
     v = res.validation

@@ -10,25 +10,25 @@ import math
 import numpy as np
 import pytest
 
+from models.core.footprint import Footprint
+from models.core.mpp import perp
+from models.core.scene import PushScene
+from models.core.support import random_balanced_tripods
 from models.feeder.fence import (
     PUSH_ANGLE,
     Fence,
-    Part,
     canonical_edge,
     canonical_outline,
+    feeder_part,
     fence_map,
     max_slip_rate,
     rotation,
     slip_normal,
 )
-from models.footprint import Footprint
-from models.locus.cor_sketch import force_scene
-from models.mpp import perp
-from models.scene import PushScene
-from models.support import random_balanced_tripods
+from models.sketch.disk_sketch import force_scene
 from solver.feeder.part_bound import PartBoundSettings, PartLoci, outline_dipods
+from solver.feeder.simulate import simulate_fence_batch
 from solver.motion.forward import solve_forward_batch
-from solver.sim.feeder import simulate_fence_batch
 from tests.feeder_cases import PARTS, part, random_encounter
 
 SEED = 20261126
@@ -41,15 +41,15 @@ def test_dipods_on_the_outline_balance_on_the_cm_3_3_5(name):
     """Each dipod's feet lie on the outline, on a line through the CM, weighted so that
     their centroid is the CM (3.1.5); the L-shape's CM lies outside its outline."""
     p = part(name)
-    pts, wts = outline_dipods(p.outline, 180)
+    pts, wts = outline_dipods(p.vertices, 180)
     assert 0 < len(pts) <= 180 and np.all(wts > 0.0)
-    assert np.allclose(np.sum(pts * wts[:, :, None], axis=1), 0.0, atol=1e-12 * p.radius)
+    assert np.allclose(np.sum(pts * wts[:, :, None], axis=1), 0.0, atol=1e-12 * p.circumradius)
     assert np.allclose(wts.sum(axis=1), 1.0)
-    assert np.allclose(pts[:, 0, 0] * pts[:, 1, 1] - pts[:, 0, 1] * pts[:, 1, 0], 0.0, atol=1e-12 * p.radius ** 2)
-    a, b = p.outline, np.roll(p.outline, -1, axis=0)
+    assert np.allclose(pts[:, 0, 0] * pts[:, 1, 1] - pts[:, 0, 1] * pts[:, 1, 0], 0.0, atol=1e-12 * p.circumradius ** 2)
+    a, b = p.vertices, np.roll(p.vertices, -1, axis=0)
     for foot in pts.reshape(-1, 2):  # distance to the nearest outline segment
         t = np.clip(np.einsum("ij,ij->i", foot - a, b - a) / np.einsum("ij,ij->i", b - a, b - a), 0.0, 1.0)
-        assert np.min(np.hypot(*(a + t[:, None] * (b - a) - foot).T)) < 1e-12 * p.radius
+        assert np.min(np.hypot(*(a + t[:, None] * (b - a) - foot).T)) < 1e-12 * p.circumradius
 
 
 def test_the_slip_bound_holds_every_sampled_cor_and_is_tighter_than_the_disk_5_1_7_5():
@@ -65,19 +65,19 @@ def test_the_slip_bound_holds_every_sampled_cor_and_is_tighter_than_the_disk_5_1
         rate = loci.rate_for(j, mu)
         assert loci.cost.rays == loci.cost.rays_bracketed > 0
         outline = canonical_outline(p, j, fence)
-        pts, wts = random_balanced_tripods(rng, 3000, p.radius, footprint=Footprint.create(outline, (0.0, 0.0)))
+        pts, wts = random_balanced_tripods(rng, 3000, p.circumradius, footprint=Footprint.create(outline, (0.0, 0.0)))
         g = abs(fence.angle)
         t0 = np.array([math.cos(g), math.sin(g)])
         for ell in ell0 + (length - ell0) * np.array([0.3, 0.6, 0.95]):
             contact = (ell - u_c) * t0 - h_c * perp(t0)
-            turned, _ = force_scene(PushScene.create(p.radius, contact, g, PUSH_ANGLE), -math.atan(mu))
+            turned, _ = force_scene(PushScene.create(p.circumradius, contact, g, PUSH_ANGLE), -math.atan(mu))
             cors = np.asarray(solve_forward_batch(turned, pts, wts).cor)
             cors = cors[np.all(np.isfinite(cors), axis=1)]
             assert len(cors) > 2900
             for delta in (0.0, 0.4, 0.8):
                 w = rotation(-delta) @ slip_normal(np.array([math.cos(g + delta), math.sin(g + delta)]))
                 sampled = float(np.max((cors - contact) @ w))
-                disk, _ = max_slip_rate(p.radius, rotation(delta) @ contact, g + delta, mu, 400)
+                disk, _ = max_slip_rate(p.circumradius, rotation(delta) @ contact, g + delta, mu, 400)
                 assert sampled <= rate(ell, delta) and sampled <= disk
                 ratios.append(rate(ell, delta) / disk)
     assert np.median(ratios) < 0.8
@@ -111,7 +111,7 @@ def test_the_part_bound_narrows_the_disk_map_and_holds_simulated_parts_6_5():
 
 def mirrored(name):
     verts, cm = PARTS[name]
-    return Part.create([[-x, y] for x, y in verts], [-cm[0], cm[1]])
+    return feeder_part([[-x, y] for x, y in verts], [-cm[0], cm[1]])
 
 
 @pytest.mark.parametrize("deg", [35.0, -50.0])
@@ -129,7 +129,7 @@ def test_the_part_bound_keeps_mirror_symmetry_and_scale(deg):
     assert sorted(t.least for t in got.turns) == pytest.approx(sorted(t.least for t in ref.turns), abs=1e-6)
     verts, cm = PARTS["pentagon"]
     for scale in (1e-6, 1e6):
-        s = Part.create(np.array(verts) * scale, np.array(cm) * scale)
+        s = feeder_part(np.array(verts) * scale, np.array(cm) * scale)
         scaled = fence_map(s, fence, own_rate=PartLoci(s, fence, DIPODS_ONLY).rate_for)
         assert [t.least for t in scaled.turns] == pytest.approx([t.least for t in ref.turns], abs=1e-6)
 

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
 from models.feeder.fence import Fence
 from solver import Budget, FeederMapProblem, FeederSimProblem, PartBoundSettings, feeder_map, feeder_simulate
 from tests.feeder_cases import Clock, CountingClock, part, random_support

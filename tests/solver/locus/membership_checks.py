@@ -1,5 +1,5 @@
 """Shared scenes and independent checks of the membership tests (book 3.8-3.10): the
-membership equations recomputed from a witness with models.mpp, dense 2-D samples of the
+membership equations recomputed from a witness with models.core.mpp, dense 2-D samples of the
 disk and of polygons, and the dual certificate checked on them."""
 
 from __future__ import annotations
@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
-from models.mpp import lever, membership_columns, stationarity_residual
-from models.scene import PushScene
+from models.core.footprint import Footprint
+from models.core.mpp import lever, membership_columns, stationarity_residual
+from models.core.scene import PushScene
 from solver.core.tolerances import SOLVER_DEFAULT
 from tests.scenes import point_in_polygon
 
@@ -27,7 +27,7 @@ L_SHAPE = Footprint.create([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]])
 
 def equations_residual(sc: PushScene, res, length: float) -> float:
     """L1 residual of sum P G(w) + point mass = (1, 0, 0, 0, 0), recomputed from the reported
-    witness with models.mpp.membership_columns: total weight, centroid at the CM (3.1.5) and
+    witness with models.core.mpp.membership_columns: total weight, centroid at the CM (3.1.5) and
     (3.8) with the point mass's subgradient term -s z (|z| <= P0)."""
     cm = sc.center_of_mass
     r = res.cor - cm

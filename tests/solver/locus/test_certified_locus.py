@@ -10,11 +10,11 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.scene import PushScene
+from models.core.support import random_balanced_tripods
 from models.locus import cor_disk as cd
-from models.scene import PushScene
-from models.support import random_balanced_tripods
 from solver.core.budget import Budget
 from solver.core.tolerances import SOLVER_DEFAULT
 from solver.locus.certified_locus import (

@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.scene import PushScene
 from models.locus.cor_disk import disk_cor_locus
-from models.scene import PushScene
 from solver.core.outcome import Outcome
 from solver.locus.certified_locus import certified_disk_boundary
 from solver.locus.cor_locus import LocusProblem, cor_locus

@@ -1,6 +1,6 @@
 """Certified membership "can r be a COR?" (solver/locus/membership.py) against independent checks:
 the analytic disk locus (3.30)/(3.35), forward minimum-power solves (3.7), the membership
-equations recomputed with models.mpp (3.8)-(3.10), and brute-force dense sampling of the
+equations recomputed with models.core.mpp (3.8)-(3.10), and brute-force dense sampling of the
 dual functional over the 2-D footprint (which also tests the reduction to the outline)."""
 
 from __future__ import annotations
@@ -12,11 +12,11 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
+from models.core.errors import InvalidInput
+from models.core.mpp import lever, membership_columns
+from models.core.scene import PushScene
+from models.core.support import Support, random_balanced_tripods
 from models.locus import cor_disk as cd
-from models.mpp import lever, membership_columns
-from models.scene import PushScene
-from models.support import Support, random_balanced_tripods
 from solver.certify.colgen import decide
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import SolverError
@@ -309,7 +309,7 @@ def test_far_candidates_are_decided_on_the_conditioned_rows():
     certificate_margin, and stay undecided; membership decides the point on the
     conditioned rows (moment about the contact, module docstring) with a dual that holds on
     dense samples of the whole disk, converted back to the columns of
-    models.mpp.membership_columns. The point 2e-6 a inside has a witness."""
+    models.core.mpp.membership_columns. The point 2e-6 a inside has a witness."""
     sc = scene_for_mu(0.0054)
     a = sc.disk_radius
     tip = cd.disk_cor_locus(sc, outputs=("tip",)).tip

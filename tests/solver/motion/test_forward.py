@@ -11,11 +11,11 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from models import mpp
-from models.errors import InvalidInput
+from models.core import mpp
+from models.core.errors import InvalidInput
+from models.core.scene import PushScene
+from models.core.support import Support, random_balanced_tripods, uniform_disk_support
 from models.locus import cor_disk as cd
-from models.scene import PushScene
-from models.support import Support, random_balanced_tripods, uniform_disk_support
 from solver.core.errors import BackendNotFound, NotConverged, SolverError
 from solver.core.outcome import Outcome
 from solver.core.tolerances import SolverTolerances
@@ -395,7 +395,7 @@ def test_undetermined_motion_is_refused():
 
 
 def test_tripod_sampling_gives_up_on_a_hopeless_region():
-    from models.footprint import Footprint
+    from models.core.footprint import Footprint
 
     sliver = Footprint.create([[0, 0], [1, 1], [1, 1.001], [0, 0.001]])  # fills 0.1 % of its box
     with pytest.raises(InvalidInput):

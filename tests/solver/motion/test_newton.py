@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from models.support import random_balanced_tripods
+from models.core.support import random_balanced_tripods
 from solver.core.outcome import Outcome
 from solver.motion.newton import solve_batch
 from tests.scenes import SEED

@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
-from models.inertia import impact_cor_distance, polygon_radius_of_gyration, support_radius_of_gyration
-from models.support import Support
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.inertia import impact_cor_distance, polygon_radius_of_gyration, support_radius_of_gyration
+from models.core.support import Support
 from solver.core.outcome import Outcome
 from solver.motion.forward import solve_forward, solve_forward_batch
 from solver.motion.solve import MotionProblem, UniformPressure, solve_motion

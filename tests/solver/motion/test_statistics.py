@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
-from models.footprint import Footprint
-from models.mpp import perp
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint
+from models.core.mpp import perp
 from solver.core.outcome import Outcome
 from solver.core.tolerances import SolverTolerances
 from solver.motion.statistics import (
@@ -66,7 +66,7 @@ def test_uniform_square_cor_matches_a_finer_discretisation_and_symmetry():
     """Uniform pressure on a square (figure 3-6 shape): pushing at the middle of a side
     straight on is a translation; an off-centre push turns it, converging with resolution."""
     sq = Footprint.create([[-1, -1], [1, -1], [1, 1], [-1, 1]])
-    import models.scene as ms
+    import models.core.scene as ms
 
     straight = ms.PushScene.create(math.sqrt(2), (-1.0, 0.0), math.pi / 2, 0.0)
     r = uniform_pressure_cor(straight, sq, resolution=8)

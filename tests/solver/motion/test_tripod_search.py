@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
-from models.footprint import Footprint, triangle_areas, triangulate
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint, triangle_areas, triangulate
+from models.core.support import Support
 from models.locus import cor_disk as cd
-from models.support import Support
 from solver.core.errors import NotConverged, SolverError
 from solver.core.outcome import Outcome
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances

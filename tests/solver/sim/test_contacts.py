@@ -10,8 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from solver.sim import spiral as ss
 from solver.sim.contacts import at_distance, crossing_fraction, first_dip, gap_to_disk, onto_line, regula_falsi
+from solver.spiral import simulate as ss
 
 A = 1.0
 

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from models.support import random_balanced_tripods
+from models.core.support import random_balanced_tripods
 from solver.core.errors import NotConverged, TimeLimitReached
 from solver.sim.contacts import at_distance
 from solver.sim.kinematics import Twist

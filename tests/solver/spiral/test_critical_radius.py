@@ -13,11 +13,11 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
-from models.gross.gross_bounds import encounter_scene
-from models.locus.cor_sketch import cor_sketch
-from models.mpp import perp
-from models.spiral import critical_envelope, tip_line_critical_radius
+from models.core.errors import InvalidInput
+from models.core.mpp import perp
+from models.push.gross_bounds import encounter_scene
+from models.sketch.disk_sketch import disk_cor_sketch
+from models.spiral.critical import critical_envelope, tip_line_critical_radius
 from solver.core.budget import Budget
 from solver.spiral.critical_radius import (
     INVERSE_BETA_TOL,
@@ -118,7 +118,7 @@ def test_critical_case_every_cor_pushes_the_disk_in(exact_025):
     cases.append((1.0, 1.4, r1.radius, r1.lower_bound))
     for mu, beta, r_star, r_in in cases:
         scene = encounter_scene(1.0, beta)
-        sk = cor_sketch(scene, mu, n_points=2048, sweep_points=256)
+        sk = disk_cor_sketch(scene, mu, n_points=2048, sweep_points=256)
         contact = scene.contact_point
         # the sticking segment from the exact witness end to the sweep's upper end (a
         # 256-point sweep may overshoot the lower end by ~2e-5 a)

@@ -10,9 +10,9 @@ import dataclasses
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
-from models.spiral import fastest_spiral, tip_line_spiral, unsafe_revolutions
-from models.tolerances import SPIRAL_DEFAULT
+from models.core.errors import InvalidInput
+from models.core.tolerances import SPIRAL_DEFAULT
+from models.spiral.path import fastest_spiral, tip_line_spiral, unsafe_revolutions
 from solver.core.errors import TimeLimitReached
 from solver.core.outcome import Outcome
 from solver.spiral.critical_radius import critical_radius_table

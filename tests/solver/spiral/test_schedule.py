@@ -11,9 +11,9 @@ import math
 import numpy as np
 import pytest
 
-from models.errors import InvalidInput
-from models.spiral import fastest_spiral, power_law_fit
-from models.tolerances import SpiralTolerances
+from models.core.errors import InvalidInput
+from models.core.tolerances import SpiralTolerances
+from models.spiral.path import fastest_spiral, power_law_fit
 from solver.core.budget import Budget
 from solver.spiral.critical_radius import critical_radius, critical_radius_table
 from solver.spiral.schedule import spiral_schedule
@@ -23,7 +23,7 @@ HALF_PI = 0.5 * math.pi
 
 @pytest.mark.slow
 def test_or_tools_optimum_equals_the_recursion_up_to_the_grid(dense_sweep_025):
-    """Without robot limits greedy is optimal (models/spiral.py), so OR-Tools' optimum on
+    """Without robot limits greedy is optimal (models/spiral/path.py), so OR-Tools' optimum on
     a uniform grid of spacing h equals the greedy on that grid, for revolutions and for
     path length, and is certified by potentials. Against the continuous recursion (4.26):
     N_rec(d*) <= N_grid <= N_rec(d* - h) (a grid schedule loses < h per revolution)."""

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from models.feeder.fence import Fence, Part, fence_map
+from models.feeder.fence import Fence, feeder_part, fence_map
 from models.feeder.layout import lay_out
 from models.feeder.maps import sequence
 from solver import FenceSegment, simulate_belt_batch
@@ -25,7 +25,7 @@ def test_map_of_two_fences_equals_the_models_product_5_4(client):
     assert r.status_code == 200, r.text
     out = r.json()
     assert out["complete"] and out["status"] == "ok" and out["bound"] == "disk"
-    part = Part.create(PENTAGON["vertices"], PENTAGON["center_of_mass"])
+    part = feeder_part(PENTAGON["vertices"], PENTAGON["center_of_mass"])
     maps = [fence_map(part, Fence.create(0.7, 0.25)), fence_map(part, Fence.create(-0.9, (0.1, 0.3)))]
     for got, ref in zip(out["fences"], maps):
         assert [b["edge"] for b in got["bands"]] == list(ref.final_edges)
@@ -86,7 +86,7 @@ def test_a_part_through_placed_fences_is_picked_up_where_it_left_the_last_1_8_6(
     first, second = out["runs"]
     assert first["trajectory"][0][1:3] == pytest.approx(start)
     assert second["trajectory"][0][1:3] == pytest.approx(first["trajectory"][-1][1:3])
-    part = Part.create(SQUARE["vertices"], SQUARE["center_of_mass"])
+    part = feeder_part(SQUARE["vertices"], SQUARE["center_of_mass"])
     body_pts = np.array(SUPPORT["points"]) - np.array(SQUARE["center_of_mass"])
     segs = [FenceSegment.create(Fence.create(f.angle, 0.25), f.end, f.length) for f in lay.fences]
     (ref,) = simulate_belt_batch(part, segs, 0.25, [(body_pts, np.ones(3) / 3)], [0.3], [start])
@@ -135,7 +135,7 @@ def test_a_reach_reports_the_orientations_it_may_not_align_1_8_6(client):
     body = {"part": PENTAGON, "fences": [{"angle": 0.7, "mu_c": 0.25, "reach": 3.0}, {"angle": -0.9, "mu_c": 0.15}],
             "resolution": 36}
     out = client.post("/v1/feeder/map", json=body).json()
-    part = Part.create(PENTAGON["vertices"], PENTAGON["center_of_mass"])
+    part = feeder_part(PENTAGON["vertices"], PENTAGON["center_of_mass"])
     ref = fence_map(part, Fence.create(0.7, 0.25, reach=3.0)).map
     first, second = out["fences"]
     assert first["reach"] == 3.0 and np.allclose(first["unaligned"], ref.unaligned.arcs) and first["unaligned"]

@@ -13,8 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
-from models.scene import PushScene
+from models.core.footprint import Footprint
+from models.core.scene import PushScene
 from service.limits import MAX_CERTIFIED_POINTS, MAX_TIME_LIMIT_S, MIN_CERTIFIED_POINTS
 from solver.locus.certified_locus import certified_disk_boundary, certified_polygon_boundary
 

@@ -18,8 +18,8 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+from models.core.scene import PushScene
 from models.locus.cor_disk import OUTPUTS, disk_cor_locus
-from models.scene import PushScene
 from service.limits import (
     MAX_ABS_COORDINATE,
     MAX_DISK_RADIUS,

@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
-from models.scene import PushScene
+from models.core.footprint import Footprint
+from models.core.scene import PushScene
 from service.limits import MAX_TIME_LIMIT_S
 from solver.core.budget import Budget
 from solver.core.errors import SolverError

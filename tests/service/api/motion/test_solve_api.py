@@ -1,7 +1,7 @@
 """POST /v1/cor/solve: the motion for a known pressure distribution (book 3.2-3.3.3, 4.1).
 
 The route is thin: its numbers are those of a direct call of solver.motion.forward /
-solver.motion.statistics / models.inertia on the same domain objects; batches agree with single
+solver.motion.statistics / models.core.inertia on the same domain objects; batches agree with single
 solves; every invalid input is 422 naming the field.
 """
 
@@ -13,11 +13,11 @@ import math
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
-from models.inertia import impact_cor, polygon_radius_of_gyration, support_radius_of_gyration
-from models.mpp import mason_sense
-from models.scene import PushScene
-from models.support import Support, random_balanced_tripods
+from models.core.footprint import Footprint
+from models.core.inertia import impact_cor, polygon_radius_of_gyration, support_radius_of_gyration
+from models.core.mpp import mason_sense
+from models.core.scene import PushScene
+from models.core.support import Support, random_balanced_tripods
 from service.limits import MAX_BATCH, MAX_BATCH_SLOW, MAX_MU_C, MAX_SUPPORT_POINTS_SLOW
 from solver.core.errors import SolverError
 from solver.motion.forward import solve_forward

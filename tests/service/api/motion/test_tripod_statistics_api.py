@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from models.scene import PushScene
+from models.core.scene import PushScene
 from service.limits import MAX_TRIPOD_CORS, MAX_TRIPODS
 from solver.motion.statistics import sticking_line_histogram, tripod_sample
 

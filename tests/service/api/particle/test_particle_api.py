@@ -7,8 +7,8 @@ import math
 
 import pytest
 
-from models import particle
-from solver.motion.particle import solve_particle
+from models.particle import balance as particle
+from solver.particle.solve import solve_particle
 
 PARTICLE = "/v1/mpp/particle"
 
@@ -88,7 +88,7 @@ def test_particle_float_trouble_is_422_not_500(client, monkeypatch):
     def boom(*args, **kwargs):
         raise ZeroDivisionError("float division by zero")
 
-    monkeypatch.setattr(routes, "particle", boom)
+    monkeypatch.setattr(routes, "mpp_particle", boom)
     r = client.post(PARTICLE, json={"v_x": 1, "mg": 1, "eta": 2, "n": 0})
     assert r.status_code == 422
     assert r.json()["detail"][0]["type"] == "numeric_range"

@@ -1,6 +1,6 @@
 """POST /v1/push/quasistatic: characteristic speeds for quasi-static motion (book 6.8).
 
-The route is thin: its numbers are those of models.gross.quasistatic on the same inputs (bit for
+The route is thin: its numbers are those of models.push.quasistatic on the same inputs (bit for
 bit); the book's own numbers come back; units only rescale; every invalid input is 422
 naming the field; at the limits every number of the answer is finite; the docs example runs.
 """
@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from models.footprint import Footprint
-from models.gross import quasistatic as qs
+from models.core.footprint import Footprint
+from models.push import quasistatic as qs
 from service.limits import (
     MAX_DISK_RADIUS,
     QS_MAX_ANGULAR_ERROR,
@@ -55,7 +55,7 @@ def test_disk_answer_is_the_model_and_the_book(client):
     6.8.3: 40 cm/s ("roughly": 41.4)."""
     r, got = post(client, BOOK)
     assert r.status_code == 200, r.text
-    want = qs.assess(10.0, 0.25, qs.gravity("cm"), qs.PartGeometry.disk(3.5))
+    want = qs.assess(10.0, 0.25, qs.gravity("cm"), qs.ShapeMoments.disk(3.5))
     assert got["g"] == want.g and got["g_source"] == "length_unit" and got["length_unit"] == "cm"
     for name in ("angular", "translational"):
         o, w = got[name], getattr(want, name)
@@ -76,7 +76,7 @@ def test_disk_answer_is_the_model_and_the_book(client):
         "(6.3)", "(6.6)", "(6.7)")
     assert got["angular"]["formula"] == "v^2 = (8/3) mu_s a g theta"
     assert got["part"] == {"kind": "disk", "radius": 3.5, "radius_of_gyration": 3.5 * math.sqrt(0.5),
-                           "mean_distance": 3.5 * (2.0 / 3.0), "spin_factor": qs.PartGeometry.disk(3.5).spin_factor,
+                           "mean_distance": 3.5 * (2.0 / 3.0), "spin_factor": qs.ShapeMoments.disk(3.5).spin_factor,
                            "center_of_mass": None}
     assert got["verdict"] == "quasi_static" and got["message"].startswith("quasi-static")
     assert got["thresholds"] == {"quasi_static_max_ratio": 0.3, "inertial_min_ratio": 1.0}
@@ -89,7 +89,7 @@ def test_polygon_answer_is_the_model(client):
     r, got = post(client, body)
     assert r.status_code == 200, r.text
     fp = Footprint.create(L_SHAPE)
-    part = qs.PartGeometry.polygon(fp)
+    part = qs.ShapeMoments.polygon(fp)
     want = qs.assess(0.3, 0.4, 9.81, part, angular_error=0.1, translational_error=0.05)
     assert got["g_source"] == "g" and got["length_unit"] is None
     assert got["part"]["kind"] == "polygon"

@@ -1,8 +1,8 @@
 """POST /v1/cor/sketch: the COR sketch with pusher friction (book 4.1).
 
-The route is thin: its JSON is models.locus.cor_sketch.cor_sketch on the same scene, number for
+The route is thin: its JSON is models.sketch.disk_sketch.cor_sketch on the same scene, number for
 number; the nine sketch letters of figure 4-6 come through (scenes of
-tests/models/locus/test_cor_sketch.py); a push whose line passes through the CM inside the friction
+tests/models/sketch/test_disk_sketch.py); a push whose line passes through the CM inside the friction
 cone is answered as a translation (and forward solves agree that the part translates,
 sticking); a polygon is sketched as its circumscribing disk; the SVG is valid XML with the
 book's elements; invalid input is 422 naming the field; the docs example runs.
@@ -19,10 +19,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from models.footprint import Footprint
-from models.locus.cor_sketch import IMPLIED_MODES, cor_sketch
-from models.scene import PushScene
-from models.support import random_balanced_tripods
+from models.core.footprint import Footprint
+from models.core.scene import PushScene
+from models.core.support import random_balanced_tripods
+from models.sketch.disk_sketch import IMPLIED_MODES, disk_cor_sketch
 from service.limits import SKETCH_MAX_N_POINTS, SKETCH_MIN_LENGTH
 from solver.motion.forward import BatchResult, solve_forward_batch
 from tests.scenes import CONFIGS, SHORT, SKETCH_SCENES
@@ -101,7 +101,7 @@ def test_json_is_the_model(client, n_points):
     r, got = post(client, {**EXAMPLE, "n_points": n_points})
     assert r.status_code == 200, r.text
     scene = PushScene.create(1.0, EXAMPLE["contact_point"], EXAMPLE["edge_angle"], 0.0)
-    want = expected(cor_sketch(scene, 0.3, n_points=n_points), scene)
+    want = expected(disk_cor_sketch(scene, 0.3, n_points=n_points), scene)
     assert {k: got[k] for k in want} == want
     assert got["kind"] == "sketch" and got["sketch_of"] == "disk" and got["n_points"] == n_points
     assert got["warnings"] == [] and got["contact_distance_to_outline"] is None
@@ -119,7 +119,7 @@ def test_defaults_and_other_push_directions(client):
     r, got = post(client, body)
     assert r.status_code == 200, r.text
     scene = PushScene.create(1.0, (1.4, -1.2), 1.9, 0.2, (2.0, -1.0))
-    want = expected(cor_sketch(scene, 0.3), scene)
+    want = expected(disk_cor_sketch(scene, 0.3), scene)
     assert {k: got[k] for k in want} == want and got["n_points"] == 512
 
 
@@ -129,7 +129,7 @@ def test_polygon_is_sketched_as_its_circumscribing_disk(client):
     assert r.status_code == 200, r.text
     fp = Footprint.create(L_SHAPE)
     scene = PushScene.create(fp.circumradius, (0, 0.5), math.pi / 2, 0.0, fp.center_of_mass)
-    want = expected(cor_sketch(scene, 0.4), scene)
+    want = expected(disk_cor_sketch(scene, 0.4), scene)
     assert {k: got[k] for k in want} == want
     assert got["sketch_of"] == "circumscribing_disk" and "circumscribing disk" in got["message"]
     assert got["contact_distance_to_outline"] == 0.0
@@ -347,7 +347,7 @@ def test_no_letter_when_the_loci_match_none_of_the_nine(client):
 
 
 # ---------------------------------------------------------------------------------------
-# method "certified" (solver/locus/certified_sketch.py)
+# method "certified" (solver/sketch/certified_sketch.py)
 # ---------------------------------------------------------------------------------------
 
 RECT = [[-1.5, -0.4], [1.5, -0.4], [1.5, 0.4], [-1.5, 0.4]]
@@ -359,7 +359,7 @@ MUST_STICK = {"footprint": RECT, "contact_point": [-1.5, 0.18766172], "edge_angl
 def test_certified_sketch_of_a_polygon_is_the_polygons_own(client):
     """The rectangle must stick (sketch g) where its circumscribing disk allows slipping up
     (mirrored i); the answer is the solver's, with its certification report."""
-    from solver.locus.certified_sketch import certified_sketch
+    from solver.sketch.certified_sketch import certified_sketch
 
     r, disk = post(client, {**MUST_STICK, "n_points": 256})
     assert r.status_code == 200 and disk["sketch_of"] == "circumscribing_disk" and disk["sketch"] == "i"

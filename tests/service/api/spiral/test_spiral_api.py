@@ -16,7 +16,8 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from models.spiral import limiting_radius, tip_line_spiral
+from models.spiral.critical import limiting_radius
+from models.spiral.path import tip_line_spiral
 from service.api.spiral.convert import simulation_summary
 from service.runtime.deadline import Deadline
 from solver.spiral.critical_radius import critical_radius_table

@@ -1,0 +1,128 @@
+"""Polygon footprints and their circumscribing disk (book 3.1.8)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from models.core.errors import InvalidInput
+from models.core.footprint import Footprint, inside_polygon, triangle_areas, triangulate
+from tests.scenes import SEED, distance_to_polyline, point_in_polygon
+
+SQUARE = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+L_SHAPE = [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]
+
+
+def test_square_disk_is_the_circumscribed_circle():
+    f = Footprint.create(SQUARE)
+    assert np.allclose(f.center_of_mass, 0.0)
+    assert f.circumradius == pytest.approx(math.sqrt(2))
+    assert f.area == pytest.approx(4.0)
+
+
+def test_l_shape_centroid_and_radius():
+    f = Footprint.create(L_SHAPE)
+    # two unit-area squares' centroids (1, 0.5)+(0.5, 0.5) and (0.5, 1.5): mean of 3 unit squares
+    assert np.allclose(f.center_of_mass, [(1.5 + 0.5 + 0.5) / 3, (0.5 + 0.5 + 1.5) / 3])
+    assert f.circumradius == pytest.approx(np.max(np.linalg.norm(np.array(L_SHAPE) - f.center_of_mass, axis=1)))
+
+
+def test_clockwise_input_is_reoriented_and_far_offsets_keep_digits():
+    off = np.array([1e6, -3e6])
+    f = Footprint.create((np.array(SQUARE) + off)[::-1])
+    assert np.allclose(f.center_of_mass, off, rtol=0, atol=1e-9)
+    x, y = f.vertices.T
+    assert 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) > 0
+
+
+def test_given_centre_of_mass_sets_the_radius():
+    f = Footprint.create(SQUARE, center_of_mass=[0.5, 0.0])
+    assert f.circumradius == pytest.approx(math.hypot(1.5, 1.0))
+
+
+@pytest.mark.parametrize(
+    "vertices, field",
+    [
+        ([[0, 0], [1, 1]], "workpiece"),
+        ([[0, 0], [1, 0], [2, 0]], "workpiece"),  # collinear
+        ([[0, 0], [2, 2], [2, 0], [0, 2]], "workpiece"),  # bow-tie
+        ([[0, 0], [2, 0], [1, 1], [2, 2], [0, 2], [1, 1]], "workpiece"),  # touches itself
+        ([[0, 0], [1, 0], [1, 0], [0, 1]], "workpiece"),  # repeated vertex
+        ([[0, 0], [1, float("inf")], [0, 1]], "workpiece"),
+    ],
+)
+def test_bad_polygons_are_refused(vertices, field):
+    with pytest.raises(InvalidInput) as err:
+        Footprint.create(vertices)
+    assert err.value.field == field
+
+
+def test_centre_of_mass_outside_the_hull_is_refused():
+    with pytest.raises(InvalidInput) as err:
+        Footprint.create(SQUARE, center_of_mass=[3.0, 0.0])
+    assert err.value.field == "center_of_mass"
+
+
+def test_distance_to_outline():
+    f = Footprint.create(SQUARE)
+    assert f.distance_to_outline([1.0, 0.3]) == pytest.approx(0.0)
+    assert f.distance_to_outline([0.0, 0.0]) == pytest.approx(1.0)
+
+
+def test_small_polygon_far_from_the_origin_keeps_its_area():
+    tri = np.array([[0.0, 0.0], [1e-3, 0.0], [0.0, 1e-3]]) + 1e6
+    assert Footprint.create(tri).area == pytest.approx(0.5e-6, rel=1e-6)
+
+
+@pytest.mark.parametrize("scale", [1e-110, 1e-6, 1.0, 1e6, 1e120])
+def test_area_and_centroid_at_extreme_scales(scale):
+    """The L shape's centroid (3/4, 5/4) and area 4 at every scale (no underflow of the
+    shoelace products for tiny parts, no overflow for huge ones)."""
+    v = np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, 3], [0, 3]], dtype=float) * scale
+    f = Footprint.create(v)
+    assert np.allclose(f.center_of_mass / scale, [0.75, 1.25], rtol=1e-12)
+    assert math.isclose(f.area / scale / scale, 4.0, rel_tol=1e-12)
+
+
+def test_triangulation_covers_the_polygon_exactly():
+    rng = np.random.default_rng(SEED)
+    polygons = [L_SHAPE, SQUARE, [[0, 0], [1, 0], [2, 0], [2, 1], [0, 1]]]  # one flat corner
+    for _ in range(20):
+        n = int(rng.integers(3, 14))
+        th = 2 * math.pi * (np.arange(n) + rng.uniform(0, 0.4, n)) / n
+        r = rng.uniform(0.2, 1.0, n)
+        polygons.append(np.column_stack([r * np.cos(th), r * np.sin(th)]))
+    for v in polygons:
+        fp = Footprint.create(v)
+        tris = triangulate(fp.vertices)
+        assert len(tris) == len(fp.vertices) - 2
+        areas = triangle_areas(tris)
+        assert np.all(areas > 0.0)
+        assert areas.sum() == pytest.approx(fp.area, rel=1e-12)
+        assert np.all(point_in_polygon(tris.mean(axis=1), fp.vertices))
+
+
+def test_inside_polygon_agrees_with_the_triangulation():
+    """The even-odd test against an independent one: inside some triangle of the ear-clipped
+    triangulation (barycentric signs); points within 1e-9 of the outline are left out."""
+    rng = np.random.default_rng(SEED)
+    for _ in range(15):
+        n = int(rng.integers(3, 12))
+        th = 2 * math.pi * (np.arange(n) + rng.uniform(0, 0.4, n)) / n
+        r = rng.uniform(0.2, 1.0, n)
+        fp = Footprint.create(np.column_stack([r * np.cos(th), r * np.sin(th)]))
+        pts = rng.uniform(-1.1, 1.1, size=(400, 2))
+        pts = pts[distance_to_polyline(pts, fp.vertices) > 1e-9]
+        tris = triangulate(fp.vertices)
+        a, b, c = (tris[:, k][None] for k in range(3))
+        p = pts[:, None, :]
+
+        def side(u, v, w):
+            return (v[..., 0] - u[..., 0]) * (w[..., 1] - u[..., 1]) - (v[..., 1] - u[..., 1]) * (w[..., 0] - u[..., 0])
+
+        in_tri = (side(a, b, p) >= 0) & (side(b, c, p) >= 0) & (side(c, a, p) >= 0)
+        expected = in_tri.any(axis=1)
+        assert 0 < expected.sum() < len(pts)
+        assert np.array_equal(inside_polygon(fp.vertices, pts), expected)
