@@ -75,7 +75,7 @@ def circle_radius(p0: np.ndarray, p1: np.ndarray, p2: np.ndarray) -> float:
     return a * b * c / (2.0 * area2)
 
 
-# The nine COR sketches of figure 4-6 (book 4.1.5-4.1.6, reconstructed: docs/architecture.md).
+# The nine COR sketches of figure 4-6 (book 4.1.5-4.1.6, reconstructed: docs/mechanics.md).
 # (letter, mirrored, (contact x, contact y, edge angle in degrees, mu_c)); disk a = 1 at the
 # origin, push along +x. Found by a seeded search over scenes; each is robust to moving the
 # contact by 0.01.

@@ -1,6 +1,6 @@
 """The geometry of one push: workpiece disk, centre of mass, contact, edge and push line.
 
-Frames and signs (book 3.1.9-3.1.10, 3.3.1; see docs/architecture.md):
+Frames and signs (book 3.1.9-3.1.10, 3.3.1; see docs/mechanics.md):
 
 * World frame: right-handed, x right, y up; angles in radians, counter-clockwise (CCW)
   positive. Every public input and output of the project is in this frame.

@@ -14,7 +14,7 @@ convex hull h_0..h_{m-1} (CCW) meets the fence; edge j runs from h_j to h_{j+1},
 direction angle phi_j. Orientation theta turns the body frame
 into the world frame.
 
-The phases of one encounter, each derived in docs/architecture.md ("Chapter 5: a part
+The phases of one encounter, each derived in docs/mechanics.md ("Chapter 5: a part
 meeting a fence") and checked in tests/models/feeder/test_fence.py:
 
 1. First contact: the hull vertex lowest along n. Vertex h_k is in contact for theta in

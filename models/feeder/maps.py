@@ -12,7 +12,7 @@ The symbolic product (5.4): operation M1 followed by M2 is
 
 The book prints the code set as { k : 2B_j meets 1K_k }, which pairs a final band of the
 second operation with an initial kernel of the first; the orientations handed from M1 to
-M2 are M1's final bands, and they must meet M2's kernels (docs/architecture.md, "Where
+M2 are M1's final bands, and they must meet M2's kernels (docs/mechanics.md, "Where
 the book is wrong"; tests/models/feeder/test_maps.py proves the printed rule misses
 outcomes of the matrix product (5.1)). Further products use the code sets only (5.5).
 

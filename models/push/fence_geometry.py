@@ -67,7 +67,7 @@ friction cone, which the book does not treat for an edge contact.
 offset d of the pusher's line from grazing into the collision parameter, (4.24)
 a (1 - sin beta) = d.
 
-Pure numpy; angles in radians, world frame as in docs/architecture.md.
+Pure numpy; angles in radians, world frame as in docs/mechanics.md.
 """
 
 from __future__ import annotations

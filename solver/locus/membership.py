@@ -117,7 +117,7 @@ class MembershipResult(CertifiedPoint):
 
 def outline_of(scene: PushScene, footprint: Footprint | None, tol: SolverTolerances = SOLVER_DEFAULT) -> Outline:
     """The footprint (or the scene's disk when None) in the dimensionless locus frame
-    (docs/architecture.md): origin at the CM, x along the scene's axis
+    (docs/mechanics.md): origin at the CM, x along the scene's axis
     alpha' = sign(alpha . c) alpha_hat, y = z x alpha', lengths divided by L. Working in it
     makes every computed number invariant under translations, rotations, mirror images
     and scalings of the scene (3.3.12). A polygon's centre of mass must be the scene's

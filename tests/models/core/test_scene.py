@@ -1,5 +1,5 @@
 """The geometry of one push (models/core/scene.py; book 3.1.9-3.1.10, 3.3, 3.3.1): the frames
-and signs of docs/architecture.md, the rotation (3.3) and slip (3.2) per unit push against
+and signs of docs/mechanics.md, the rotation (3.3) and slip (3.2) per unit push against
 small finite motions, Mason's sense of rotation, and input validation naming the field."""
 
 from __future__ import annotations

@@ -63,7 +63,7 @@ def test_symbolic_product_contains_every_composed_outcome_5_1_5_4():
 def test_book_printed_code_set_loses_outcomes_5_4():
     """The book prints 2C_j = {k : 2B_j meets 1K_k}. Built that way the product misses
     outcomes of the exact product (5.1): the printed rule is a misprint
-    (docs/architecture.md, "Where the book is wrong")."""
+    (docs/mechanics.md, "Where the book is wrong")."""
     rng = np.random.default_rng(12)
     missed = 0
     for _ in range(30):
