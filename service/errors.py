@@ -20,10 +20,11 @@ a time limit that runs out is an HTTP 504 saying what was reached, and nothing i
   with an unusable status): ``loc`` ["body"], type ``solver_error``;
 * any other ``models.core.errors.ModelError`` (e.g. a boundary solve that missed its
   tolerance): ``loc`` ["body"], type ``model_error``;
-* :class:`NonFiniteResult`: the input is valid but so extreme that a result overflowed;
-  ``loc`` ["body"], type ``numeric_range``. Python's own ``ArithmeticError`` (a float
-  division by zero or an overflow deep in a computation on such inputs) is answered the
-  same way, and logged with its traceback.
+* :class:`NonFiniteResult`, or an answer's part refusing a number that is not finite
+  (:class:`service.common.responses.Out`, pydantic's ``finite_number``): the input is
+  valid but so extreme that a result overflowed; ``loc`` ["body"], type ``numeric_range``.
+  Python's own ``ArithmeticError`` (a float division by zero or an overflow deep in a
+  computation on such inputs) is answered the same way, and logged with its traceback.
 
 Anything else is a bug: HTTP 500 with a short JSON body (type ``internal_error``); the
 traceback goes to the ``service`` log only, never to the client. The routes must never
@@ -42,6 +43,7 @@ from fastapi import FastAPI, Request
 from fastapi.exception_handlers import http_exception_handler
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from pydantic import ValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from models.core.errors import InvalidInput, ModelError
@@ -247,6 +249,16 @@ def _non_finite(exc: NonFiniteResult, where: str) -> JSONResponse:
     )
 
 
+def _answer_not_built(exc: ValidationError, where: str) -> JSONResponse:
+    """An answer's part refused a value (service.common.responses.Out): a number that is not
+    finite is a result out of floating-point range; anything else is a bug."""
+    errors = exc.errors(include_url=False, include_context=False, include_input=False)
+    if errors and all(e["type"] == "finite_number" for e in errors):
+        first = ".".join(str(part) for part in errors[0]["loc"])
+        return _non_finite(NonFiniteResult(f"{exc.title}.{first}"), where)
+    return _unexpected(exc, where)
+
+
 def _arithmetic(exc: ArithmeticError, where: str) -> JSONResponse:
     log.warning("arithmetic error on %s", where, exc_info=exc)
     return _non_finite(NonFiniteResult(f"a computation ({type(exc).__name__})"), where)
@@ -268,6 +280,7 @@ _ANSWERS: tuple[tuple[type[Exception], Callable[[Any, str], JSONResponse]], ...]
     (SolverError, _solver_error),
     (ModelError, _model_error),
     (NonFiniteResult, _non_finite),
+    (ValidationError, _answer_not_built),
     (ArithmeticError, _arithmetic),
 )
 """The answer to each error a computation may raise, most specific first."""

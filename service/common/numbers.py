@@ -1,6 +1,12 @@
-"""Numbers leave the service as plain finite floats: a NaN or an infinity raises
-:class:`service.errors.NonFiniteResult` (HTTP 422 ``numeric_range``, naming the quantity)
-instead of reaching the client. ``what`` names the quantity in that message."""
+"""Numbers on their way out of the service.
+
+Whether a number in an answer is finite is declared once, on the answers' base
+(:class:`service.common.responses.Out`); converters only copy values. What is here turns a
+value into what a response field holds: arrays as nested lists, values the solver left
+undecided (NaN) as None. :func:`finite` checks a number that does not go into a response
+model (an SVG coordinate): a NaN or an infinity raises
+:class:`service.errors.NonFiniteResult` (HTTP 422 ``numeric_range``, naming ``what``).
+"""
 
 from __future__ import annotations
 
@@ -19,26 +25,17 @@ def finite(value, what: str) -> float:
     return x
 
 
-def finite_list(value, what: str) -> list:
-    """An array (a point, a vector, a polyline) as nested lists of floats; NonFiniteResult
-    when any entry is NaN or infinite."""
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise NonFiniteResult(what)
-    return arr.tolist()
+def listed(value) -> list:
+    """An array (a point, a vector, a polyline) as nested lists of floats (pydantic validates
+    a list several times faster than the numpy array's scalars)."""
+    return np.asarray(value, dtype=float).tolist()
 
 
-def finite_or_none(value, what: str) -> float | None:
-    """None stays None (not computed); anything else as :func:`finite`."""
-    return None if value is None else finite(value, what)
-
-
-def finite_if_known(value, what: str) -> float | None:
-    """None or NaN (a value the solver left undecided) become None; anything else as
-    :func:`finite`."""
+def known(value):
+    """None or NaN (a value the solver left undecided) become None; anything else as it is."""
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return None
-    return finite(value, what)
+    return value
 
 
 def point_or_none(value) -> list[float] | None:

@@ -10,9 +10,20 @@ from __future__ import annotations
 
 from typing import Any
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, ConfigDict, Field
 
 SVG_MEDIA_TYPE = "image/svg+xml"
+
+
+class Out(BaseModel):
+    """The base of every part of every answer, where its rules are declared once: unknown
+    fields are refused, and every number is finite. A NaN or an infinity that an extreme
+    input made of a result is refused when the answer is built (pydantic's
+    ``finite_number``) and answered 422 ``numeric_range`` naming the quantity
+    (:func:`service.errors.response_for`): converters copy values, they do not check them.
+    ``tests/service/test_responses.py`` checks that every answer's parts are ``Out``."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 class ErrorItem(BaseModel):

@@ -12,6 +12,7 @@ from typing import Annotated, Literal
 from pydantic import ConfigDict, Field, ValidationInfo, field_validator
 
 from service.common.fields import Angle, MuC, Point, Strict, TimeLimit
+from service.common.responses import Out
 from service.limits import (
     FEEDER_MAX_DESIGN_DEPTH,
     FEEDER_MAX_FENCE_LENGTH_RADII,
@@ -110,7 +111,7 @@ class FeederMapRequest(Strict):
         return self.time_limit_s
 
 
-class FeederBandOut(Strict):
+class FeederBandOut(Out):
     band: list[Arc] = Field(description="Final orientations B_j (5.2).")
     kernel: list[Arc] = Field(description="Initial orientations that end in the band, K_j (5.2).")
 
@@ -123,7 +124,7 @@ class FeederFenceBandOut(FeederBandOut):
     contact_lost: bool = Field(description="Whether B ends with the end leaving the edge before A.")
 
 
-class FeederPartBoundOut(Strict):
+class FeederPartBoundOut(Out):
     loci: int = Field(description="The part's own frictionless loci searched (per edge, mu_c and contact position).")
     dipods: int = Field(description="Dipods on the outline solved (witness CORs).")
     rays: int = Field(description="Rays of the exact loci traced toward the dipods that bound the slip.")
@@ -132,7 +133,7 @@ class FeederPartBoundOut(Strict):
     seconds: float
 
 
-class FeederFenceMapOut(Strict):
+class FeederFenceMapOut(Out):
     angle: float
     mu_c_range: list[float]
     jams_possible: bool = Field(description="|tan gamma| <= the highest mu_c: a flush part may jam (6.4).")
@@ -152,18 +153,18 @@ class FeederProductBandOut(FeederBandOut):
     code_set: list[int] = Field(description="The first fence's kernels whose union is this kernel (5.4, 5.5).")
 
 
-class FeederProductOut(Strict):
+class FeederProductOut(Out):
     bands: list[FeederProductBandOut]
     jam: list[Arc]
     unaligned: list[Arc] = Field(description="Initial orientations that may meet a fence too short to align them.")
 
 
-class FeederMatrixOut(Strict):
+class FeederMatrixOut(Out):
     resolution: int
     rows: list[str] = Field(description="Row f (final cell) as a string of 0/1 over the initial cells (5.1).")
 
 
-class FeederMapResponse(Strict):
+class FeederMapResponse(Out):
     fences: list[FeederFenceMapOut]
     product: FeederProductOut | None = Field(description="The map of the whole sequence (null unless every fence's map was made).")
     matrix: FeederMatrixOut | None
@@ -226,13 +227,13 @@ class FeederSimulateRequest(Strict):
     time_limit_s: TimeLimit | None = None
 
 
-class FeederEventOut(Strict):
+class FeederEventOut(Out):
     push: float = Field(description="Belt travel so far in this fence's run.")
     kind: str
     detail: str
 
 
-class FeederFenceRunOut(Strict):
+class FeederFenceRunOut(Out):
     status: str = Field(description="left, missed (never touched the fence), jammed, step_limit, stalled (a contact the simulator cannot advance), overlap (the fence passes through the part where the run starts: fences too close) or time_limit.")
     flushed: bool = Field(description="Whether an edge came flush on the fence; the maps assume it does (a fence too "
                                       "short for the part to finish turning lets it leave still turning).")
@@ -245,7 +246,7 @@ class FeederFenceRunOut(Strict):
     forward_solves: int
 
 
-class FeederSimulateResponse(Strict):
+class FeederSimulateResponse(Out):
     runs: list[FeederFenceRunOut]
     theta_final: float | None
     status: str
@@ -308,7 +309,7 @@ class FeederDesignRequest(Strict):
     time_limit_s: TimeLimit | None = None
 
 
-class FeederPlacedFenceOut(Strict):
+class FeederPlacedFenceOut(Out):
     angle: float
     side: str
     root: list[float] = Field(description="[x, y] where it hangs from the belt's side: x across the belt, y against "
@@ -322,7 +323,7 @@ class FeederPlacedFenceOut(Strict):
                                                   "reach may not align (1.8.6).")
 
 
-class FeederLayoutOut(Strict):
+class FeederLayoutOut(Out):
     belt_width: float
     gap: float = Field(description="Free width left at each fence's end for the part to pass.")
     belt_length: float = Field(description="From the first root to the last free end, along the belt.")
@@ -330,26 +331,26 @@ class FeederLayoutOut(Strict):
     realizable: bool = Field(description="No fence may be missed and every arriving orientation is aligned.")
 
 
-class FeederDesignFenceOut(Strict):
+class FeederDesignFenceOut(Out):
     angle: float = Field(description="Fence angle gamma, radians.")
     side: str = Field(description="The side of the belt it hangs from: right (gamma > 0) or left.")
 
 
-class FeederDesignOut(Strict):
+class FeederDesignOut(Out):
     fences: list[FeederDesignFenceOut] = Field(description="In the order the part meets them.")
     final_band: list[Arc] = Field(description="The orientations the part leaves the last fence in.")
     final_edges: list[int] = Field(description="The hull edges flush on the last fence (one, or one per symmetry).")
     margin: float = Field(description="Radians every band edge may move without the design failing (1.8.6).")
 
 
-class FeederCpSatOut(Strict):
+class FeederCpSatOut(Out):
     depth_proven: int = Field(description="Every design depth up to this proven impossible.")
     statuses: list[str] = Field(description="CP-SAT's status per depth tried, from 1.")
     complete: bool
     solve_time_ms: float
 
 
-class FeederValidationOut(Strict):
+class FeederValidationOut(Out):
     parts: int
     in_band: int = Field(description="Parts that ended in the promised band.")
     outside: int = Field(description="Parts that came flush on every fence and ended elsewhere (a failure).")
@@ -364,14 +365,14 @@ class FeederValidationOut(Strict):
     rate: float | None = Field(description="in_band / (in_band + outside).")
 
 
-class FeederPushPlanOut(Strict):
+class FeederPushPlanOut(Out):
     pushes: int | None = Field(description="Pushes of the shortest plan (null: none up to max_depth).")
     alphas: list[float] | None = Field(description="Turns of the push direction between pushes, radians.")
     tolerance: float | None = Field(description="How far each turn may err, radians (null: no turn needed).")
     solve_time_ms: float
 
 
-class FeederDesignResponse(Strict):
+class FeederDesignResponse(Out):
     design: FeederDesignOut | None
     depth_proven: int = Field(description="No design has this many fences or fewer (complete depths only).")
     exhausted: bool = Field(description="No design exists with these candidate fences at any depth.")

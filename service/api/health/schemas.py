@@ -6,15 +6,15 @@ from typing import Literal
 
 from pydantic import Field
 
-from service.common.fields import Strict
+from service.common.responses import Out
 
 
-class HealthResponse(Strict):
+class HealthResponse(Out):
     status: Literal["ok"]
     version: str
 
 
-class GateOut(Strict):
+class GateOut(Out):
     name: str = Field(description="`requests` (all requests in flight in the web process) or `expensive` "
                       "(requests for its solver workers: running or queued).")
     in_use: int = Field(description="Requests holding the gate now (for expensive work: running or queued).")
@@ -23,7 +23,7 @@ class GateOut(Strict):
     refused: int = Field(description="Requests refused since this web process started.")
 
 
-class ReadyResponse(Strict):
+class ReadyResponse(Out):
     status: Literal["ready", "saturated"]
     version: str
     solver_workers: int = Field(description="Solver worker processes of this web process (0: work runs in its threads).")

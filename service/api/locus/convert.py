@@ -29,7 +29,7 @@ from service.api.locus.schemas import (
     TipOut,
     WitnessOut,
 )
-from service.common.numbers import finite, finite_list, point_or_none
+from service.common.numbers import listed, point_or_none
 from service.common.scene import PreparedPush, disk_or_footprint, prepare_push
 from solver import CertifiedDiskBoundary, LocusProblem, LocusResult, MembershipProblem, MembershipResult
 
@@ -61,58 +61,58 @@ def locus_response(prep: PreparedPush, result: LocusResult, time_limit_s: float,
     tip = None
     if locus.tip is not None:
         tip = TipOut(
-            point=finite_list(locus.tip.point, "tip.point"),
-            distance=finite(locus.tip.distance, "tip.distance"),
-            distance_book=finite(locus.tip.distance_book, "tip.distance_book"),
+            point=listed(locus.tip.point),
+            distance=locus.tip.distance,
+            distance_book=locus.tip.distance_book,
             on_disk=bool(locus.tip.on_disk),
         )
     tip_line = None
     if locus.tip_line is not None:
         tip_line = TipLineOut(
-            point=finite_list(locus.tip_line.point, "tip_line.point"),
-            direction=finite_list(locus.tip_line.direction, "tip_line.direction"),
-            distance=finite(locus.tip_line.distance, "tip_line.distance"),
+            point=listed(locus.tip_line.point),
+            direction=listed(locus.tip_line.direction),
+            distance=locus.tip_line.distance,
         )
     r_min = None
     if locus.r_min is not None:
-        r_min = RMinOut(point=finite_list(locus.r_min.point, "r_min.point"), distance=finite(locus.r_min.distance, "r_min.distance"))
+        r_min = RMinOut(point=listed(locus.r_min.point), distance=locus.r_min.distance)
     curvatures = None
     if locus.curvatures is not None:
         c = locus.curvatures
         curvatures = CurvaturesOut(
-            tip_radius=finite(c.tip_radius, "curvatures.tip_radius"),
-            tip_radius_book_printed=finite(c.tip_radius_book_printed, "curvatures.tip_radius_book_printed"),
-            r_min_radius=finite(c.r_min_radius, "curvatures.r_min_radius"),
+            tip_radius=c.tip_radius,
+            tip_radius_book_printed=c.tip_radius_book_printed,
+            r_min_radius=c.r_min_radius,
         )
     crossings = None
     if locus.disk_crossings is not None:
         dc = locus.disk_crossings
         crossings = DiskCrossingsOut(
-            cos_eta=finite(dc.cos_eta, "disk_crossings.cos_eta"),
-            points=finite_list(dc.points, "disk_crossings.points"),
+            cos_eta=dc.cos_eta,
+            points=listed(dc.points),
             arcs=[
                 PerimeterArcOut(
-                    start_angle=finite(arc.start_angle, "disk_crossings.arcs.start_angle"),
-                    end_angle=finite(arc.end_angle, "disk_crossings.arcs.end_angle"),
-                    start=finite_list(arc.start, "disk_crossings.arcs.start"),
-                    end=finite_list(arc.end, "disk_crossings.arcs.end"),
+                    start_angle=arc.start_angle,
+                    end_angle=arc.end_angle,
+                    start=listed(arc.start),
+                    end=listed(arc.end),
                 )
                 for arc in dc.arcs
             ],
         )
-    boundary = None if locus.boundary is None else finite_list(locus.boundary, "boundary")
-    residual = None if locus.boundary_residual is None else finite(locus.boundary_residual, "boundary_residual")
+    boundary = None if locus.boundary is None else listed(locus.boundary)
+    residual = None if locus.boundary_residual is None else locus.boundary_residual
     return CorLocusResponse(
         kind=locus.kind,
         sense=locus.sense,
         message=translation_message(locus) if locus.kind == "translation" else None,
-        disk_radius=finite(scene.disk_radius, "disk_radius"),
-        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
-        moment_arm=finite(locus.moment_arm, "moment_arm"),
-        relative_moment_arm=finite(locus.relative_moment_arm, "relative_moment_arm"),
-        book_alpha=finite(locus.book_alpha, "book_alpha"),
-        axis=finite_list(locus.axis, "axis"),
-        translation_direction=finite_list(locus.translation_direction, "translation_direction"),
+        disk_radius=scene.disk_radius,
+        center_of_mass=listed(scene.center_of_mass),
+        moment_arm=locus.moment_arm,
+        relative_moment_arm=locus.relative_moment_arm,
+        book_alpha=locus.book_alpha,
+        axis=listed(locus.axis),
+        translation_direction=listed(locus.translation_direction),
         r_tip=None if tip is None else tip.distance,
         tip=tip,
         tip_line=tip_line,
@@ -124,7 +124,7 @@ def locus_response(prep: PreparedPush, result: LocusResult, time_limit_s: float,
         boundary_iterations=locus.boundary_iterations,
         contact_distance_to_outline=(
             None if prep.contact_distance_to_outline is None
-            else finite(prep.contact_distance_to_outline, "contact_distance_to_outline")
+            else prep.contact_distance_to_outline
         ),
         warnings=[*prep.warnings, *result.notes],
         method=result.problem.method,
@@ -145,19 +145,19 @@ def certified_out(result: LocusResult, time_limit_s: float) -> CertifiedLocusOut
             n_done=result.n_done,
             n_certified=res.n_certified,
             complete=res.complete,
-            boundary=[finite_list(p.point, "certified.boundary") for p in pairs],
+            boundary=[listed(p.point) for p in pairs],
             brackets=[
                 BracketOut(
-                    point=finite_list(p.point, "certified.point"),
-                    inner=finite_list(p.inner.cor, "certified.inner"),
-                    outer=finite_list(p.outer.cor, "certified.outer"),
+                    point=listed(p.point),
+                    inner=listed(p.inner.cor),
+                    outer=listed(p.outer.cor),
                     inner_status=p.inner.status,
                     outer_status=p.outer.status,
                     verdict=p.verdict,
                 )
                 for p in pairs
             ],
-            bracket_width=finite(2.0 * res.delta, "certified.bracket_width"),
+            bracket_width=2.0 * res.delta,
             wrong=list(res.wrong),
             undecided=list(res.undecided),
             multi_crossing=[],
@@ -186,11 +186,11 @@ def certified_out(result: LocusResult, time_limit_s: float) -> CertifiedLocusOut
         complete=result.complete,
         boundary=[point_or_none(r.point) for r in rays],
         brackets=brackets,
-        bracket_width=finite(res.width, "certified.bracket_width"),
+        bracket_width=res.width,
         wrong=[],
         undecided=[i for i, r in enumerate(rays) if r.verdict != "bracketed"],
         multi_crossing=[i for i, r in enumerate(rays) if r.crossings > 1],
-        centre=finite_list(res.centre, "certified.centre"),
+        centre=listed(res.centre),
         time_limit_s=time_limit_s,
         solve_time_ms=res.solve_time_s * 1e3,
     )
@@ -212,35 +212,35 @@ def membership_response(req: MembershipRequest, problem: MembershipProblem, res:
     witness = dual = None
     if res.status == "inside":
         witness = WitnessOut(
-            points=finite_list(res.witness_points, "witness.points"),
-            weights=finite_list(res.witness_weights, "witness.weights"),
-            point_mass_at_cor=finite(res.point_mass_at_cor, "witness.point_mass_at_cor"),
-            point_mass_subgradient=finite_list(res.point_mass_subgradient, "witness.point_mass_subgradient"),
-            residual=finite(res.witness_residual, "witness.residual"),
+            points=listed(res.witness_points),
+            weights=listed(res.witness_weights),
+            point_mass_at_cor=res.point_mass_at_cor,
+            point_mass_subgradient=listed(res.point_mass_subgradient),
+            residual=res.witness_residual,
             forward_cor_error=(
                 None if res.witness_forward_cor_error is None
-                else finite(res.witness_forward_cor_error, "witness.forward_cor_error")
+                else res.witness_forward_cor_error
             ),
         )
     if res.dual is not None and res.status != "inside":
         dual = DualOut(
-            vector=finite_list(res.dual, "dual.vector"),
-            lower_bound=None if res.dual_lower_bound is None else finite(res.dual_lower_bound, "dual.lower_bound"),
-            margin=None if res.dual_margin is None else finite(res.dual_margin, "dual.margin"),
+            vector=listed(res.dual),
+            lower_bound=None if res.dual_lower_bound is None else res.dual_lower_bound,
+            margin=None if res.dual_margin is None else res.dual_margin,
             lower_bound_method=res.lower_bound_method,
         )
     return MembershipResponse(
         status=res.status,
         certificate_kind=res.certificate_kind,
-        cor=finite_list(res.cor, "cor"),
+        cor=listed(res.cor),
         cor_query=[float(x) for x in req.cor],
         in_footprint=bool(res.in_footprint),
         witness=witness,
         dual=dual,
-        residual=finite(res.witness_residual, "residual") if math.isfinite(res.witness_residual) else None,
-        length_scale=finite(res.length_scale, "length_scale"),
-        disk_radius=finite(scene.disk_radius, "disk_radius"),
-        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
+        residual=res.witness_residual if math.isfinite(res.witness_residual) else None,
+        length_scale=res.length_scale,
+        disk_radius=scene.disk_radius,
+        center_of_mass=listed(scene.center_of_mass),
         iterations=int(res.iterations),
         n_columns=int(res.n_columns),
         bnb_intervals=int(res.bnb_intervals),

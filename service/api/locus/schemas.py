@@ -29,6 +29,7 @@ from service.common.fields import (
     TimeLimit,
     Vec2,
 )
+from service.common.responses import Out
 from service.limits import (
     DEFAULT_CERTIFIED_POINTS,
     DEFAULT_N_POINTS,
@@ -148,7 +149,7 @@ class CorLocusRequest(Strict):
 # ---------------------------------------------------------------------------------------
 
 
-class TipOut(Strict):
+class TipOut(Out):
     point: Vec2 = Field(description="The tip of the locus: its farthest point from the CM, on the axis.")
     distance: float = Field(description="r_tip: distance of the tip from the CM (3.37; a when the tip is on the disk).")
     distance_book: float = Field(description="a^2 / |alpha . c|, equation (3.37) as printed.")
@@ -161,7 +162,7 @@ class TipOut(Strict):
 # component's name stays what clients know.
 TipLineOut = create_model(
     "TipLineOut",
-    __base__=Strict,
+    __base__=Out,
     __module__="service.schemas",
     point=(Vec2, Field(description="Foot of the tip line: the point at distance a^2/|c| from the CM, opposite the contact.")),
     direction=(Vec2, Field(description="Unit direction of the tip line (perpendicular to c).")),
@@ -169,25 +170,25 @@ TipLineOut = create_model(
 )
 
 
-class RMinOut(Strict):
+class RMinOut(Out):
     point: Vec2 = Field(description="Nearest point of the locus boundary to the CM.")
     distance: float = Field(description="r_min = a |alpha . c| / (2a + |alpha . c|), equation (3.31).")
 
 
-class CurvaturesOut(Strict):
+class CurvaturesOut(Out):
     tip_radius: float = Field(description="Radius of curvature of the boundary at the tip (corrected 3.38).")
     tip_radius_book_printed: float = Field(description="(3.38) exactly as printed in the book.")
     r_min_radius: float = Field(description="Radius of curvature at r_min, equation (3.33).")
 
 
-class PerimeterArcOut(Strict):
+class PerimeterArcOut(Out):
     start_angle: float = Field(description="Polar angle about the CM where the arc starts (rad); runs CCW.")
     end_angle: float = Field(description="Polar angle about the CM where the arc ends (rad).")
     start: Vec2
     end: Vec2
 
 
-class DiskCrossingsOut(Strict):
+class DiskCrossingsOut(Out):
     cos_eta: float = Field(description="cos(eta) where the inner boundary meets the disk, equation (3.32).")
     points: Annotated[list[Vec2], Field(min_length=2, max_length=2)] = Field(
         description="The two points where the inner boundary (3.30) meets the disk."
@@ -197,7 +198,7 @@ class DiskCrossingsOut(Strict):
     )
 
 
-class BracketOut(Strict):
+class BracketOut(Out):
     """One certified bracket: `inner` proven inside the locus (a witness support), `outer`
     proven outside (a dual with a positive branch-and-bound margin)."""
 
@@ -220,7 +221,7 @@ class BracketOut(Strict):
     )
 
 
-class CertifiedLocusOut(Strict):
+class CertifiedLocusOut(Out):
     """Certified brackets of the COR locus boundary (method 'certified')."""
 
     region: Literal["disk", "polygon"]
@@ -242,7 +243,7 @@ class CertifiedLocusOut(Strict):
     solve_time_ms: float
 
 
-class CorLocusResponse(Strict):
+class CorLocusResponse(Out):
     """The locus of centres of rotation (COR) of the pushed workpiece, world frame."""
 
     kind: Literal["bounded", "translation"] = Field(
@@ -335,7 +336,7 @@ class MembershipRequest(PushIn):
     )
 
 
-class WitnessOut(Strict):
+class WitnessOut(Out):
     points: list[Vec2] = Field(description="Support points (world frame) on the outline of the footprint.")
     weights: list[float] = Field(description="Their weights; with `point_mass_at_cor` they sum to 1.")
     point_mass_at_cor: float = Field(description="Weight of a point mass at the COR itself.")
@@ -349,7 +350,7 @@ class WitnessOut(Strict):
     )
 
 
-class DualOut(Strict):
+class DualOut(Out):
     vector: Annotated[list[float], Field(min_length=5, max_length=5)] = Field(
         description="Separating functional y on the columns G(w) = (1, w/L, g_r(w)/L) of (3.8) "
         "(world-aligned CM frame, lengths / L; |y_0| <= 1, |y_w|, |y_g| <= sqrt 2)."
@@ -361,7 +362,7 @@ class DualOut(Strict):
     )
 
 
-class MembershipResponse(Strict):
+class MembershipResponse(Out):
     status: Literal["inside", "outside", "undecided"]
     certificate_kind: Literal["witness", "dual", "none"]
     cor: Vec2 = Field(description="The point decided: the query, or moved onto the outline when within 1e-9 L of it.")

@@ -34,7 +34,7 @@ from service.api.motion.schemas import (
     TripodStatisticsResponse,
 )
 from service.common.inputs import Loc, exactly_one, footprint_of, located
-from service.common.numbers import finite, finite_list
+from service.common.numbers import listed
 from service.common.scene import contact_warnings, disk_or_footprint, push_scene
 from service.errors import FieldError
 from service.limits import (
@@ -221,21 +221,21 @@ def motion_out(scene: PushScene, res: ForwardResult, mu_c: float, cor_on_support
         method=res.method,
         mode=res.mode,
         kind="translation" if res.cor is None else "rotation",
-        cor=None if res.cor is None else finite_list(res.cor, "cor"),
-        velocity_cm=finite_list(res.velocity_cm, "velocity_cm"),
-        rotation_per_push=finite(res.omega, "rotation_per_push"),
-        slip_per_push=finite(res.slip, "slip_per_push"),
+        cor=None if res.cor is None else listed(res.cor),
+        velocity_cm=listed(res.velocity_cm),
+        rotation_per_push=res.omega,
+        slip_per_push=res.slip,
         sense=res.sense,
         mason_sense=mason,
         mason_agrees=mason == res.sense,
-        power=finite(res.power, "power"),
-        contact_force=finite_list(res.contact_force, "contact_force"),
-        kkt_residual=finite(res.kkt_residual, "kkt_residual"),
-        gap=finite(res.gap, "gap"),
+        power=res.power,
+        contact_force=listed(res.contact_force),
+        kkt_residual=res.kkt_residual,
+        gap=res.gap,
         cor_on_support=cor_on_support,
         iterations=int(res.iterations),
         solve_time_ms=res.solve_time_s * 1e3,
-        raw_twist_error=None if res.raw_twist_error is None else finite(res.raw_twist_error, "raw_twist_error"),
+        raw_twist_error=None if res.raw_twist_error is None else res.raw_twist_error,
     )
 
 
@@ -252,17 +252,17 @@ def batch_motion_out(scene: PushScene, br: BatchResult, j: int, mu_c: float, cor
         method="newton",
         mode=BatchResult.MODES[int(br.mode[j])],
         kind="translation" if translation else "rotation",
-        cor=None if translation else finite_list(cor, "cor"),
-        velocity_cm=finite_list(v, "velocity_cm"),
-        rotation_per_push=finite(omega, "rotation_per_push"),
-        slip_per_push=finite(br.slip[j], "slip_per_push"),
+        cor=None if translation else listed(cor),
+        velocity_cm=listed(v),
+        rotation_per_push=omega,
+        slip_per_push=br.slip[j],
         sense=sense,
         mason_sense=mason,
         mason_agrees=mason == sense,
-        power=finite(br.power[j], "power"),
-        contact_force=finite_list(br.contact_force[j], "contact_force"),
-        kkt_residual=finite(br.kkt_residual[j], "kkt_residual"),
-        gap=finite(br.gap[j], "gap"),
+        power=br.power[j],
+        contact_force=listed(br.contact_force[j]),
+        kkt_residual=br.kkt_residual[j],
+        gap=br.gap[j],
         cor_on_support=cor_on_support,
         iterations=int(br.iterations[j]),
         solve_time_ms=None,
@@ -273,9 +273,9 @@ def _impact_out(impact: Impact | None) -> ImpactOut | None:
     if impact is None:
         return None
     return ImpactOut(
-        cor=None if impact.cor is None else finite_list(impact.cor, "impact.cor"),
-        distance=None if impact.distance is None else finite(impact.distance, "impact.distance"),
-        radius_of_gyration=finite(impact.radius_of_gyration, "impact.radius_of_gyration"),
+        cor=None if impact.cor is None else listed(impact.cor),
+        distance=None if impact.distance is None else impact.distance,
+        radius_of_gyration=impact.radius_of_gyration,
         source=impact.source,
     )
 
@@ -326,8 +326,8 @@ def solve_response(req: CorSolveRequest, mr: MotionRequest, result: MotionResult
         )
     return CorSolveResponse(
         input=mr.which,
-        disk_radius=finite(scene.disk_radius, "disk_radius"),
-        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
+        disk_radius=scene.disk_radius,
+        center_of_mass=listed(scene.center_of_mass),
         mu_c=mu_c,
         method=req.method,
         motion=motion,
@@ -405,26 +405,26 @@ def tripod_statistics_response(req: TripodStatisticsRequest, stats: TripodStatis
     ok = np.all(np.isfinite(b.cor), axis=1)
     cors = None
     if req.include_cors:
-        cors = [(finite_list(c, "cors") if good else None) for c, good in zip(b.cor, ok)]
+        cors = [(listed(c) if good else None) for c, good in zip(b.cor, ok)]
     modes = {name: int(np.sum(b.mode == i)) for i, name in enumerate(BatchResult.MODES)}
     hist = None
     if stats.histogram is not None:
         h = stats.histogram
         hist = HistogramOut(
-            edges=finite_list(h.edges, "histogram.edges"),
+            edges=listed(h.edges),
             counts=[int(c) for c in h.counts],
-            sticking_fraction=finite(h.sticking_fraction, "histogram.sticking_fraction"),
+            sticking_fraction=h.sticking_fraction,
             outside_range=int(h.outside_range),
             mu_c=float(req.histogram_mu_c),
             solve_time_ms=h.solve_time_s * 1e3,
         )
     return TripodStatisticsResponse(
         status=stats.status,
-        max_kkt_residual=finite(np.max(b.kkt_residual), "max_kkt_residual"),
+        max_kkt_residual=np.max(b.kkt_residual),
         n_tripods=req.n_tripods,
         seed=req.seed,
-        disk_radius=finite(scene.disk_radius, "disk_radius"),
-        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
+        disk_radius=scene.disk_radius,
+        center_of_mass=listed(scene.center_of_mass),
         mu_c=float(req.mu_c),
         cors=cors,
         converged=int(np.sum(b.converged)),

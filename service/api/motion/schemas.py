@@ -22,6 +22,7 @@ from service.common.fields import (
     Strict,
     Vec2,
 )
+from service.common.responses import Out
 from service.limits import (
     DEFAULT_PRESSURE_RESOLUTION,
     MAX_BATCH,
@@ -186,7 +187,7 @@ class TripodStatisticsRequest(PushIn):
 Sense = Literal["cw", "ccw", "none"]
 
 
-class MotionOut(Strict):
+class MotionOut(Out):
     """The motion of the workpiece per unit advance of the pusher, world frame."""
 
     status: Literal["optimal", "not_converged", "inconsistent"] = Field(
@@ -226,7 +227,7 @@ class MotionOut(Strict):
     )
 
 
-class ImpactOut(Strict):
+class ImpactOut(Out):
     """The impact-limit COR (7.1) of a body with the support's mass distribution."""
 
     cor: Vec2 | None = Field(description="COR of the impulsive motion; null for a pure translation.")
@@ -237,7 +238,7 @@ class ImpactOut(Strict):
     )
 
 
-class BatchSummaryOut(Strict):
+class BatchSummaryOut(Out):
     n: int = Field(description="Supports solved.")
     converged: int = Field(description="Of them with status 'optimal'.")
     translations: int = Field(description="Of them translating (cor null).")
@@ -245,14 +246,14 @@ class BatchSummaryOut(Strict):
     support_sizes: list[int] = Field(description="Distinct support sizes (after merging coincident points).")
 
 
-class PressureSummaryOut(Strict):
+class PressureSummaryOut(Out):
     kind: Literal["uniform"]
     region: Literal["disk", "polygon"]
     resolution: int
     n_cells: int = Field(description="Cells of the discretisation (point masses solved).")
 
 
-class CorSolveResponse(Strict):
+class CorSolveResponse(Out):
     """Motions for known pressure distributions."""
 
     input: Literal["support", "supports", "pressure"] = Field(description="Which of the three inputs was given.")
@@ -270,7 +271,7 @@ class CorSolveResponse(Strict):
     elapsed_ms: float = Field(description="Time spent computing in all, ms.")
 
 
-class HistogramOut(Strict):
+class HistogramOut(Out):
     edges: list[float] = Field(description="Bin edges: signed distance from the contact along J p (length).")
     counts: list[int]
     sticking_fraction: float = Field(description="Fraction of tripods that stick.")
@@ -279,7 +280,7 @@ class HistogramOut(Strict):
     solve_time_ms: float
 
 
-class TripodStatisticsResponse(Strict):
+class TripodStatisticsResponse(Out):
     status: Literal["optimal", "not_converged"] = Field(
         description="'optimal' when every tripod's solve converged (KKT residual within tolerance)."
     )

@@ -7,7 +7,6 @@ from contextlib import contextmanager
 
 from service.api.particle.schemas import ParticleRequest, ParticleResponse
 from service.common.inputs import located
-from service.common.numbers import finite
 from service.errors import NonFiniteResult
 from service.limits import AGREEMENT_REL
 from solver import ParticleProblem, ParticleSolution
@@ -42,16 +41,16 @@ def particle_response(sol: ParticleSolution, elapsed_ms: float) -> ParticleRespo
             f"not Coulomb friction (n = {sol.scene.n:g} > 0); the principle holds only for n = 0 (book 2.5)"
         )
     return ParticleResponse(
-        newton_v_y=finite(sol.newton_v_y, "newton_v_y"),
-        mpp_v_y=finite(sol.mpp_v_y, "mpp_v_y"),
-        mpp_v_y_numeric=finite(sol.mpp_v_y_numeric, "mpp_v_y_numeric"),
-        relative_disagreement=finite(sol.relative_disagreement, "relative_disagreement"),
+        newton_v_y=sol.newton_v_y,
+        mpp_v_y=sol.mpp_v_y,
+        mpp_v_y_numeric=sol.mpp_v_y_numeric,
+        relative_disagreement=sol.relative_disagreement,
         agree=agree,
-        numeric_error=finite(sol.numeric_error, "numeric_error"),
-        kkt_residual=finite(sol.kkt_residual, "kkt_residual"),
-        newton_residual=finite(sol.newton_residual, "newton_residual"),
-        power_newton=finite(sol.power_newton, "power_newton"),
-        power_mpp=finite(sol.power_mpp, "power_mpp"),
+        numeric_error=sol.numeric_error,
+        kkt_residual=sol.kkt_residual,
+        newton_residual=sol.newton_residual,
+        power_newton=sol.power_newton,
+        power_mpp=sol.power_mpp,
         status=sol.status,
         iterations=int(sol.iterations),
         message=message,

@@ -12,6 +12,7 @@ from typing import Annotated
 from pydantic import ConfigDict, Field
 
 from service.common.fields import Strict
+from service.common.responses import Out
 from service.limits import (
     PARTICLE_MAX_EXPONENT,
     PARTICLE_MAX_MAGNITUDE,
@@ -41,7 +42,7 @@ class ParticleRequest(Strict):
     )
 
 
-class ParticleResponse(Strict):
+class ParticleResponse(Out):
     """Newton's law vs the minimum power principle for the particle of book 2.5.
 
     v_y is the steady speed along the external force (the world velocity is (v_x, -v_y)

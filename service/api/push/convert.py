@@ -46,7 +46,7 @@ from service.api.push.schemas import (
     ThresholdsOut,
 )
 from service.common.inputs import exactly_one, footprint_of
-from service.common.numbers import finite, finite_list, finite_or_none
+from service.common.numbers import listed
 from service.errors import FieldError
 from service.limits import GROSS_MIN_LENGTH
 from solver import (
@@ -69,12 +69,12 @@ REFERENCE = (
 )
 
 
-def _error_speed(cs: qs.CharacteristicSpeed, name: str) -> ErrorSpeedOut:
+def _error_speed(cs: qs.CharacteristicSpeed) -> ErrorSpeedOut:
     return ErrorSpeedOut(
-        characteristic_speed=finite(cs.characteristic_speed, f"{name}.characteristic_speed"),
-        ratio=finite(cs.ratio, f"{name}.ratio"),
-        permissible_error=finite(cs.permissible_error, f"{name}.permissible_error"),
-        error_at_speed=finite(cs.error_at_speed, f"{name}.error_at_speed"),
+        characteristic_speed=cs.characteristic_speed,
+        ratio=cs.ratio,
+        permissible_error=cs.permissible_error,
+        error_at_speed=cs.error_at_speed,
         within_tolerance=cs.within_tolerance,
         equation=cs.equation,
         section=cs.section,
@@ -86,8 +86,8 @@ def _error_speed(cs: qs.CharacteristicSpeed, name: str) -> ErrorSpeedOut:
 def _quasi_static_parameter(res: qs.QuasiStaticAssessment) -> QuasiStaticParameterOut:
     """(6.7): the characteristic speed of the quasi-static parameter and the ratio to it."""
     return QuasiStaticParameterOut(
-        characteristic_speed=finite(res.quasi_static.characteristic_speed, "quasi_static.characteristic_speed"),
-        ratio=finite(res.quasi_static.ratio, "quasi_static.ratio"),
+        characteristic_speed=res.quasi_static.characteristic_speed,
+        ratio=res.quasi_static.ratio,
         equation=res.quasi_static.equation,
         section=res.quasi_static.section,
         formula=res.quasi_static.formula,
@@ -136,7 +136,7 @@ def quasistatic_inputs(req: PushQuasistaticRequest) -> QuasistaticInputs:
     if shape == "disk_radius":
         return QuasistaticInputs(qs.ShapeMoments.disk(req.disk_radius), g, g_source, None)
     fp = footprint_of(req.footprint, None, ("footprint",))
-    return QuasistaticInputs(qs.ShapeMoments.polygon(fp), g, g_source, finite_list(fp.center_of_mass, "part.center_of_mass"))
+    return QuasistaticInputs(qs.ShapeMoments.polygon(fp), g, g_source, listed(fp.center_of_mass))
 
 
 def quasistatic_response(req: PushQuasistaticRequest, inputs: QuasistaticInputs, res: qs.QuasiStaticAssessment,
@@ -146,21 +146,21 @@ def quasistatic_response(req: PushQuasistaticRequest, inputs: QuasistaticInputs,
     return PushQuasistaticResponse(
         verdict=res.verdict,
         message=_message(res, req.length_unit),
-        speed=finite(res.speed, "speed"),
-        mu_s=finite(res.mu_s, "mu_s"),
-        g=finite(res.g, "g"),
+        speed=res.speed,
+        mu_s=res.mu_s,
+        g=res.g,
         g_source=g_source,
         length_unit=req.length_unit,
         part=PartOut(
             kind=part.kind,
-            radius=finite(part.radius, "part.radius"),
-            radius_of_gyration=finite(part.radius_of_gyration, "part.radius_of_gyration"),
-            mean_distance=finite(part.mean_distance, "part.mean_distance"),
-            spin_factor=finite(spin_factor, "part.spin_factor"),
+            radius=part.radius,
+            radius_of_gyration=part.radius_of_gyration,
+            mean_distance=part.mean_distance,
+            spin_factor=spin_factor,
             center_of_mass=cm,
         ),
-        angular=_error_speed(res.angular, "angular"),
-        translational=_error_speed(res.translational, "translational"),
+        angular=_error_speed(res.angular),
+        translational=_error_speed(res.translational),
         quasi_static=_quasi_static_parameter(res),
         thresholds=ThresholdsOut(
             quasi_static_max_ratio=res.thresholds.quasi_static_max_ratio,
@@ -251,33 +251,33 @@ def quasi_static_out(qin: QuasiStaticIn | None, res: qs.QuasiStaticAssessment | 
         within_quasi_static=res.verdict == "quasi_static",
         verdict=res.verdict,
         message=_message(res, qin.length_unit),
-        speed=finite(res.speed, "quasi_static.speed"),
-        mu_s=finite(res.mu_s, "quasi_static.mu_s"),
-        g=finite(res.g, "quasi_static.g"),
+        speed=res.speed,
+        mu_s=res.mu_s,
+        g=res.g,
         g_source="g" if qin.g is not None else "length_unit",
         length_unit=qin.length_unit,
         quasi_static=_quasi_static_parameter(res),
-        angular=_error_speed(res.angular, "quasi_static.angular"),
-        translational=_error_speed(res.translational, "quasi_static.translational"),
+        angular=_error_speed(res.angular),
+        translational=_error_speed(res.translational),
     )
 
 
-def _bound_out(b: Bound, name: str) -> BoundOut:
+def _bound_out(b: Bound) -> BoundOut:
     return BoundOut(
-        exact=finite_or_none(b.exact, f"{name}.exact"),
-        quadrature_error=finite_or_none(b.quadrature_error, f"{name}.quadrature_error"),
-        closed_form=finite_or_none(b.closed_form, f"{name}.closed_form"),
+        exact=b.exact,
+        quadrature_error=b.quadrature_error,
+        closed_form=b.closed_form,
         equation=b.equation,
-        difference=finite_or_none(b.difference, f"{name}.difference"),
+        difference=b.difference,
     )
 
 
-def _fence_bound_out(b: Bound, name: str) -> FenceBoundOut:
+def _fence_bound_out(b: Bound) -> FenceBoundOut:
     return FenceBoundOut(
-        **_bound_out(b, name).model_dump(),
+        **_bound_out(b).model_dump(),
         pieces=None if b.pieces is None else [
             FencePieceOut(beta_start=p.beta_start, beta_end=p.beta_end, regime=p.regime,
-                          push=finite(p.push, "push"), equation=p.equation) for p in b.pieces],
+                          push=p.push, equation=p.equation) for p in b.pieces],
         transitions=None if b.transitions is None else list(b.transitions),
         exact_sources=None if b.exact_sources is None else list(b.exact_sources),
         exact_time_s=b.exact_time_s,
@@ -288,10 +288,10 @@ def _slip_out(slip: Slip | None) -> FenceSlipOut | None:
     if slip is None:
         return None
     return FenceSlipOut(
-        most_positive=finite(slip.most_positive, "slip.most_positive"),
-        most_negative=finite(slip.most_negative, "slip.most_negative"),
-        quadrature_error_positive=finite(slip.quadrature_error_positive, "slip.quadrature_error_positive"),
-        quadrature_error_negative=finite(slip.quadrature_error_negative, "slip.quadrature_error_negative"),
+        most_positive=slip.most_positive,
+        most_negative=slip.most_negative,
+        quadrature_error_positive=slip.quadrature_error_positive,
+        quadrature_error_negative=slip.quadrature_error_negative,
         direction=list(slip.direction), exact_time_s=slip.exact_time_s,
     )
 
@@ -303,12 +303,12 @@ def _stage_out(s: AlignStage, index) -> FenceStageOut:
         flush_edge_vertex_indices=[index(st.contact_index), index(st.flush_index)],
         flush_edge_is_polygon_edge=st.flush_is_polygon_edge,
         flush_edge_stable=st.flush_edge_stable,
-        contact_distance=finite(st.contact_distance, "contact_distance"),
-        contact_fence_frame=finite_list(st.contact_fence_frame, "contact_fence_frame"),
+        contact_distance=st.contact_distance,
+        contact_fence_frame=listed(st.contact_fence_frame),
         beta_initial=st.beta_initial, beta_final=st.beta_final, vertex_edge_angle=st.vertex_edge_angle,
         rotation=st.rotation, orientation_initial=st.orientation_initial, orientation_final=st.orientation_final,
-        longest_push=_fence_bound_out(s.longest, "longest_push"),
-        shortest_push=_fence_bound_out(s.shortest, "shortest_push"),
+        longest_push=_fence_bound_out(s.longest),
+        shortest_push=_fence_bound_out(s.shortest),
         slip=_slip_out(s.slip),
     )
 
@@ -326,7 +326,7 @@ def align_problem(req: PushAlignRequest) -> AlignProblem:
                         cost=SKETCH_COST)
 
 
-def align_partial(req: PushAlignRequest, problem: AlignProblem):
+def align_partial(problem: AlignProblem):
     """The converter of the stages done when the time limit runs out (the 504's ``partial``)."""
     index = problem.footprint.input_index
 
@@ -378,18 +378,18 @@ def align_response(req: PushAlignRequest, result: AlignResult, elapsed_ms: float
     al = result.alignment
     index = result.problem.footprint.input_index
     stages = [_stage_out(s, index) for s in result.stages]
-    longest = _bound_out(result.longest, "longest_push")
-    shortest = _bound_out(result.shortest, "shortest_push")
+    longest = _bound_out(result.longest)
+    shortest = _bound_out(result.shortest)
 
     def edge(ids):
         return FenceEdgeOut(vertex_indices=[index(k) for k in ids],
-                            points=[finite_list(al.initial_vertices[k], "geometry.points") for k in ids])
+                            points=[listed(al.initial_vertices[k]) for k in ids])
 
     geometry = FenceGeometryOut(
-        disk_radius=finite(al.disk_radius, "disk_radius"),
-        center_of_mass=finite_list(al.center_of_mass, "center_of_mass"),
+        disk_radius=al.disk_radius,
+        center_of_mass=listed(al.center_of_mass),
         alpha=al.alpha, alpha_unmirrored=al.alpha_unmirrored,
-        fence_normal=finite_list(al.fence_normal, "fence_normal"),
+        fence_normal=listed(al.fence_normal),
         sense=al.sense, mirrored=al.mirrored,
         first_contact=edge((al.first_contact_index,)),
         already_flush=al.already_flush,
@@ -432,7 +432,7 @@ def encounter_response(req: PushDiskEncounterRequest, result: DiskEncounterResul
                f"sketch i begins at beta = {onset:.6g} rad, before the disk is left at pi/2 (4.4.1.2)")
         ),
     )
-    length_max = _bound_out(result.length_max, "length_max")
+    length_max = _bound_out(result.length_max)
     message = (
         f"a disk of radius {a:.6g} met at beta = {beta:.6g} rad (offset {result.offset:.6g}) with mu_c = {mu:.6g}: "
         + (f"the encounter lasts at most {length_max.exact:.6g} (exact)" if length_max.exact is not None else
@@ -440,16 +440,16 @@ def encounter_response(req: PushDiskEncounterRequest, result: DiskEncounterResul
         + f"; the disk turns at most pi/2 - beta = {0.5 * math.pi - beta:.6g} rad; sketch i "
         + ("from the start" if at_start else f"from beta = {onset:.6g}")
     )
-    length_min = _bound_out(result.length_min, "length_min")
-    rotation_max = _bound_out(result.rotation_max, "rotation_max")
-    rotation_min = _bound_out(result.rotation_min, "rotation_min")
+    length_min = _bound_out(result.length_min)
+    rotation_max = _bound_out(result.rotation_max)
+    rotation_min = _bound_out(result.rotation_min)
     message += _quadrature_warning([length_max, length_min, rotation_max, rotation_min])
     return PushDiskEncounterResponse(
         message=message, method=req.method, disk_radius=a, beta_initial=beta, beta_final=0.5 * math.pi,
-        offset=finite(result.offset, "offset"), beta_source=result.beta_source, mu_c=mu, nu=math.atan(mu),
+        offset=result.offset, beta_source=result.beta_source, mu_c=mu, nu=math.atan(mu),
         length_greatest=length_max,
         length_least=length_min,
-        length_frictionless=finite(result.length_frictionless, "length_frictionless"),
+        length_frictionless=result.length_frictionless,
         rotation_greatest=rotation_max,
         rotation_least=rotation_min,
         sketch_i=sketch_i,

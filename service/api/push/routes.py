@@ -93,7 +93,7 @@ async def push_align(req: PushAlignRequest, request: Request) -> Response:
 def align_job(req: PushAlignRequest, deadline: Deadline) -> PushAlignResponse:
     budget = deadline.budget()
     problem = align_problem(req)
-    with time_limited(align_partial(req, problem), GROSS_TIME_LIMIT_HINT), located(rename=ALIGN_FIELDS):
+    with time_limited(align_partial(problem), GROSS_TIME_LIMIT_HINT), located(rename=ALIGN_FIELDS):
         result = align(problem, budget)
     return align_response(req, result, budget.elapsed() * 1e3)
 

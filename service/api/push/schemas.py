@@ -30,6 +30,7 @@ from service.common.fields import (
     Strict,
     TimeLimit,
 )
+from service.common.responses import Out
 from service.limits import (
     ALIGN_DEFAULT_N_NODES,
     DEFAULT_TIME_LIMIT_S,
@@ -124,7 +125,7 @@ class PushQuasistaticRequest(Strict):
     )
 
 
-class PartOut(Strict):
+class PartOut(Out):
     kind: Literal["disk", "polygon"]
     radius: float = Field(description="a: the disk's radius or the polygon's circumradius about the CM (length).")
     radius_of_gyration: float = Field(description="rho, polar, about the CM (length): a / sqrt 2 for the disk.")
@@ -138,7 +139,7 @@ class PartOut(Strict):
     center_of_mass: list[float] | None = Field(description="The polygon's CM (area centroid); null for the disk.")
 
 
-class ErrorSpeedOut(Strict):
+class ErrorSpeedOut(Out):
     """A characteristic speed for a permissible error, and the push measured against it."""
 
     characteristic_speed: float = Field(description="The speed at which the part coasts exactly the permissible error (L/s).")
@@ -153,7 +154,7 @@ class ErrorSpeedOut(Strict):
     formula: str
 
 
-class QuasiStaticParameterOut(Strict):
+class QuasiStaticParameterOut(Out):
     characteristic_speed: float = Field(description="v_qs = sqrt(2 mu_s a g) (6.7), L/s.")
     ratio: float = Field(
         description="speed / v_qs, the quasi-static parameter. After release the part coasts "
@@ -164,12 +165,12 @@ class QuasiStaticParameterOut(Strict):
     formula: str
 
 
-class ThresholdsOut(Strict):
+class ThresholdsOut(Out):
     quasi_static_max_ratio: float = Field(description="ratio at or below which the verdict is quasi_static.")
     inertial_min_ratio: float = Field(description="ratio at or above which the verdict is inertial.")
 
 
-class PushQuasistaticResponse(Strict):
+class PushQuasistaticResponse(Out):
     verdict: Literal["quasi_static", "transitional", "inertial"] = Field(
         description="On the quasi-static parameter: quasi_static (ratio <= 0.3: coasting <= 9 % of a and "
         "<= 0.09 rad), transitional, or inertial (ratio >= 1: inertia as large as friction, 6.8.3; "
@@ -376,7 +377,7 @@ class PushDiskEncounterRequest(Strict):
 # --- responses ----------------------------------------------------------------------------
 
 
-class QuasiStaticCheckOut(Strict):
+class QuasiStaticCheckOut(Out):
     """Whether the given speed is within the quasi-static limit of 6.8 for this part (the
     verdict of POST /v1/push/quasistatic)."""
 
@@ -393,7 +394,7 @@ class QuasiStaticCheckOut(Strict):
     translational: ErrorSpeedOut = Field(description="6.8.2, (6.6): for the book's X = a/7.")
 
 
-class BoundOut(Strict):
+class BoundOut(Out):
     """One bound on a gross motion: exact (from the exact COR sketch), closed form (the
     book's), and exact - closed_form. A field is null when the method did not compute it or
     the book has no closed form for it."""
@@ -407,7 +408,7 @@ class BoundOut(Strict):
     difference: float | None = Field(description="exact - closed_form.")
 
 
-class FencePieceOut(Strict):
+class FencePieceOut(Out):
     beta_start: float
     beta_end: float
     regime: Literal["frictionless", "sticking", "slipping_down", "slipping_up"] = Field(
@@ -432,7 +433,7 @@ class FenceBoundOut(BoundOut):
     exact_time_s: float | None = Field(default=None, description="Time of the exact bound, seconds.")
 
 
-class FenceSlipOut(Strict):
+class FenceSlipOut(Out):
     """How far the fence face slips past the contact vertex while the part turns (4.3),
     from the exact COR sketch (the book has no closed form). Positive along `direction`."""
 
@@ -447,7 +448,7 @@ class FenceSlipOut(Strict):
     exact_time_s: float | None = Field(default=None, description="Time of the exact slip bounds, seconds.")
 
 
-class FenceStageOut(Strict):
+class FenceStageOut(Out):
     contact_vertex_index: int = Field(description="The vertex the part turns about (index into `footprint`).")
     flush_edge_vertex_indices: list[int] = Field(description="[contact, other end] of the hull edge that comes flush.")
     flush_edge_is_polygon_edge: bool = Field(description="False: the edge bridges a concavity of the footprint.")
@@ -469,12 +470,12 @@ class FenceStageOut(Strict):
     )
 
 
-class FenceEdgeOut(Strict):
+class FenceEdgeOut(Out):
     vertex_indices: list[int] = Field(description="Indices into `footprint` of the edge's ends.")
     points: list[list[float]] = Field(description="The ends in the world frame, in the initial orientation.")
 
 
-class FenceGeometryOut(Strict):
+class FenceGeometryOut(Out):
     disk_radius: float = Field(description="a: the footprint's circumradius about the CM (3.1.8).")
     center_of_mass: list[float]
     alpha: float = Field(
@@ -500,7 +501,7 @@ class FenceGeometryOut(Strict):
     )
 
 
-class PushAlignResponse(Strict):
+class PushAlignResponse(Out):
     message: str
     method: GrossMethod
     mu_c: float
@@ -526,7 +527,7 @@ class PushAlignResponse(Strict):
     elapsed_ms: float
 
 
-class SketchIOut(Strict):
+class SketchIOut(Out):
     onset_beta: float = Field(description="atan(2 mu_c): for beta above it the COR sketch is of type i (4.17).")
     at_start: bool = Field(description="The sketch is of type i already at beta_initial.")
     occurs: bool = Field(
@@ -535,7 +536,7 @@ class SketchIOut(Strict):
     note: str
 
 
-class PushDiskEncounterResponse(Strict):
+class PushDiskEncounterResponse(Out):
     message: str
     method: GrossMethod
     disk_radius: float

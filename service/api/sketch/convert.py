@@ -21,7 +21,7 @@ from service.api.sketch.schemas import (
     StickingLocusOut,
     TipLineEstimateOut,
 )
-from service.common.numbers import finite, finite_list
+from service.common.numbers import listed
 from service.common.scene import PreparedPush, prepare_push
 from service.errors import FieldError
 from service.limits import SKETCH_MIN_LENGTH
@@ -54,13 +54,12 @@ def sketch_problem(req: CorSketchRequest, with_tip_line: bool = False) -> tuple[
 
 
 def _elementary(loc: ElementaryLocus, sigma: float, nu: float) -> ElementaryLocusOut:
-    name = loc.label
     return ElementaryLocusOut(
         label=loc.label,
-        force_direction=finite_list(loc.force, f"{name}.force_direction"),
+        force_direction=listed(loc.force),
         force_angle=sigma * nu,
-        boundary=None if loc.boundary is None else finite_list(loc.boundary, f"{name}.boundary"),
-        tip=None if loc.tip is None else finite_list(loc.tip, f"{name}.tip"),
+        boundary=None if loc.boundary is None else listed(loc.boundary),
+        tip=None if loc.tip is None else listed(loc.tip),
         moment_sign=int(loc.moment_sign),
         configuration=loc.configuration,
         crosses_sticking_line=bool(loc.crosses_sticking_line),
@@ -117,15 +116,15 @@ def sketch_message(prep: PreparedPush, sk: CorSketch, certified: bool = False) -
     return f"sketch {sk.sketch} of figure 4-6{mirror}{where}: {IMPLICATION_TEXT[sk.implication]} ({configs})"
 
 
-def _end(end: LocusEnd | None, name: str) -> StickingEndOut | None:
+def _end(end: LocusEnd | None) -> StickingEndOut | None:
     if end is None:
         return None
     return StickingEndOut(
-        status=end.status, position=finite(end.position, f"{name}.position"),
-        feasible_position=None if end.feasible_position is None else finite(end.feasible_position, f"{name}.feasible_position"),
+        status=end.status, position=end.position,
+        feasible_position=None if end.feasible_position is None else end.feasible_position,
         infeasible_position=(None if end.infeasible_position is None
-                             else finite(end.infeasible_position, f"{name}.infeasible_position")),
-        width=finite(end.width, f"{name}.width"), certified=bool(end.certified),
+                             else end.infeasible_position),
+        width=end.width, certified=bool(end.certified),
     )
 
 
@@ -135,8 +134,8 @@ def certification_out(cs: CertifiedSketch) -> SketchCertificationOut:
     return SketchCertificationOut(
         complete=cs.complete, time_limited=cs.time_limited, message=cs.message,
         sticking_status=None if st is None else st.status,
-        sticking_lower=None if st is None else _end(st.lower, "certification.sticking_lower"),
-        sticking_upper=None if st is None else _end(st.upper, "certification.sticking_upper"),
+        sticking_lower=None if st is None else _end(st.lower),
+        sticking_upper=None if st is None else _end(st.upper),
         sticking_multiple_intervals=bool(st is not None and st.multiple_intervals),
         n_rays=cs.n_rays if polygon else None,
         plus_certified_rays=None if cs.plus_trace is None else int(cs.plus_trace.n_certified),
@@ -155,40 +154,40 @@ def sketch_response(prep: PreparedPush, result: SketchResult, elapsed_ms: float)
     if sk.sticking is not None:
         s = sk.sticking
         sticking = StickingLocusOut(
-            t_low=finite(s.t_low, "sticking.t_low"),
-            t_high=finite(s.t_high, "sticking.t_high"),
-            low=finite_list(s.low, "sticking.low"),
-            high=finite_list(s.high, "sticking.high"),
-            phi_low=None if s.phi_low is None else finite(s.phi_low, "sticking.phi_low"),
-            phi_high=None if s.phi_high is None else finite(s.phi_high, "sticking.phi_high"),
+            t_low=s.t_low,
+            t_high=s.t_high,
+            low=listed(s.low),
+            high=listed(s.high),
+            phi_low=None if s.phi_low is None else s.phi_low,
+            phi_high=None if s.phi_high is None else s.phi_high,
         )
     tip_line = None
     if sk.tip_line_t is not None:
         tip_line = TipLineEstimateOut(
-            point=finite_list(sk.tip_line_low, "tip_line_estimate.point"),
-            t=finite(sk.tip_line_t, "tip_line_estimate.t"),
-            error=None if sk.tip_line_error is None else finite(sk.tip_line_error, "tip_line_estimate.error"),
+            point=listed(sk.tip_line_low),
+            t=sk.tip_line_t,
+            error=None if sk.tip_line_error is None else sk.tip_line_error,
         )
     return CorSketchResponse(
         kind="translation" if is_translation(sk) else "sketch",
         message=provisional_note(certified) + sketch_message(prep, sk, certified is not None),
-        mu_c=finite(sk.mu_c, "mu_c"),
-        nu=finite(sk.nu, "nu"),
+        mu_c=sk.mu_c,
+        nu=sk.nu,
         sense=sk.sense,
-        disk_radius=finite(scene.disk_radius, "disk_radius"),
-        center_of_mass=finite_list(scene.center_of_mass, "center_of_mass"),
+        disk_radius=scene.disk_radius,
+        center_of_mass=listed(scene.center_of_mass),
         sketch_of=sketch_of(prep, certified is not None),
         method="analytic" if certified is None else "certified",
         certification=None if certified is None else certification_out(certified),
         sticking_line=LineOut(
-            point=finite_list(sk.sticking_line_point, "sticking_line.point"),
-            direction=finite_list(sk.sticking_line_direction, "sticking_line.direction"),
+            point=listed(sk.sticking_line_point),
+            direction=listed(sk.sticking_line_direction),
         ),
-        edge_normal_direction=finite_list(sk.edge_normal_direction, "edge_normal_direction"),
+        edge_normal_direction=listed(sk.edge_normal_direction),
         plus=_elementary(sk.plus, 1.0, sk.nu),
         minus=_elementary(sk.minus, -1.0, sk.nu),
-        down_slipping=[finite_list(p, "down_slipping") for p in sk.down_slipping],
-        up_slipping=[finite_list(p, "up_slipping") for p in sk.up_slipping],
+        down_slipping=[listed(p) for p in sk.down_slipping],
+        up_slipping=[listed(p) for p in sk.up_slipping],
         sticking=sticking,
         tip_line_estimate=tip_line,
         sketch=sk.sketch,
@@ -198,7 +197,7 @@ def sketch_response(prep: PreparedPush, result: SketchResult, elapsed_ms: float)
         n_points=result.problem.n_points,
         contact_distance_to_outline=(
             None if prep.contact_distance_to_outline is None
-            else finite(prep.contact_distance_to_outline, "contact_distance_to_outline")
+            else prep.contact_distance_to_outline
         ),
         warnings=list(prep.warnings),
         elapsed_ms=elapsed_ms,

@@ -31,6 +31,7 @@ from service.common.fields import (
     TimeLimit,
     Vec2,
 )
+from service.common.responses import Out
 from service.limits import (
     DEFAULT_TIME_LIMIT_S,
     MAX_CERTIFIED_POINTS,
@@ -152,12 +153,12 @@ SketchLetter = Literal["a", "b", "c", "d", "e", "f", "g", "h", "i"]
 PolygonOut = list[Vec2]
 
 
-class LineOut(Strict):
+class LineOut(Out):
     point: Vec2 = Field(description="A point of the line, world frame (the contact point).")
     direction: Vec2 = Field(description="Unit direction of the line, world frame.")
 
 
-class ElementaryLocusOut(Strict):
+class ElementaryLocusOut(Out):
     """{COR}_(alpha +- nu): the frictionless COR locus of the disk for a force along one edge
     of the friction cone (4.1.3), drawn in outline in the book's figures."""
 
@@ -196,7 +197,7 @@ class ElementaryLocusOut(Strict):
     )
 
 
-class StickingLocusOut(Strict):
+class StickingLocusOut(Out):
     """The sticking locus (4.1.4): the segment of the sticking line that holds every
     sticking COR, by the book's sweep of the force over the cone (refined at the ends)."""
 
@@ -214,7 +215,7 @@ class StickingLocusOut(Strict):
     phi_high: float | None = Field(description="Force angle whose locus reaches the upper end (null: certified).")
 
 
-class TipLineEstimateOut(Strict):
+class TipLineEstimateOut(Out):
     """The book's approximation of the sticking locus's far end (4.1.4): where the tip line
     (3.3.11.1, perpendicular to c at a^2/|c| beyond the CM) meets the sticking line."""
 
@@ -226,7 +227,7 @@ class TipLineEstimateOut(Strict):
     )
 
 
-class StickingEndOut(Strict):
+class StickingEndOut(Out):
     status: str = Field(
         description="'bracketed' (certified inside and outside points `width` apart), 'wide' (as bracketed, "
         "wider than asked), 'contact' (runs up to the contact point), 'search_limit' (still feasible at "
@@ -239,7 +240,7 @@ class StickingEndOut(Strict):
     certified: bool = Field(description="Both ends of the bracket carry their certificate.")
 
 
-class SketchCertificationOut(Strict):
+class SketchCertificationOut(Out):
     """How the pieces of a 'certified' sketch were certified, and whether all were."""
 
     complete: bool = Field(description="Every traced ray and both sticking ends certified, nothing cut by the time limit.")
@@ -259,7 +260,7 @@ class SketchCertificationOut(Strict):
     solve_time_s: float
 
 
-class CorSketchResponse(Strict):
+class CorSketchResponse(Out):
     """The COR sketch (book 4.1): every COR consistent with the force that produces it, for
     every pressure distribution on the disk, world frame."""
 

@@ -35,7 +35,7 @@ from service.api.spiral.schemas import (
     TableOut,
     TipLineOut,
 )
-from service.common.numbers import finite, finite_if_known, finite_list
+from service.common.numbers import known, listed
 from service.errors import FieldError
 from service.limits import (
     SPIRAL_MAX_ARCS,
@@ -95,24 +95,23 @@ def critical_radius_response(req: SpiralCriticalRadiusRequest, res: CriticalRadi
     points = []
     for k, beta in enumerate(tab.betas):
         r = tab.radii[k]
-        r_star = None if not math.isfinite(r) else finite(r, "points.r_star")
+        r_star = None if not math.isfinite(r) else r
         tip = float(res.tip_line_radii[k])
         points.append(CriticalPointOut(
             beta=float(beta), beta_over_pi=float(beta) / math.pi,
-            distance_from_grazing=finite(a * (1.0 - math.sin(beta)), "points.distance_from_grazing"),
-            r_star=r_star, midpoint=finite_if_known(float(tab.midpoints[k]), "points.midpoint"),
-            lower_bound=None if tab.method != "exact" or not math.isfinite(tab.widths[k]) else finite(
-                tab.midpoints[k] - 0.5 * tab.widths[k], "points.lower_bound"),
-            bracket_width=finite_if_known(float(tab.widths[k]), "points.bracket_width"),
+            distance_from_grazing=a * (1.0 - math.sin(beta)),
+            r_star=r_star, midpoint=known(float(tab.midpoints[k])),
+            lower_bound=None if tab.method != "exact" or not math.isfinite(tab.widths[k]) else tab.midpoints[k] - 0.5 * tab.widths[k],
+            bracket_width=known(float(tab.widths[k])),
             certified=bool(tab.certified[k]), status=tab.statuses[k],
-            tip_line_radius=finite(tip, "points.tip_line_radius"),
-            tip_line_error=None if r_star is None else finite(tip - r_star, "points.tip_line_error"),
+            tip_line_radius=tip,
+            tip_line_error=None if r_star is None else tip - r_star,
         ))
     inverse = None
     if res.inverse is not None:
         inverse = [
-            InverseOut(radius=q.radius, beta_star=finite_if_known(q.beta_star, "inverse.beta_star"),
-                       distance_star=finite(q.distance_star, "inverse.distance_star"), beta_below=q.beta_below,
+            InverseOut(radius=q.radius, beta_star=known(q.beta_star),
+                       distance_star=q.distance_star, beta_below=q.beta_below,
                        steps=q.steps)
             for q in res.inverse
         ]
@@ -172,7 +171,7 @@ def table_partial(tab: CriticalRadiusTable) -> dict:
     env = tab.envelope
     return {"table": {
         "n_points": int(tab.betas.size), "complete": tab.complete, "time_limited": tab.time_limited,
-        "covers_radius": None if env is None else finite(env.envelope[0], "table.covers_radius"),
+        "covers_radius": None if env is None else env.envelope[0],
         "stopped_at_beta": tab.stopped_at_beta, "message": tab.message,
     }}
 
@@ -181,21 +180,21 @@ def _schedule_out(s: SpiralSchedule) -> ScheduleOut:
     c = s.certificate
     cert = None if c is None else CertificateOut(
         certified=c.certified, primal_cost=c.primal_cost, dual_bound=c.dual_bound, gap=c.gap,
-        min_reduced_cost=c.min_reduced_cost, n_arcs_checked=c.n_arcs_checked, cost_unit=finite(c.cost_unit, "cost_unit"),
+        min_reduced_cost=c.min_reduced_cost, n_arcs_checked=c.n_arcs_checked, cost_unit=c.cost_unit,
         revolution_weight=c.revolution_weight, path_potentials=list(c.path_potentials),
     )
     return ScheduleOut(
         solver_status=s.solver_status,
         optimal_among=(f"schedules on the {s.grid_kind} grid of {s.n_nodes} radii (holding the recursion's radii) that are "
                        "safe by this r* table"), stopped_early=s.stopped_early, objective=s.objective,
-        objective_value=finite_if_known(s.objective_value, "schedule.objective_value"), backend=s.backend,
-        radii=finite_list(s.radii, "schedule.radii"), steps=finite_list(s.steps, "schedule.steps"), revolutions=s.revolutions,
-        path_length=finite_if_known(s.path_length, "schedule.path_length"),
-        path_length_error=finite_if_known(s.path_length_error, "schedule.path_length_error"),
-        time_s=finite_if_known(s.time_s, "schedule.time_s"), certificate=cert, greedy_revolutions=s.greedy_revolutions,
-        greedy_path_length=finite_if_known(s.greedy_path_length, "schedule.greedy_path_length"),
-        max_step_excess=finite_if_known(s.max_step_excess, "schedule.max_step_excess"), n_nodes=s.n_nodes, n_arcs=s.n_arcs,
-        grid_kind=s.grid_kind, min_spacing=finite(s.min_spacing, "min_spacing"), max_spacing=finite(s.max_spacing, "max_spacing"),
+        objective_value=known(s.objective_value), backend=s.backend,
+        radii=listed(s.radii), steps=listed(s.steps), revolutions=s.revolutions,
+        path_length=known(s.path_length),
+        path_length_error=known(s.path_length_error),
+        time_s=known(s.time_s), certificate=cert, greedy_revolutions=s.greedy_revolutions,
+        greedy_path_length=known(s.greedy_path_length),
+        max_step_excess=known(s.max_step_excess), n_nodes=s.n_nodes, n_arcs=s.n_arcs,
+        grid_kind=s.grid_kind, min_spacing=s.min_spacing, max_spacing=s.max_spacing,
         solve_time_s=s.solve_time_s, total_time_s=s.total_time_s, message=s.message,
     )
 
@@ -209,7 +208,7 @@ def schedule_response(req: SpiralScheduleRequest, plan: SpiralPlan, elapsed_ms: 
     tip_radii = plan.tip_line.radii
     schedule_revs = None if not sched.radii else sched.revolutions
     tip = TipLineOut(
-        revolutions=int(tip_radii.size), final_radius=finite(tip_radii[-1], "tip_line.final_radius"),
+        revolutions=int(tip_radii.size), final_radius=tip_radii[-1],
         reaches_target=bool(tip_radii[-1] <= target), unsafe_revolutions=plan.tip_line.unsafe_revolutions,
         revolutions_difference=None if schedule_revs is None else int(tip_radii.size) - schedule_revs,
     )
@@ -222,37 +221,37 @@ def schedule_response(req: SpiralScheduleRequest, plan: SpiralPlan, elapsed_ms: 
     path = None
     if plan.polyline is not None:
         poly = plan.polyline
-        path = PathOut(points=finite_list(poly.points, "path.points"), points_per_revolution=poly.points_per_revolution,
-                       max_chord_deviation=finite(poly.max_chord_deviation, "path.max_chord_deviation"),
-                       polyline_length=finite(poly.polyline_length, "path.polyline_length"), clockwise=req.clockwise)
+        path = PathOut(points=listed(poly.points), points_per_revolution=poly.points_per_revolution,
+                       max_chord_deviation=poly.max_chord_deviation,
+                       polyline_length=poly.polyline_length, clockwise=req.clockwise)
     sim = None
     if plan.simulation is not None:
         batch = plan.simulation
         sim = SimulationOut(
             n=batch.n, all_inside=batch.all_inside, escaped=batch.escaped, escaped_runs=list(batch.escaped_indices),
             outside_promise_runs=list(batch.outside_promise_indices),
-            promised_radius=finite(batch.promised_radius, "simulation.promised_radius"),
-            max_final_extent=finite_if_known(batch.max_final_extent, "simulation.max_final_extent"),
-            margin=finite_if_known(batch.margin, "simulation.margin"), contacts=batch.contacts,
+            promised_radius=batch.promised_radius,
+            max_final_extent=known(batch.max_final_extent),
+            margin=known(batch.margin), contacts=batch.contacts,
             statuses={str(k): int(v) for k, v in batch.statuses.items()}, forward_solves=batch.forward_solves,
             solver_failures=batch.solver_failures, wall_time_s=batch.wall_time_s, seed=req.simulate.seed,
             kind=req.simulate.kind,
         )
     covers = float(env.envelope[0])
-    table = TableOut(n_points=int(tab.betas.size), betas=finite_list(tab.betas, "table.betas"),
+    table = TableOut(n_points=int(tab.betas.size), betas=listed(tab.betas),
                      radii=[float(r) if np.isfinite(r) else None for r in tab.radii],
                      certified=[bool(c) for c in tab.certified], complete=tab.complete, time_limited=tab.time_limited,
-                     covers_radius=finite(covers, "table.covers_radius"), from_cache=plan.from_cache,
+                     covers_radius=covers, from_cache=plan.from_cache,
                      monotone=_monotone(tab), message=tab.message)
     msg = _schedule_message(sched, rec, tip, b_1, target, covers, sim)
     return SpiralScheduleResponse(
         message=msg, disk_radius=a, mu_c=mu, method=req.method, safety_margin=plan.problem.safety_margin,
-        b_inf=plan.b_inf_closed_form, b_floor=finite(plan.b_floor, "b_floor"), table=table, schedule=sched,
-        recursion=RecursionOut(radii=finite_list(rec.radii, "recursion.radii"), revolutions=rec.revolutions,
+        b_inf=plan.b_inf_closed_form, b_floor=plan.b_floor, table=table, schedule=sched,
+        recursion=RecursionOut(radii=listed(rec.radii), revolutions=rec.revolutions,
                                stop_reason=rec.stop_reason, reached_target=rec.reached_target,
-                               path_length=finite(rec.path_length, "recursion.path_length"),
-                               time_s=finite_if_known(rec.time_s, "recursion.time_s"),
-                               max_step_excess=finite(rec.max_step_excess, "recursion.max_step_excess")),
+                               path_length=rec.path_length,
+                               time_s=known(rec.time_s),
+                               max_step_excess=rec.max_step_excess),
         tip_line=tip, fit=fit, path=path, simulation=sim, reference=REFERENCE, time_limit_s=req.time_limit_s,
         elapsed_ms=elapsed_ms,
     )

@@ -16,7 +16,8 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, StrictBool, create_model
 
-from service.common.fields import Point, Strict, TimeLimit
+from service.common.fields import Point, TimeLimit
+from service.common.responses import Out
 from service.limits import (
     MAX_DISK_RADIUS,
     MAX_MU_C,
@@ -95,9 +96,7 @@ class SpiralCriticalRadiusRequest(BaseModel):
     )
 
 
-class CriticalPointOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class CriticalPointOut(Out):
     beta: float = Field(description="Collision parameter (rad).")
     beta_over_pi: float = Field(description="beta / pi, the abscissa of figure 4-19.")
     distance_from_grazing: float = Field(description="d = a (1 - sin beta) (4.24).")
@@ -114,9 +113,7 @@ class CriticalPointOut(BaseModel):
     tip_line_error: float | None = Field(description="tip_line_radius - r_star (negative: the tip line is unsafe here).")
 
 
-class LimitOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class LimitOut(Out):
     closed_form: float = Field(description="(4.25): a (1 + mu_c) for mu_c <= 1, 2a above.")
     numeric: float | None = Field(description="r*(pi/2 - delta) by the request's method (the limit beta -> pi/2).")
     delta: float = Field(description="pi/2 - beta of the numerical limit.")
@@ -124,9 +121,7 @@ class LimitOut(BaseModel):
     tip_line: float = Field(description="The tip line's limit, 2a for every mu_c.")
 
 
-class InverseOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class InverseOut(Out):
     radius: float = Field(description="The pusher circle's radius r.")
     beta_star: float | None = Field(
         description="beta*(r): the smallest tabulated collision parameter whose whole tail beta' >= beta has "
@@ -141,9 +136,7 @@ class InverseOut(BaseModel):
     steps: int = Field(description="r* evaluations spent refining beta_star between the table's points.")
 
 
-class SpiralCriticalRadiusResponse(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class SpiralCriticalRadiusResponse(Out):
     message: str
     disk_radius: float
     mu_c: float
@@ -257,9 +250,7 @@ class SpiralScheduleRequest(BaseModel):
     )
 
 
-class CertificateOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class CertificateOut(Out):
     certified: bool = Field(description="Dual feasible potentials whose bound equals the schedule's cost: optimal.")
     primal_cost: int = Field(description="The schedule's cost in integer units (see cost_unit).")
     dual_bound: int = Field(description="The shortest-path potentials' lower bound on every schedule's cost.")
@@ -279,9 +270,7 @@ class CertificateOut(BaseModel):
     )
 
 
-class ScheduleOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class ScheduleOut(Out):
     solver_status: str = Field(description="'OPTIMAL', 'FEASIBLE' (stopped early), 'INFEASIBLE', 'TIME_LIMIT'.")
     optimal_among: str = Field(
         description="What 'optimal' is relative to: the schedules whose radii lie on the grid (n_nodes radii, "
@@ -311,9 +300,7 @@ class ScheduleOut(BaseModel):
     message: str
 
 
-class RecursionOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class RecursionOut(Out):
     radii: list[float] = Field(description="The book's (4.26), b_n = b_{n-1} - d*(b_n), exactly on the envelope.")
     revolutions: int
     stop_reason: str = Field(description="'target', 'stalled' (at the table's floor) or 'max_revolutions'.")
@@ -329,7 +316,7 @@ class RecursionOut(BaseModel):
 # component's name stays what clients know.
 TipLineOut = create_model(
     "TipLineOut",
-    __base__=Strict,
+    __base__=Out,
     __module__="service.schemas_spiral",
     revolutions=(int, Field(description="Revolutions of (4.26) with the tip line's d* (closed form).")),
     final_radius=(float, ...),
@@ -342,9 +329,7 @@ TipLineOut = create_model(
 )
 
 
-class FitOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class FitOut(Out):
     exponent: float = Field(
         description="k of (b_n - b_floor) ~ C n^-k over the revolutions within a of the floor (figure 4-21; the "
         "book reads ~1.6 at mu_c 0.25 from b_1 = 100 a; the exponent drifts towards 1 as n grows)."
@@ -358,9 +343,7 @@ class FitOut(BaseModel):
     local_exponent_max: float
 
 
-class PathOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class PathOut(Out):
     points: list[list[float]] = Field(description="The pusher path [[x, y], ...], world frame.")
     points_per_revolution: int = Field(description="Used (lowered for very long schedules).")
     max_chord_deviation: float = Field(description="Upper bound on the distance between the path and its chords.")
@@ -368,9 +351,7 @@ class PathOut(BaseModel):
     clockwise: bool
 
 
-class SimulationOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class SimulationOut(Out):
     n: int
     all_inside: bool = Field(description="Every run completed, none pushed out, all inside the promised radius.")
     escaped: int
@@ -388,9 +369,7 @@ class SimulationOut(BaseModel):
     kind: SupportKind
 
 
-class TableOut(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class TableOut(Out):
     n_points: int = Field(description="Collision parameters in the r* table.")
     betas: list[float] = Field(description="The table's collision parameters beta (rad), ascending.")
     radii: list[float | None] = Field(
@@ -408,9 +387,7 @@ class TableOut(BaseModel):
     message: str
 
 
-class SpiralScheduleResponse(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
+class SpiralScheduleResponse(Out):
     message: str
     disk_radius: float
     mu_c: float

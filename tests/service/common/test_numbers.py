@@ -1,5 +1,7 @@
-"""Numbers leave the service finite (service/common/numbers.py): NaN and infinity raise
-NonFiniteResult naming the quantity (HTTP 422 numeric_range), never reach the client."""
+"""Numbers on their way out (service/common/numbers.py): arrays as nested lists, undecided
+values (NaN) as None; a number that goes into no response model (an SVG coordinate) is
+checked by ``finite``, which names the quantity (HTTP 422 numeric_range). Whether the
+numbers of an answer are finite is declared once on its base: tests/service/test_responses.py."""
 
 from __future__ import annotations
 
@@ -8,14 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from service.common.numbers import (
-    difference,
-    finite,
-    finite_if_known,
-    finite_list,
-    finite_or_none,
-    point_or_none,
-)
+from service.common.numbers import difference, finite, known, listed, point_or_none
 from service.errors import NonFiniteResult
 
 
@@ -27,18 +22,14 @@ def test_finite_passes_floats_and_names_what_is_not():
         assert info.value.what == "tip.distance"
 
 
-def test_finite_list_is_nested_floats():
-    assert finite_list(np.array([[1.0, 2.0], [3.0, 4.0]]), "boundary") == [[1.0, 2.0], [3.0, 4.0]]
-    with pytest.raises(NonFiniteResult):
-        finite_list([1.0, math.nan], "cor")
+def test_listed_is_nested_plain_floats():
+    got = listed(np.array([[1.0, 2.0], [3.0, 4.0]], dtype=np.float32))
+    assert got == [[1.0, 2.0], [3.0, 4.0]] and type(got[0][0]) is float
+    assert listed((1, 2)) == [1.0, 2.0]
 
 
 def test_missing_and_undecided_values():
-    assert finite_or_none(None, "x") is None and finite_or_none(2, "x") == 2.0
-    with pytest.raises(NonFiniteResult):
-        finite_or_none(math.nan, "x")  # NaN is not "not computed" here
-    assert finite_if_known(None, "x") is None and finite_if_known(math.nan, "x") is None
-    with pytest.raises(NonFiniteResult):
-        finite_if_known(math.inf, "x")
+    assert known(None) is None and known(math.nan) is None and known(2.5) == 2.5
+    assert known(math.inf) == math.inf  # refused where it lands: an answer's part (Out)
     assert point_or_none([1.0, 2.0]) == [1.0, 2.0] and point_or_none([math.nan, 0.0]) is None
     assert difference(3.0, 1.0) == 2.0 and difference(None, 1.0) is None and difference(1.0, None) is None
