@@ -487,6 +487,32 @@ def _check_outputs(outputs: Iterable[str]) -> frozenset[str]:
     return chosen
 
 
+def _disk_crossings(scene: PushScene) -> DiskCrossings:
+    """Where the boundary crosses the disk (3.32) and the perimeter arcs between them
+    (for mu >= 1/sqrt 2 the outer dipods reach the disk before eta_a)."""
+    a, mu, cm = scene.disk_radius, scene.relative_moment_arm, scene.center_of_mass
+    cos_a = float(disk_crossing_cos_eta(mu))
+    eta_a = math.acos(min(1.0, cos_a))
+
+    def on_disk(eta: float) -> np.ndarray:
+        return scene.to_world(a * polar_to_local(1.0, eta))
+
+    def world_angle(eta: float) -> float:
+        v = on_disk(eta) - cm
+        return math.atan2(v[1], v[0])
+
+    arcs: list[PerimeterArc] = []
+    # A boundary point at eta sits at polar angle pi - eta in the locus frame, so
+    # growing eta runs clockwise on the y > 0 side and counter-clockwise on its mirror.
+    if mu >= 1.0:
+        arcs.append(PerimeterArc(world_angle(eta_a), world_angle(-eta_a), on_disk(eta_a), on_disk(-eta_a)))
+    elif mu >= SQRT_HALF:
+        eta_c = math.acos(mu)
+        arcs.append(PerimeterArc(world_angle(eta_a), world_angle(eta_c), on_disk(eta_a), on_disk(eta_c)))
+        arcs.append(PerimeterArc(world_angle(-eta_c), world_angle(-eta_a), on_disk(-eta_c), on_disk(-eta_a)))
+    return DiskCrossings(cos_eta=cos_a, points=np.vstack([on_disk(eta_a), on_disk(-eta_a)]), arcs=tuple(arcs))
+
+
 def disk_cor_locus(
     scene: PushScene,
     outputs: Iterable[str] = OUTPUTS,
@@ -551,32 +577,7 @@ def disk_cor_locus(
             tip_radius_book_printed=float(tip_radius_of_curvature_book_printed(mu)) * a,
             r_min_radius=float(r_min_radius_of_curvature(mu)) * a,
         )
-    crossings = None
-    if "disk_crossings" in wanted:
-        cos_a = float(disk_crossing_cos_eta(mu))
-        eta_a = math.acos(min(1.0, cos_a))
-
-        def on_disk(eta: float) -> np.ndarray:
-            return scene.to_world(a * polar_to_local(1.0, eta))
-
-        def world_angle(eta: float) -> float:
-            v = on_disk(eta) - cm
-            return math.atan2(v[1], v[0])
-
-        arcs: list[PerimeterArc] = []
-        # A boundary point at eta sits at polar angle pi - eta in the locus frame, so
-        # growing eta runs clockwise on the y > 0 side and counter-clockwise on its mirror.
-        if mu >= 1.0:
-            arcs.append(PerimeterArc(world_angle(eta_a), world_angle(-eta_a), on_disk(eta_a), on_disk(-eta_a)))
-        elif mu >= SQRT_HALF:
-            eta_c = math.acos(mu)
-            arcs.append(PerimeterArc(world_angle(eta_a), world_angle(eta_c), on_disk(eta_a), on_disk(eta_c)))
-            arcs.append(PerimeterArc(world_angle(-eta_c), world_angle(-eta_a), on_disk(-eta_c), on_disk(-eta_a)))
-        crossings = DiskCrossings(
-            cos_eta=cos_a,
-            points=np.vstack([on_disk(eta_a), on_disk(-eta_a)]),
-            arcs=tuple(arcs),
-        )
+    crossings = _disk_crossings(scene) if "disk_crossings" in wanted else None
     boundary = residual = iterations = None
     if "boundary" in wanted:
         local, residual, iterations = boundary_local(mu, n_points, tol)

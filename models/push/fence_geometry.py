@@ -216,6 +216,43 @@ def _is_polygon_edge(vertices: np.ndarray, i: int, j: int, rel: float) -> bool:
     return False
 
 
+def _stage_chain(q: np.ndarray, hull: list[int], contact: int, alpha: float, verts: np.ndarray, theta: float,
+                 mirrored: bool, arm_tol: float) -> list[FenceStage]:
+    """The links of the alignment in the (reflected) fence frame ``q`` from the first
+    contact vertex: each turns about its contact until the next hull edge is flush, and the
+    chain ends at the first edge the frictionless line of force through the CM crosses
+    (module docstring, "Stages")."""
+    ah = np.array([math.cos(alpha), math.sin(alpha)])
+    stages: list[FenceStage] = []
+    orient = theta
+    sign = 1.0 if mirrored else -1.0  # world orientation change per unit turn (cw in the frame)
+    for _ in range(len(hull)):
+        qv = q[contact]
+        c = float(np.hypot(*qv))
+        beta = math.atan2(qv[1], -qv[0])
+        pos = hull.index(contact)
+        w = hull[(pos + 1) % len(hull)]  # the clockwise-first edge of a counter-clockwise hull
+        e = q[w] - qv
+        psi = math.atan2(float(_cross(e, -qv)), float(e @ -qv))
+        beta_f = gm.fence_final_beta(alpha, psi)
+        turn = max(beta_f - beta, 0.0)
+        q_new = q @ _rotation(-turn).T
+        stable = float(ah @ q_new[w]) <= arm_tol
+        stages.append(FenceStage(
+            contact_index=contact, flush_index=w,
+            flush_is_polygon_edge=_is_polygon_edge(verts, contact, w, 1e-9),
+            contact_distance=c, beta_initial=beta, beta_final=beta_f, vertex_edge_angle=psi,
+            rotation=turn, orientation_initial=orient, orientation_final=orient + sign * turn,
+            contact_fence_frame=gm.fence_contact(beta, c), flush_edge_stable=stable,
+        ))
+        orient += sign * turn
+        q = q_new
+        if stable:
+            return stages
+        contact = w
+    raise ModelError("fence_alignment: no stable edge within one turn of the hull")  # pragma: no cover
+
+
 def fence_alignment(
     footprint: Footprint,
     orientation: float,
@@ -297,38 +334,11 @@ def fence_alignment(
         hull = [hull[0], *hull[:0:-1]]
         n_f, ah = frame_normals(alpha)
 
-    stages: list[FenceStage] = []
+    stages = _stage_chain(q, hull, contact, alpha, verts, theta, mirrored, arm_tol)
     rot_total = 0.0
-    orient = theta
-    sign = 1.0 if mirrored else -1.0  # world orientation change per unit turn (cw in the frame)
-    for _ in range(len(hull)):
-        qv = q[contact]
-        c = float(np.hypot(*qv))
-        beta = math.atan2(qv[1], -qv[0])
-        pos = hull.index(contact)
-        w = hull[(pos + 1) % len(hull)]  # the clockwise-first edge of a counter-clockwise hull
-        e = q[w] - qv
-        psi = math.atan2(float(_cross(e, -qv)), float(e @ -qv))
-        beta_f = gm.fence_final_beta(alpha, psi)
-        turn = max(beta_f - beta, 0.0)
-        q_new = q @ _rotation(-turn).T
-        stable = float(ah @ q_new[w]) <= arm_tol
-        stages.append(FenceStage(
-            contact_index=contact, flush_index=w,
-            flush_is_polygon_edge=_is_polygon_edge(verts, contact, w, 1e-9),
-            contact_distance=c, beta_initial=beta, beta_final=beta_f, vertex_edge_angle=psi,
-            rotation=turn, orientation_initial=orient, orientation_final=orient + sign * turn,
-            contact_fence_frame=gm.fence_contact(beta, c), flush_edge_stable=stable,
-        ))
-        rot_total += turn
-        orient += sign * turn
-        q = q_new
-        if stable:
-            break
-        contact = w
-    else:  # pragma: no cover - the hull edge nearest the CM is always stable
-        raise ModelError("fence_alignment: no stable edge within one turn of the hull")
-
+    for st in stages:
+        rot_total += st.rotation
+    orient = stages[-1].orientation_final
     last = stages[-1]
     return FenceAlignment(
         disk_radius=a, center_of_mass=cm.copy(), initial_vertices=world, alpha=alpha, alpha_unmirrored=alpha0,

@@ -24,6 +24,7 @@ Everything is dimensionless (the problem's local frame); the problem turns the
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Protocol
@@ -157,6 +158,75 @@ def _clip_point_mass(pm: np.ndarray) -> np.ndarray:
     return np.array([p0, z[0], z[1]])
 
 
+@dataclass
+class _Pricing:
+    """What one round's pricing found: the new columns (outline piece, parameter), or why
+    column generation stops (``stop``, with the verdict), and the lower bound of the dual
+    functional over the outline when it was computed (by ``method``)."""
+
+    new_p: np.ndarray | None = None
+    new_t: np.ndarray | None = None
+    stop: str | None = None
+    status: str = "undecided"
+    kind: str = "none"
+    lower: float | None = None
+    method: str | None = None
+    bnb_intervals: int = 0
+
+
+def _grid_pricing(gf: np.ndarray, minima: tuple[np.ndarray, np.ndarray, np.ndarray], yb: float, pm_val: float,
+                  tol: SolverTolerances) -> _Pricing:
+    """Uncertified pricing on the grid: outside as far as the grid sees, or its improving
+    local minima as new columns."""
+    lp, lt, lf = minima
+    lower = float(min(np.min(gf), np.min(lf, initial=math.inf), pm_val))
+    if lower - yb > tol.certificate_margin:
+        # y separates b from every grid column: outside as far as the grid sees
+        # (the certified pricing stops on the same margin, bounded soundly).
+        return _Pricing(stop="grid pricing separates the candidate (not a certificate)", status="outside",
+                        lower=lower, method="grid")
+    improving = lf < -tol.pricing_tol
+    if not np.any(improving):
+        return _Pricing(stop="restricted master optimal on the grid; residual too small to decide", lower=lower,
+                        method="grid")
+    return _Pricing(lp[improving], lt[improving], lower=lower, method="grid")
+
+
+def _certified_pricing(fn: DualFunctional, pieces: Pieces, grid_points: tuple[np.ndarray, np.ndarray],
+                       minima: tuple[np.ndarray, np.ndarray, np.ndarray], yb: float, pm_val: float, res: float,
+                       tol: SolverTolerances, budget: Budget, messages: Messages) -> _Pricing:
+    """Certified pricing: when no grid minimum prices below the certificate's threshold, a
+    sound branch and bound over the outline either certifies the candidate outside (a dual
+    certificate), or finds the columns that violate it (refined by golden section)."""
+    lp, lt, lf = minima
+    gp, gt = grid_points
+    t_cert = yb + tol.certificate_margin
+    improving = lf < -tol.pricing_tol
+    if not (not np.any(lf < t_cert) and pm_val >= t_cert):  # some column prices below: no certificate yet
+        new_p, new_t = lp[improving], lt[improving]
+        if new_p.size == 0:
+            return _Pricing(stop="no improving column found")
+        return _Pricing(new_p, new_t)
+    target = t_cert if t_cert < -tol.pricing_tol else -tol.pricing_tol
+    bnb = branch_and_bound(fn, pieces, gp, gt, target, tol.max_bnb_intervals, budget)
+    found = _Pricing(lower=min(bnb.lower_bound, pm_val), method="branch_and_bound", bnb_intervals=bnb.intervals)
+    if bnb.certified and found.lower - yb > tol.certificate_margin:
+        return dataclasses.replace(found, stop=messages.outside, status="outside", kind="dual")
+    if bnb.certified:
+        return dataclasses.replace(found, stop=(
+            f"column generation converged (pricing >= -{tol.pricing_tol:g}) with residual "
+            f"{res:.3g} between the inside and outside thresholds"))
+    if len(bnb.violators) == 0:
+        return dataclasses.replace(found, stop="branch and bound hit its interval or time limit")
+    vp, vlo, vhi = bnb.violators
+    half = vhi - vlo
+    lo = np.maximum(vlo - half, pieces.piece_lo[vp])
+    hi = np.minimum(vhi + half, pieces.piece_hi[vp])
+    vt, _ = golden(fn, pieces, vp, lo, hi)
+    return dataclasses.replace(found, new_p=np.concatenate([lp[improving], vp]),
+                               new_t=np.concatenate([lt[improving], vt]))
+
+
 def decide(
     rows: Rows,
     tol: SolverTolerances,
@@ -205,55 +275,18 @@ def decide(
         fn = rows.functional(y, lam)
         pm_val = fn.point_mass_value() if in_f else math.inf
         gf = fn.values(pieces, gp, gt)
-        lp, lt, lf = local_minima(fn, pieces, gt, gf, COLUMNS_PER_ROUND)
-        t_cert = yb + tol.certificate_margin
-        improving = lf < -tol.pricing_tol
-        if not certify:
-            lower = float(min(np.min(gf), np.min(lf, initial=math.inf), pm_val))
-            margin = lower - yb
-            method = "grid"
-            if margin > tol.certificate_margin:
-                # y separates b from every grid column: outside as far as the grid sees
-                # (the certified branch stops on the same margin, bounded soundly).
-                status = "outside"
-                message = "grid pricing separates the candidate (not a certificate)"
-                break
-            if not np.any(improving):
-                message = "restricted master optimal on the grid; residual too small to decide"
-                break
-            new_p, new_t = lp[improving], lt[improving]
+        minima = local_minima(fn, pieces, gt, gf, COLUMNS_PER_ROUND)
+        if certify:
+            pr = _certified_pricing(fn, pieces, (gp, gt), minima, yb, pm_val, res, tol, budget, messages)
         else:
-            if not np.any(lf < t_cert) and pm_val >= t_cert:
-                target = t_cert if t_cert < -tol.pricing_tol else -tol.pricing_tol
-                bnb = branch_and_bound(fn, pieces, gp, gt, target, tol.max_bnb_intervals, budget)
-                bnb_total += bnb.intervals
-                lower = min(bnb.lower_bound, pm_val)
-                margin = lower - yb
-                method = "branch_and_bound"
-                if bnb.certified and margin > tol.certificate_margin:
-                    status, kind, message = "outside", "dual", messages.outside
-                    break
-                if bnb.certified:
-                    message = (
-                        f"column generation converged (pricing >= -{tol.pricing_tol:g}) with residual "
-                        f"{res:.3g} between the inside and outside thresholds"
-                    )
-                    break
-                if len(bnb.violators) == 0:
-                    message = "branch and bound hit its interval or time limit"
-                    break
-                vp, vlo, vhi = bnb.violators
-                half = vhi - vlo
-                lo = np.maximum(vlo - half, pieces.piece_lo[vp])
-                hi = np.minimum(vhi + half, pieces.piece_hi[vp])
-                vt, _ = golden(fn, pieces, vp, lo, hi)
-                new_p = np.concatenate([lp[improving], vp])
-                new_t = np.concatenate([lt[improving], vt])
-            else:
-                new_p, new_t = lp[improving], lt[improving]
-            if new_p.size == 0:
-                message = "no improving column found"
-                break
+            pr = _grid_pricing(gf, minima, yb, pm_val, tol)
+        bnb_total += pr.bnb_intervals
+        if pr.lower is not None:
+            lower, margin, method = pr.lower, pr.lower - yb, pr.method
+        if pr.stop is not None:
+            status, kind, message = pr.status, pr.kind, pr.stop
+            break
+        new_p, new_t = pr.new_p, pr.new_t
         nw, nrho, nu = pieces.geom(new_p, new_t)
         ok = nrho > min_rho
         if not np.any(ok):

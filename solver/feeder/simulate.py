@@ -40,6 +40,7 @@ import math
 import time
 from collections.abc import Generator
 from dataclasses import dataclass, field
+from enum import Enum
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -72,11 +73,37 @@ flush, and from a vertex puts that vertex at E (a step accepted at the tolerance
 E just beyond either)."""
 
 
-MODE_TEXT = {
-    "vertex": "vertex {} on the fence's face, turning",
-    "flush": "edge {} flush on the face, sliding",
-    "end": "the fence's end on edge {}, turning off it",
+class Contact(Enum):
+    """What touches what while the part is on the fence (the module docstring's contacts);
+    the value is the kind of the run's event when it starts."""
+
+    VERTEX = "vertex"  # hull vertex i on the fence's face: a forward solve
+    END = "end"  # the fence's end E on hull edge i: a forward solve
+    FLUSH = "flush"  # hull edge i flush on the face, sliding: an exact translation
+    ALONG = "along"  # the edge under E lies along the belt: E no longer pushes, the part leaves
+    JAM = "jam"  # flush and carried with the fence (|tan gamma| <= mu_c, 6.4)
+
+
+CONTACT_TEXT = {
+    Contact.VERTEX: "vertex {} on the fence's face, turning",
+    Contact.FLUSH: "edge {} flush on the face, sliding",
+    Contact.END: "the fence's end on edge {}, turning off it",
 }
+
+
+@dataclass(frozen=True)
+class Mode:
+    """A contact and the hull vertex or edge it is at (-1 for ALONG and JAM)."""
+
+    contact: Contact
+    index: int = -1
+
+    @property
+    def text(self) -> str:
+        return CONTACT_TEXT[self.contact].format(self.index) if self.contact in CONTACT_TEXT else self.contact.value
+
+    def __str__(self) -> str:
+        return f"{self.contact.value}:{self.index}" if self.index >= 0 else self.contact.value
 
 
 @dataclass(frozen=True)
@@ -495,6 +522,79 @@ def simulate_belt_batch(part: Footprint, segments: list[FenceSegment], mu_c: Arr
     return [BeltRun(tuple(r), k) for r in runs]
 
 
+class _RunLog:
+    """What a run has done so far: the events, the trajectory (push, cm, theta at every step)
+    and the edges that came flush."""
+
+    def __init__(self, cm: np.ndarray, theta: float) -> None:
+        self.push = 0.0
+        self.events: list[FenceEvent] = []
+        self.pushes, self.cms, self.thetas = [0.0], [cm.copy()], [theta]
+        self.flush_edges: list[int] = []
+
+    def record(self, kind: str, detail: str) -> None:
+        self.events.append(FenceEvent(self.push, kind, detail))
+
+    def moved(self, cm: np.ndarray, theta: float, push: float) -> None:
+        self.push += push
+        self.pushes.append(self.push)
+        self.cms.append(cm.copy())
+        self.thetas.append(theta)
+
+    def entered(self, mode: Mode) -> None:
+        """Record a contact the run is in, once when it starts."""
+        if not self.events or self.events[-1].detail != mode.text:
+            if mode.contact is Contact.FLUSH:
+                self.flush_edges.append(mode.index)
+            self.record(mode.contact.value, mode.text)
+
+    def run(self, theta_initial: float, status: str, counts: SolveCounts, t0: float) -> FenceRun:
+        theta = self.thetas[-1]
+        return FenceRun(theta_initial=float(theta_initial), theta_final=theta if status in ("left", "missed") else None,
+                        status=status, events=self.events, pushes=np.array(self.pushes), cms=np.array(self.cms),
+                        thetas=np.array(self.thetas), counts=counts, solve_time_s=time.perf_counter() - t0,
+                        flush_edges=self.flush_edges)
+
+
+def _start_cm(geo: _FenceGeometry, theta: float, start_along: float, settings: FeederSimSettings) -> np.ndarray:
+    """The CM of a part placed just above the fence at ``start_along`` of its length from E:
+    ``clearance`` part radii of belt travel before it touches the face."""
+    hull0 = body_to_world(geo.e, theta, geo.part.hull)
+    # the face approaches the drifting part at n . d = cos gamma per unit of belt travel
+    return geo.e + start_along * geo.length * geo.w + (
+        settings.clearance * geo.part.circumradius * float(geo.n @ D) - float(np.min(geo.heights(hull0)))) * geo.n
+
+
+def _twist_of(need: Twist | TwistRequest, cm: np.ndarray) -> Generator[TwistRequest, tuple[np.ndarray, float], Twist]:
+    """The motion per unit push in the fence's frame: ``need`` itself, or the answer to the
+    forward solve it asks for (in the belt's frame, shifted by -d)."""
+    if isinstance(need, Twist):
+        return need
+    velocity, omega = yield need
+    return Twist(velocity - D, omega, cm.copy())
+
+
+def _step_at_corner(geo: _FenceGeometry, hull: np.ndarray, mode: Mode, cm: np.ndarray, theta: float,
+                    f_hat: np.ndarray, s: FeederSimSettings, tol_c: float
+                    ) -> Generator[TwistRequest, tuple[np.ndarray, float], tuple[Mode, np.ndarray, float, float] | None]:
+    """A vertex at E: the contact's normal is any between the face's and the two edges'; the
+    first of those contacts (vertex on the face, or E on either edge at it) whose step
+    advances, with its step (cm, theta, push), or None."""
+    corner = _vertex_at_end(geo, hull, tol_c)
+    if corner is None:
+        return None
+    m = geo.part.hull_size
+    for alt in (Mode(Contact.VERTEX, corner), Mode(Contact.END, (corner - 1) % m), Mode(Contact.END, corner)):
+        if alt == mode:
+            continue
+        velocity, omega = yield _point_request(geo, alt, cm, theta)
+        alt_twist = Twist(velocity - D, omega, cm.copy())
+        c2, t2, h2 = _checked_step(geo, cm, theta, hull, alt_twist, alt, f_hat, s, tol_c)
+        if h2 > s.min_step * geo.part.circumradius:
+            return alt, c2, t2, h2
+    return None
+
+
 def _fence_run(part: Footprint, segment: FenceSegment, mu_c: float, theta_initial: float, start_along: float,
                start_cm: np.ndarray | None, settings: FeederSimSettings, counts: SolveCounts, t0: float) -> RunSteps:
     """The run of :func:`simulate_fence` as a generator: it yields a :class:`TwistRequest`
@@ -508,25 +608,12 @@ def _fence_run(part: Footprint, segment: FenceSegment, mu_c: float, theta_initia
     s = settings
     tol_c = s.contact_tol * a
     theta = float(theta_initial)
-    if start_cm is None:
-        hull0 = body_to_world(geo.e, theta, part.hull)
-        # the face approaches the drifting part at n . d = cos gamma per unit of belt travel
-        cm = geo.e + start_along * geo.length * geo.w + (
-            s.clearance * a * float(geo.n @ D) - float(np.min(geo.heights(hull0)))) * geo.n
-    else:
-        cm = np.asarray(start_cm, dtype=float).copy()
-    push = 0.0
-    events: list[FenceEvent] = []
-    pushes, cms, thetas = [0.0], [cm.copy()], [theta]
-    flush_edges: list[int] = []
+    cm = _start_cm(geo, theta, start_along, s) if start_cm is None else np.asarray(start_cm, dtype=float).copy()
+    log = _RunLog(cm, theta)
     f_hat = geo.n + mu_c * geo.w
     status = "step_limit"
     stalled = 0
     touched = False  # a start may already be in contact (a belt's hand-over), with no drift onto it
-
-    def record(kind: str, detail: str) -> None:
-        events.append(FenceEvent(push, kind, detail))
-
     try:
         if geo.overlaps(geo.hull(cm, theta), tol_c):
             raise _Overlap
@@ -536,86 +623,56 @@ def _fence_run(part: Footprint, segment: FenceSegment, mu_c: float, theta_initia
             sig = geo.along(hull)
             touching = [i for i in range(part.hull_size) if abs(z[i]) <= tol_c and geo.on_fence(np.array([sig[i]]))[0]]
             gaps = geo.pushed_gaps(hull)
-            edge_e = int(np.argmin(gaps))
-            e_contact = bool(gaps[edge_e] <= tol_c)
+            e_contact = bool(gaps[int(np.argmin(gaps))] <= tol_c)
             touched = touched or bool(touching) or e_contact
-            if not touching and not e_contact:
+            if not touching and not e_contact:  # drift with the belt onto the fence, or away
                 lam = geo.next_contact(hull, tol_c)
                 if lam is None:
                     status = "left" if touched else "missed"
-                    record(status, f"clear of the fence at orientation {theta:.9g}"
-                           + ("" if touched else " without touching it"))
+                    log.record(status, f"clear of the fence at orientation {theta:.9g}"
+                               + ("" if touched else " without touching it"))
                     break
                 cm = cm - lam * D
-                push += lam
-                pushes.append(push)
-                cms.append(cm.copy())
-                thetas.append(theta)
-                if not events or events[-1].kind != "contact":
-                    record("contact", "first contact" if not events else "contact again")
+                log.moved(cm, theta, lam)
+                if not log.events or log.events[-1].kind != "contact":
+                    log.record("contact", "first contact" if len(log.events) == 0 else "contact again")
                 continue
-            # What moves the part (module docstring).
             mode, need = _mode(geo, cm, theta, hull, touching, gaps, f_hat, mu_c, tol_c)
-            if isinstance(need, TwistRequest):
-                velocity, omega = yield need
-                twist = Twist(velocity - D, omega, cm.copy())
-            else:
-                twist = need
-            if mode == "along":
+            twist = yield from _twist_of(need, cm)
+            if mode.contact is Contact.ALONG:
                 status = "left"
-                record("left", f"the edge under the fence's end lies along the belt at orientation {theta:.9g}")
+                log.record("left", f"the edge under the fence's end lies along the belt at orientation {theta:.9g}")
                 break
-            if mode == "jam":
+            if mode.contact is Contact.JAM:
                 status = "jammed"
-                record("jam", f"flush and |tan gamma| = {geo.fence.jam_threshold:.6g} <= mu_c = {mu_c:.6g} (6.4)")
+                log.record("jam", f"flush and |tan gamma| = {geo.fence.jam_threshold:.6g} <= mu_c = {mu_c:.6g} (6.4)")
                 break
-            kind, _, idx = mode.partition(":")
-            if not events or events[-1].detail != MODE_TEXT[kind].format(idx):
-                if kind == "flush":
-                    flush_edges.append(int(idx))
-                record(kind, MODE_TEXT[kind].format(idx))
+            log.entered(mode)
             cm_n, th_n, h = _checked_step(geo, cm, theta, hull, twist, mode, f_hat, s, tol_c)
-            corner = _vertex_at_end(geo, hull, tol_c) if h <= s.min_step * a else None
-            if corner is not None:
-                # a vertex at E: the contact's normal is any between the face's and the two
-                # edges'; take the first of those contacts whose motion does not push the
-                # part into the fence (vertex on the face, or E on either edge at it)
-                for alt in (f"vertex:{corner}", f"end:{(corner - 1) % part.hull_size}", f"end:{corner}"):
-                    if alt == mode:
-                        continue
-                    velocity, omega = yield _point_request(geo, alt, cm, theta)
-                    alt_twist = Twist(velocity - D, omega, cm.copy())
-                    c2, t2, h2 = _checked_step(geo, cm, theta, hull, alt_twist, alt, f_hat, s, tol_c)
-                    if h2 > s.min_step * a:
-                        mode, cm_n, th_n, h = alt, c2, t2, h2
-                        kind, _, idx = alt.partition(":")
-                        record(kind, MODE_TEXT[kind].format(idx) + " (a vertex at the fence's end)")
-                        break
+            if h <= s.min_step * a:
+                alt = yield from _step_at_corner(geo, hull, mode, cm, theta, f_hat, s, tol_c)
+                if alt is not None:
+                    mode, cm_n, th_n, h = alt
+                    log.record(mode.contact.value, mode.text + " (a vertex at the fence's end)")
             stalled = stalled + 1 if h <= s.min_step * a else 0
             if stalled >= s.stall_steps:
                 status = "stalled"
-                record("stalled", f"{stalled} steps of {h:.3g} in mode {mode}: the contact cannot advance "
-                       "(a vertex at the fence's end where no contact there gives a step)")
+                log.record("stalled", f"{stalled} steps of {h:.3g} in mode {mode}: the contact cannot advance "
+                           "(a vertex at the fence's end where no contact there gives a step)")
                 break
             cm, theta = cm_n, th_n
-            push += h
-            pushes.append(push)
-            cms.append(cm.copy())
-            thetas.append(theta)
+            log.moved(cm, theta, h)
     except TimeLimitReached as exc:
         status = "time_limit"
-        record("time_limit", str(exc))
+        log.record("time_limit", str(exc))
     except _Overlap:
         status = "overlap"
-        record("overlap", "the fence passes through the part at its start (a part on two fences at once is "
-               "not simulated)")
-    return FenceRun(theta_initial=float(theta_initial), theta_final=theta if status in ("left", "missed") else None,
-                    status=status, events=events, pushes=np.array(pushes), cms=np.array(cms),
-                    thetas=np.array(thetas), counts=counts, solve_time_s=time.perf_counter() - t0,
-                    flush_edges=flush_edges)
+        log.record("overlap", "the fence passes through the part at its start (a part on two fences at once is "
+                   "not simulated)")
+    return log.run(theta_initial, status, counts, t0)
 
 
-def _checked_step(geo: _FenceGeometry, cm: np.ndarray, theta: float, hull: np.ndarray, twist: Twist, mode: str,
+def _checked_step(geo: _FenceGeometry, cm: np.ndarray, theta: float, hull: np.ndarray, twist: Twist, mode: Mode,
                   f_hat: np.ndarray, s: FeederSimSettings, tol_c: float) -> tuple[np.ndarray, float, float]:
     """The pose after one step of ``twist`` in ``mode`` (its contact re-imposed) and the
     push it took: ``s.step`` (a flush slide: to its next event; E on an edge: never past
@@ -623,14 +680,14 @@ def _checked_step(geo: _FenceGeometry, cm: np.ndarray, theta: float, hull: np.nd
     (the segment clipped against the hull), down to ``s.min_step``."""
     a = geo.part.circumradius
     h = s.step * a
-    if mode.startswith("flush"):
+    if mode.contact is Contact.FLUSH:
         # a translation is exact: go straight to the next event (E reaching the
         # downstream vertex, then the force line), never past it
-        h = max(h, _flush_distance(geo, cm, theta, twist, int(mode.split(":")[1]), f_hat))
-    elif mode.startswith("end"):
+        h = max(h, _flush_distance(geo, cm, theta, twist, mode.index, f_hat))
+    elif mode.contact is Contact.END:
         # E stops pushing when the edge under it lies along the belt: never turn past
         # that (the twist is held for a step, so the turn is exactly omega h)
-        h = min(h, _turn_to_along(hull, int(mode.split(":")[1]), twist.omega))
+        h = min(h, _turn_to_along(hull, mode.index, twist.omega))
     while True:
         cm_n, th_n = advance(cm, theta, twist, h)
         cm_n = _reimpose(geo, cm_n, th_n, mode)
@@ -648,7 +705,7 @@ def _vertex_at_end(geo: _FenceGeometry, hull: np.ndarray, tol_c: float) -> int |
 
 def _mode(geo: _FenceGeometry, cm: np.ndarray, theta: float, hull: np.ndarray,
           touching: list[int], gaps: np.ndarray, f_hat: np.ndarray, mu_c: float,
-          tol_c: float) -> tuple[str, Twist | TwistRequest]:
+          tol_c: float) -> tuple[Mode, Twist | TwistRequest]:
     """(mode, motion per unit push in the fence's frame, or the forward solve a point
     contact needs) at a pose in contact; ``gaps``: E's distance to each edge."""
     m = geo.part.hull_size
@@ -675,9 +732,9 @@ def _mode(geo: _FenceGeometry, cm: np.ndarray, theta: float, hull: np.ndarray,
         s_x = float(geo.along(x[None])[0])
         if supported_lo - tol_c <= s_x <= s_b + tol_c:
             if carried:
-                return "jam", Twist(np.zeros(2), 0.0, cm.copy())
+                return Mode(Contact.JAM), Twist(np.zeros(2), 0.0, cm.copy())
             u = float(geo.n @ D) / float(f_hat @ geo.n) * f_hat
-            return f"flush:{flush}", Twist(u - D, 0.0, cm.copy())
+            return Mode(Contact.FLUSH, flush), Twist(u - D, 0.0, cm.copy())
         # the force line misses the supported part: pivot on the end it passes
         if s_x > s_b:
             touching = [v_b]
@@ -686,22 +743,21 @@ def _mode(geo: _FenceGeometry, cm: np.ndarray, theta: float, hull: np.ndarray,
         else:
             touching, edge_e = [], flush
     if touching:
-        mode = f"vertex:{touching[0]}"
+        mode = Mode(Contact.VERTEX, touching[0])
         return mode, _point_request(geo, mode, cm, theta)
     q = hull[(edge_e + 1) % m] - hull[edge_e]
     if abs(float(perp(q) @ D)) <= GRAZING * math.hypot(float(q[0]), float(q[1])):
-        return "along", Twist(-D, 0.0, cm.copy())  # the edge lies along the belt: E no longer pushes
-    mode = f"end:{edge_e}"
+        return Mode(Contact.ALONG), Twist(-D, 0.0, cm.copy())  # the edge lies along the belt: E no longer pushes
+    mode = Mode(Contact.END, edge_e)
     return mode, _point_request(geo, mode, cm, theta)
 
 
-def _point_request(geo: _FenceGeometry, mode: str, cm: np.ndarray, theta: float) -> TwistRequest:
+def _point_request(geo: _FenceGeometry, mode: Mode, cm: np.ndarray, theta: float) -> TwistRequest:
     """The forward solve (in the belt's frame) of a point contact: vertex i on the face
-    ("vertex:i") or E on edge i ("end:i")."""
-    kind, idx = mode.split(":")
-    i = int(idx)
+    (VERTEX) or E on edge i (END)."""
+    i = mode.index
     hull = geo.hull(cm, theta)
-    if kind == "vertex":
+    if mode.contact is Contact.VERTEX:
         return TwistRequest(cm.copy(), theta, hull[i].copy(), geo.fence.angle)
     q = hull[(i + 1) % geo.part.hull_size] - hull[i]
     return TwistRequest(cm.copy(), theta, geo.e.copy(), math.atan2(float(q[1]), float(q[0])))
@@ -735,18 +791,17 @@ def _turn_to_along(hull: np.ndarray, edge: int, omega: float) -> float:
     return math.inf
 
 
-def _reimpose(geo: _FenceGeometry, cm: np.ndarray, theta: float, mode: str) -> np.ndarray:
+def _reimpose(geo: _FenceGeometry, cm: np.ndarray, theta: float, mode: Mode) -> np.ndarray:
     """The contact of ``mode`` made exact again after a step."""
-    kind, idx = mode.split(":")
-    i = int(idx)
+    i = mode.index
     hull = geo.hull(cm, theta)
-    if kind == "flush":
+    if mode.contact is Contact.FLUSH:
         # the lower end of the edge over the fence goes onto the face: an end past E may
         # stand a rounding-sized tilt above it, and putting that one on the line would push
         # the other into the face (every later step refused: a stall)
         ends = [v for v in (i, (i + 1) % geo.part.hull_size) if geo.on_fence(geo.along(hull[v][None]))[0]] or [i]
         i = min(ends, key=lambda v: float(geo.heights(hull[v][None])[0]))
-    if kind in ("vertex", "flush"):
+    if mode.contact in (Contact.VERTEX, Contact.FLUSH):
         return onto_line(cm, hull[i], geo.n, float(geo.n @ geo.e))
     q = hull[(i + 1) % geo.part.hull_size] - hull[i]
     n_e = perp(q) / math.hypot(float(q[0]), float(q[1]))

@@ -340,6 +340,108 @@ def _verify(scene: PushScene, cor_world, feet_world, weights, verify_rel: float,
     return "failed", distance, excess
 
 
+def _start_point(scene: PushScene, tris: np.ndarray | None, areas: np.ndarray | None, rng: np.random.Generator,
+                 support_margin: float, tol: SolverTolerances
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """A random start (feet, their triangle coordinates, triangles, weights, its COR in the
+    scene's local frame), or None when its COR does not qualify (a translation, or too near
+    the line of force)."""
+    feet0, q0, tri_idx, p0 = draw_start(rng, tris, areas)
+    try:
+        start_cor = solve_forward(scene, _support(scene, _to_world(scene, feet0), p0), tol=tol).cor
+    except ModelError as exc:
+        raise SolverError(f"forward solve of a start tripod failed: {exc}") from exc
+    if start_cor is None:
+        return None
+    r0 = _to_local(scene, start_cor)
+    # A random tripod's COR often sits on a foot (the kink of the power, 3.3.7); start
+    # IPOPT just off it, a little infeasible, rather than on the singularity.
+    gaps = feet0 - r0
+    dist = np.linalg.norm(gaps, axis=1)
+    near = int(np.argmin(dist))
+    if dist[near] <= 2.0 * support_margin:
+        away = -gaps[near] / dist[near] if dist[near] > 0.0 else np.array([-1.0, 0.0])
+        r0 = feet0[near] + 3.0 * support_margin * away
+    if scene.relative_moment_arm - r0[0] <= support_margin:
+        return None
+    return feet0, q0, tri_idx, p0, r0
+
+
+def _run_start(scene: PushScene, nlp, bounds: tuple, start: tuple, tris: np.ndarray | None, d_world: np.ndarray,
+               support_margin: float, verify_rel: float, tol: SolverTolerances, index: int,
+               t0: float) -> TripodStart:
+    """IPOPT from one start, its optimum's feasibility, stationarity and verification."""
+    lbx, ubx, lbg, ubg = bounds
+    mu = scene.relative_moment_arm
+    e1 = scene.axis
+    d_loc = np.array([d_world @ e1, d_world @ mpp.perp(e1)])
+    _, q0, tri_idx, p0, r0 = start
+    triangles = tris[tri_idx].reshape(-1) if tris is not None else np.zeros(18)
+    par = np.concatenate([[mu, d_loc[0], d_loc[1], support_margin], triangles])
+    try:
+        out = nlp(x0=np.concatenate([q0, p0, r0]), p=par, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
+        stats = nlp.stats()
+    except RuntimeError as exc:
+        raise NotConverged(f"IPOPT failed on the tripod NLP: {exc}") from exc
+    status = str(stats.get("return_status", "unknown"))
+    z = np.asarray(out["x"], dtype=float).reshape(-1)
+    g = np.asarray(out["g"], dtype=float).reshape(-1)
+    violation = max(
+        float(np.max(np.maximum(lbg - g, 0.0) + np.maximum(g - ubg, 0.0))),
+        float(np.max(np.maximum(lbx - z, 0.0) + np.maximum(z - ubx, 0.0))),
+    )
+    q, weights, r = z[0:6].reshape(3, 2), z[6:9], z[9:11]
+    if tris is None:
+        feet = q
+    else:
+        tt = tris[tri_idx]
+        feet = tt[:, 0] + q[:, :1] * (tt[:, 1] - tt[:, 0]) + q[:, 1:] * (tt[:, 2] - tt[:, 0])
+    # An interior-point weight of a foot that should carry nothing ends near 1e-13,
+    # not 0; zeroing it (the tripod is then a dipod, as at the tip, 3.3.10) moves the
+    # centroid and the COR by O(nlp_feasibility) only, and keeps the conic check well scaled.
+    weights = np.where(weights <= tol.nlp_feasibility, 0.0, weights)
+    weights = weights / weights.sum()
+    cor_world = _to_world(scene, r)
+    feet_world = _to_world(scene, feet)
+    feasible = violation <= tol.nlp_feasibility
+    stationarity = float(np.linalg.norm(mpp.stationarity_residual(r, feet, weights, np.array([mu, 0.0]), np.array([1.0, 0.0]))))
+    verification, distance, excess = "none", None, None
+    if feasible:
+        verification, distance, excess = _verify(scene, cor_world, feet_world, weights, verify_rel, tol)
+    return TripodStart(
+        index=index,
+        status=status,
+        converged=status in CONVERGED,
+        feasible=feasible,
+        verification=verification,
+        cor=cor_world,
+        objective=float(d_world @ (cor_world - scene.center_of_mass)),
+        points=feet_world,
+        weights=weights,
+        forward_distance=distance,
+        power_excess=excess,
+        stationarity=stationarity,
+        iterations=int(stats.get("iter_count", 0)),
+        solve_time_s=time.perf_counter() - t0,
+    )
+
+
+def _clusters(ranked: list[TripodStart], scene: PushScene, verify_rel: float) -> list[LocalOptimum]:
+    """The verified optima of ``ranked`` (best first) merged where their CORs coincide to
+    ``verify_rel`` times max(a, |r - CM|), labelled by their best check."""
+    optima: list[LocalOptimum] = []
+    for s in ranked:
+        scale = max(scene.disk_radius, float(np.linalg.norm(s.cor - scene.center_of_mass)))
+        for k, o in enumerate(optima):
+            if np.linalg.norm(o.cor - s.cor) <= verify_rel * scale:
+                label = "cor" if "cor" in (o.verification, s.verification) else "power"
+                optima[k] = LocalOptimum(o.cor, o.objective, o.points, o.weights, label, o.starts + 1)
+                break
+        else:
+            optima.append(LocalOptimum(s.cor, s.objective, s.points, s.weights, s.verification, 1))
+    return optima
+
+
 def extreme_cor_search(
     scene: PushScene,
     direction,
@@ -379,9 +481,6 @@ def extreme_cor_search(
         raise InvalidInput("support_margin", "must be in (0, 0.5) disk radii")
     verify_rel = tol.witness_cor_rel if verify_rel is None else float(verify_rel)
     a = scene.disk_radius
-    mu = scene.relative_moment_arm
-    e1 = scene.axis
-    d_loc = np.array([d_world @ e1, d_world @ mpp.perp(e1)])
 
     if footprint is None:
         kind, tris, areas = "disk", None, None
@@ -406,76 +505,12 @@ def extreme_cor_search(
             starts.append(_skipped(index, "skipped_time_limit", 0.0))
             continue
         t0 = time.perf_counter()
-        feet0, q0, tri_idx, p0 = draw_start(rng, tris, areas)
-        try:
-            start_cor = solve_forward(scene, _support(scene, _to_world(scene, feet0), p0), tol=tol).cor
-        except ModelError as exc:
-            raise SolverError(f"forward solve of a start tripod failed: {exc}") from exc
-        if start_cor is None:
+        start = _start_point(scene, tris, areas, rng, support_margin, tol)
+        if start is None:
             starts.append(_skipped(index, "start_rejected", time.perf_counter() - t0))
             continue
-        r0 = _to_local(scene, start_cor)
-        # A random tripod's COR often sits on a foot (the kink of the power, 3.3.7); start
-        # IPOPT just off it, a little infeasible, rather than on the singularity.
-        gaps = feet0 - r0
-        dist = np.linalg.norm(gaps, axis=1)
-        near = int(np.argmin(dist))
-        if dist[near] <= 2.0 * support_margin:
-            away = -gaps[near] / dist[near] if dist[near] > 0.0 else np.array([-1.0, 0.0])
-            r0 = feet0[near] + 3.0 * support_margin * away
-        if mu - r0[0] <= support_margin:
-            starts.append(_skipped(index, "start_rejected", time.perf_counter() - t0))
-            continue
-        triangles = tris[tri_idx].reshape(-1) if tris is not None else np.zeros(18)
-        par = np.concatenate([[mu, d_loc[0], d_loc[1], support_margin], triangles])
-        try:
-            out = nlp(x0=np.concatenate([q0, p0, r0]), p=par, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
-            stats = nlp.stats()
-        except RuntimeError as exc:
-            raise NotConverged(f"IPOPT failed on the tripod NLP: {exc}") from exc
-        status = str(stats.get("return_status", "unknown"))
-        z = np.asarray(out["x"], dtype=float).reshape(-1)
-        g = np.asarray(out["g"], dtype=float).reshape(-1)
-        violation = max(
-            float(np.max(np.maximum(lbg - g, 0.0) + np.maximum(g - ubg, 0.0))),
-            float(np.max(np.maximum(lbx - z, 0.0) + np.maximum(z - ubx, 0.0))),
-        )
-        q, weights, r = z[0:6].reshape(3, 2), z[6:9], z[9:11]
-        if tris is None:
-            feet = q
-        else:
-            t = tris[tri_idx]
-            feet = t[:, 0] + q[:, :1] * (t[:, 1] - t[:, 0]) + q[:, 1:] * (t[:, 2] - t[:, 0])
-        # An interior-point weight of a foot that should carry nothing ends near 1e-13,
-        # not 0; zeroing it (the tripod is then a dipod, as at the tip, 3.3.10) moves the
-        # centroid and the COR by O(nlp_feasibility) only, and keeps the conic check well scaled.
-        weights = np.where(weights <= tol.nlp_feasibility, 0.0, weights)
-        weights = weights / weights.sum()
-        cor_world = _to_world(scene, r)
-        feet_world = _to_world(scene, feet)
-        feasible = violation <= tol.nlp_feasibility
-        stationarity = float(np.linalg.norm(mpp.stationarity_residual(r, feet, weights, np.array([mu, 0.0]), np.array([1.0, 0.0]))))
-        verification, distance, excess = "none", None, None
-        if feasible:
-            verification, distance, excess = _verify(scene, cor_world, feet_world, weights, verify_rel, tol)
-        starts.append(
-            TripodStart(
-                index=index,
-                status=status,
-                converged=status in CONVERGED,
-                feasible=feasible,
-                verification=verification,
-                cor=cor_world,
-                objective=float(d_world @ (cor_world - scene.center_of_mass)),
-                points=feet_world,
-                weights=weights,
-                forward_distance=distance,
-                power_excess=excess,
-                stationarity=stationarity,
-                iterations=int(stats.get("iter_count", 0)),
-                solve_time_s=time.perf_counter() - t0,
-            )
-        )
+        starts.append(_run_start(scene, nlp, (lbx, ubx, lbg, ubg), start, tris, d_world, support_margin,
+                                 verify_rel, tol, index, t0))
 
     # "cor" before "power" among equal objectives, so a cluster is labelled by its best check
     ranked = sorted(
@@ -485,16 +520,7 @@ def extreme_cor_search(
     if not ranked:
         summary = ", ".join(sorted({s.status for s in starts}))
         raise NotConverged(f"no start of the tripod search reached a verified optimum (IPOPT statuses: {summary})")
-    optima: list[LocalOptimum] = []
-    for s in ranked:
-        scale = max(a, float(np.linalg.norm(s.cor - scene.center_of_mass)))
-        for k, o in enumerate(optima):
-            if np.linalg.norm(o.cor - s.cor) <= verify_rel * scale:
-                label = "cor" if "cor" in (o.verification, s.verification) else "power"
-                optima[k] = LocalOptimum(o.cor, o.objective, o.points, o.weights, label, o.starts + 1)
-                break
-        else:
-            optima.append(LocalOptimum(s.cor, s.objective, s.points, s.weights, s.verification, 1))
+    optima = _clusters(ranked, scene, verify_rel)
     optima.sort(key=lambda o: -o.objective)
     best = ranked[0]
     return ExtremeCorResult(

@@ -308,6 +308,123 @@ def _local_position(geo: StickingGeometry, res: StickingResult) -> float:
     return res.position / geo.length
 
 
+@dataclass
+class _Bracket:
+    """The state of one end's bracket: the inside and outside positions (line coordinates),
+    what the outside one is ("probe", "contact", "limit"), whether uncertified probes (the
+    grid's grading) are still trusted and the bisection goes on, the certified queries at
+    both ends and the end's status."""
+
+    s_in: float
+    s_out: float
+    out_kind: str
+    trust_grid: bool = True
+    bisecting: bool = True
+    nudges: int = 0
+    widenings: int = 0
+    res_in: StickingResult | None = None
+    res_out: StickingResult | None = None
+    status: str = "undecided"
+
+
+def _bisection_step(search: _LineSearch, br: _Bracket, target: float, outward: float) -> None:
+    """Halve the bracket with a probe at its middle; a probe within rounding of the end
+    (undecided) is stepped around by a quarter and a half of ``target`` on either side, and
+    the bisection stops when neither moves the bracket."""
+    geo = search.geo
+    mid = 0.5 * (br.s_in + br.s_out)
+    if mid in (br.s_in, br.s_out, 0.0):
+        br.bisecting = False
+        return
+    res = search(mid, certify=not br.trust_grid)
+    if res.status == "undecided" and br.trust_grid:
+        res = search(mid, certify=True)
+    sm = _local_position(geo, res)
+    if res.status == "inside":
+        br.s_in = sm
+        return
+    if res.status == "outside":
+        br.s_out, br.out_kind = sm, "probe"
+        return
+    moved = False
+    for frac in (0.25, 0.5):
+        s_try = mid + outward * frac * target
+        if (s_try - mid) * (br.s_out - s_try) > 0.0:
+            r_try = search(s_try, certify=not br.trust_grid)
+            if r_try.status == "outside":
+                br.s_out, br.out_kind, moved = _local_position(geo, r_try), "probe", True
+                break
+    for frac in (0.25, 0.5):
+        s_try = mid - outward * frac * target
+        if (s_try - br.s_in) * (mid - s_try) > 0.0:
+            r_try = search(s_try, certify=not br.trust_grid)
+            if r_try.status == "inside":
+                br.s_in, moved = _local_position(geo, r_try), True
+                break
+    br.bisecting = moved
+
+
+def _step_outwards(search: _LineSearch, br: _Bracket, target: float, outward: float) -> None:
+    """The grid's "outside" end was certified inside: the grid is no longer trusted here;
+    certified probes step outwards, doubling, to a certified outside point (or the contact
+    point), and the bisection starts again."""
+    br.trust_grid = False
+    step = max(target, abs(br.s_out - br.s_in))
+    br.s_in = br.s_out
+    for _ in range(64):
+        s_try = br.s_in + outward * step
+        if (s_try > 0.0) != (br.s_in > 0.0):
+            br.s_out, br.out_kind = 0.0, "contact"
+            break
+        r_try = search(s_try, certify=True)
+        if r_try.status == "inside":
+            br.s_in = _local_position(search.geo, r_try)
+            step *= 2.0
+            continue
+        br.s_out, br.out_kind = _local_position(search.geo, r_try), "probe"
+        break
+    br.nudges = br.widenings = 0
+    br.bisecting = True
+
+
+def _certify_ends(search: _LineSearch, br: _Bracket, target: float, outward: float) -> bool:
+    """Certify both ends of the narrowed bracket (the witness re-verified by a forward solve,
+    a branch-and-bound dual); True when the end is settled, False to go on with a moved or
+    widened bracket."""
+    br.res_in = search(br.s_in, certify=True, verify=True)
+    if br.res_in.status != "inside":
+        return True
+    if br.out_kind == "contact":
+        br.status = "contact"
+        return True
+    br.res_out = search(br.s_out, certify=True)
+    if br.res_out.status == "outside":
+        br.status = "bracketed" if abs(br.s_out - br.s_in) <= target * (1.0 + 1e-9) else "wide"
+        return True
+    if br.res_out.status == "inside":
+        if br.out_kind == "limit":
+            br.s_in, br.res_in = br.s_out, search(br.s_out, certify=True, verify=True)
+            br.status = "search_limit"
+            return True
+        _step_outwards(search, br, target, outward)
+        return False
+    # an undecided outside end: nudged outwards twice, then the bracket doubled
+    if br.out_kind == "limit":
+        return True
+    if br.nudges < 2 and abs(br.s_out - br.s_in) <= 0.75 * target:
+        br.nudges += 1
+        s_new = br.s_out + outward * 0.25 * target
+    elif br.widenings < MAX_WIDENINGS:
+        br.widenings += 1
+        s_new = br.s_in + 2.0 * (br.s_out - br.s_in)
+    else:
+        return True
+    if (s_new > 0.0) != (br.s_in > 0.0):
+        s_new, br.out_kind = 0.0, "contact"
+    br.s_out = s_new
+    return False
+
+
 def _bracket_end(search: _LineSearch, side: str, s_in: float, s_out: float, out_kind: str) -> LocusEnd:
     """Narrow [s_in (inside), s_out] to half the bracket width with uncertified probes, then
     certify both ends (the witness re-verified by a forward solve, a branch-and-bound dual).
@@ -324,111 +441,32 @@ def _bracket_end(search: _LineSearch, side: str, s_in: float, s_out: float, out_
     geo = search.geo
     target = search.tol.boundary_bracket
     outward = 1.0 if side == "upper" else -1.0
-    res_in = res_out = None
-    status = "undecided"
-    nudges = widenings = rounds = 0
-    trust_grid = True
-    bisecting = True
+    br = _Bracket(s_in, s_out, out_kind)
+    rounds = 0
     while rounds < MAX_BRACKET_ROUNDS and not search.expired():
         rounds += 1
-        if bisecting and abs(s_out - s_in) > 0.5 * target:
-            mid = 0.5 * (s_in + s_out)
-            if mid in (s_in, s_out, 0.0):
-                bisecting = False
-                continue
-            res = search(mid, certify=not trust_grid)
-            if res.status == "undecided" and trust_grid:
-                res = search(mid, certify=True)
-            sm = _local_position(geo, res)
-            if res.status == "inside":
-                s_in = sm
-            elif res.status == "outside":
-                s_out, out_kind = sm, "probe"
-            else:
-                # within rounding of the end: step a little to either side of it
-                moved = False
-                for frac in (0.25, 0.5):
-                    s_try = mid + outward * frac * target
-                    if (s_try - mid) * (s_out - s_try) > 0.0:
-                        r_try = search(s_try, certify=not trust_grid)
-                        if r_try.status == "outside":
-                            s_out, out_kind, moved = _local_position(geo, r_try), "probe", True
-                            break
-                for frac in (0.25, 0.5):
-                    s_try = mid - outward * frac * target
-                    if (s_try - s_in) * (mid - s_try) > 0.0:
-                        r_try = search(s_try, certify=not trust_grid)
-                        if r_try.status == "inside":
-                            s_in, moved = _local_position(geo, r_try), True
-                            break
-                bisecting = moved
+        if br.bisecting and abs(br.s_out - br.s_in) > 0.5 * target:
+            _bisection_step(search, br, target, outward)
             continue
-        bisecting = False
-        res_in = search(s_in, certify=True, verify=True)
-        if res_in.status != "inside":
+        br.bisecting = False
+        if _certify_ends(search, br, target, outward):
             break
-        if out_kind == "contact":
-            status = "contact"
-            break
-        res_out = search(s_out, certify=True)
-        if res_out.status == "outside":
-            status = "bracketed" if abs(s_out - s_in) <= target * (1.0 + 1e-9) else "wide"
-            break
-        if res_out.status == "inside":
-            if out_kind == "limit":
-                s_in, res_in = s_out, search(s_out, certify=True, verify=True)
-                status = "search_limit"
-                break
-            # the grid's "outside" was wrong: certified steps outwards, doubling
-            trust_grid = False
-            step = max(target, abs(s_out - s_in))
-            s_in = s_out
-            for _ in range(64):
-                s_try = s_in + outward * step
-                if (s_try > 0.0) != (s_in > 0.0):
-                    s_out, out_kind = 0.0, "contact"
-                    break
-                r_try = search(s_try, certify=True)
-                if r_try.status == "inside":
-                    s_in = _local_position(geo, r_try)
-                    step *= 2.0
-                    continue
-                s_out, out_kind = _local_position(geo, r_try), "probe"
-                break
-            nudges = widenings = 0
-            bisecting = True
-            continue
-        # undecided outside end
-        if out_kind == "limit":
-            break
-        if nudges < 2 and abs(s_out - s_in) <= 0.75 * target:
-            nudges += 1
-            s_new = s_out + outward * 0.25 * target
-        elif widenings < MAX_WIDENINGS:
-            widenings += 1
-            s_new = s_in + 2.0 * (s_out - s_in)
-        else:
-            break
-        if (s_new > 0.0) != (s_in > 0.0):
-            s_new, out_kind = 0.0, "contact"
-        s_out = s_new
-    width = abs(s_out - s_in) * geo.length
     certified = bool(
-        status in ("bracketed", "wide") and res_out is not None and res_out.certificate_kind == "dual"
-        and res_in is not None and res_in.certificate_kind == "witness"
+        br.status in ("bracketed", "wide") and br.res_out is not None and br.res_out.certificate_kind == "dual"
+        and br.res_in is not None and br.res_in.certificate_kind == "witness"
     )
-    mid = s_in if status in ("contact", "search_limit") else 0.5 * (s_in + s_out)
+    mid = br.s_in if br.status in ("contact", "search_limit") else 0.5 * (br.s_in + br.s_out)
     return LocusEnd(
         side=side,
-        status=status,
+        status=br.status,
         position=mid * geo.length,
         point=geo.outline.to_world(geo.point(mid)),
-        feasible_position=s_in * geo.length,
-        infeasible_position=None if out_kind == "limit" else s_out * geo.length,
-        width=width,
+        feasible_position=br.s_in * geo.length,
+        infeasible_position=None if br.out_kind == "limit" else br.s_out * geo.length,
+        width=abs(br.s_out - br.s_in) * geo.length,
         certified=certified,
-        feasible=res_in,
-        infeasible=res_out,
+        feasible=br.res_in,
+        infeasible=br.res_out,
     )
 
 
@@ -439,6 +477,74 @@ def _scan_positions(lo: float, hi: float, centre: float, n: int) -> np.ndarray:
     u0, u1 = math.asinh(lo - centre), math.asinh(hi - centre)
     u = np.linspace(u0, u1, max(n, 2))
     return centre + np.sinh(u)
+
+
+def _scan(search: _LineSearch, probes: np.ndarray) -> tuple[list[float], list[str], bool]:
+    """Probe each position (certified only where the grid leaves it undecided), in order
+    along the line: (positions, statuses, whether the time limit cut the scan)."""
+    scan_s, scan_st = [], []
+    time_limited = False
+    for s in probes:
+        if search.expired():
+            time_limited = True
+            break
+        res = search(float(s))
+        if res.status == "undecided":
+            res = search(float(s), certify=True)
+        scan_s.append(_local_position(search.geo, res))
+        scan_st.append(res.status)
+    order = np.argsort(scan_s)
+    return [scan_s[i] for i in order], [scan_st[i] for i in order], time_limited
+
+
+def _inside_runs(marks: list[tuple[float, str]]) -> list[tuple[int, int]]:
+    """The maximal runs (first, last index) of "inside" marks."""
+    runs = []
+    i = 0
+    while i < len(marks):
+        if marks[i][1] != "inside":
+            i += 1
+            continue
+        j = i
+        while j + 1 < len(marks) and marks[j + 1][1] == "inside":
+            j += 1
+        runs.append((i, j))
+        i = j + 1
+    return runs
+
+
+def _intervals(search: _LineSearch, marks: list[tuple[float, str]], limits: tuple[float, float],
+               capped: bool) -> list[StickingInterval]:
+    """Each run of inside marks bracketed at both ends (:func:`_bracket_end`) against the
+    mark beyond it (the contact point, a probe, or the search range's end ``limits``, a
+    hard limit when ``capped``); runs that turn out to be one interval are merged."""
+    ell = search.geo.length
+    intervals: list[StickingInterval] = []
+    for i, j in _inside_runs(marks):
+        if i > 0:
+            below = marks[i - 1]
+            kind_lo = "contact" if below[1] == "contact" else "probe"
+            s_out_lo = below[0]
+        else:
+            kind_lo, s_out_lo = ("limit", limits[0]) if capped else ("probe", limits[0])
+        if j + 1 < len(marks):
+            above = marks[j + 1]
+            kind_hi = "contact" if above[1] == "contact" else "probe"
+            s_out_hi = above[0]
+        else:
+            kind_hi, s_out_hi = ("limit", limits[1]) if capped else ("probe", limits[1])
+        if intervals and intervals[-1].upper.feasible_position is not None and (
+            intervals[-1].upper.feasible_position >= marks[i][0] * ell
+        ):
+            continue  # the previous interval's upper end was found beyond this run already
+        lower_end = _bracket_end(search, "lower", marks[i][0], s_out_lo, kind_lo)
+        upper_end = _bracket_end(search, "upper", marks[j][0], s_out_hi, kind_hi)
+        if intervals and lower_end.feasible_position <= intervals[-1].upper.feasible_position:
+            # one interval split by an undecided or wrongly graded probe: merge
+            intervals[-1] = StickingInterval(intervals[-1].lower, upper_end)
+        else:
+            intervals.append(StickingInterval(lower_end, upper_end))
+    return intervals
 
 
 def sticking_locus(
@@ -508,62 +614,11 @@ def sticking_locus(
     lo_p, hi_p = (lo, hi) if capped else (lo - margin, hi + margin)
     centre = float(np.clip(-geo.c[1], lo, hi))
     probes = np.concatenate([_scan_positions(lo_p, hi_p, centre, scan_points), seeds])
-    probes = np.unique(probes[probes != 0.0])
-    scan_s, scan_st = [], []
-    time_limited = False
-    for s in probes:
-        if search.expired():
-            time_limited = True
-            break
-        res = search(float(s))
-        if res.status == "undecided":
-            res = search(float(s), certify=True)
-        scan_s.append(_local_position(geo, res))
-        scan_st.append(res.status)
-    order = np.argsort(scan_s)
-    scan_s = [scan_s[i] for i in order]
-    scan_st = [scan_st[i] for i in order]
+    scan_s, scan_st, time_limited = _scan(search, np.unique(probes[probes != 0.0]))
     # runs of "inside" separated by outside/undecided probes and by the contact point
-    marks = [(s, st) for s, st in zip(scan_s, scan_st)]
-    marks.append((0.0, "contact"))
-    marks.sort(key=lambda m: m[0])
-    runs = []
-    i = 0
-    while i < len(marks):
-        if marks[i][1] != "inside":
-            i += 1
-            continue
-        j = i
-        while j + 1 < len(marks) and marks[j + 1][1] == "inside":
-            j += 1
-        runs.append((i, j))
-        i = j + 1
-    intervals = []
+    marks = sorted([*zip(scan_s, scan_st), (0.0, "contact")], key=lambda m: m[0])
+    intervals = _intervals(search, marks, (lo_p, hi_p), capped)
     incomplete = time_limited
-    for i, j in runs:
-        if i > 0:
-            below = marks[i - 1]
-            kind_lo = "contact" if below[1] == "contact" else "probe"
-            s_out_lo = below[0]
-        else:
-            kind_lo, s_out_lo = ("limit", lo_p) if capped else ("probe", lo_p)
-        if j + 1 < len(marks):
-            above = marks[j + 1]
-            kind_hi = "contact" if above[1] == "contact" else "probe"
-            s_out_hi = above[0]
-        else:
-            kind_hi, s_out_hi = ("limit", hi_p) if capped else ("probe", hi_p)
-        if intervals and intervals[-1].upper.feasible_position is not None and (
-            intervals[-1].upper.feasible_position >= marks[i][0] * ell
-        ):
-            continue  # the previous interval's upper end was found beyond this run already
-        lower_end = _bracket_end(search, "lower", marks[i][0], s_out_lo, kind_lo)
-        upper_end = _bracket_end(search, "upper", marks[j][0], s_out_hi, kind_hi)
-        if intervals and lower_end.feasible_position <= intervals[-1].upper.feasible_position:
-            # one interval split by an undecided or wrongly graded probe: merge
-            intervals[-1] = StickingInterval(intervals[-1].lower, upper_end)
-        else:
-            intervals.append(StickingInterval(lower_end, upper_end))
     for iv in intervals:
         if iv.lower.status == "undecided" or iv.upper.status == "undecided":
             incomplete = True

@@ -16,7 +16,15 @@ import numpy as np
 
 from models.core.errors import InvalidInput
 from models.core.tolerances import SPIRAL_DEFAULT, SpiralTolerances
-from models.spiral.graph import arc_costs, greedy_on_graph, schedule_graph, schedule_grid, shortest_path_potentials
+from models.spiral.critical import CriticalEnvelope
+from models.spiral.graph import (
+    ScheduleGraph,
+    arc_costs,
+    greedy_on_graph,
+    schedule_graph,
+    schedule_grid,
+    shortest_path_potentials,
+)
 from models.spiral.path import SpiralRecursion, fastest_spiral, spiral_path_length
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import SolverError
@@ -189,24 +197,9 @@ def _arc_index(graph):
     return index
 
 
-def spiral_schedule(table, b_1: float, target: float, objective: str = "revolutions", min_step: float | None = None,
-                    max_step: float | None = None, speed: float | None = None, spacing: float | None = None,
-                    resolution: int = 16, max_nodes: int = 200_000, max_arcs: int = 5_000_000,
-                    backend: str = "min_cost_flow", budget: Budget = UNLIMITED,
-                    spiral_tol: SpiralTolerances = SPIRAL_DEFAULT) -> SpiralSchedule:
-    """The schedule of radii from ``b_1`` down to ``target`` with the fewest revolutions
-    (``objective`` "revolutions") or the shortest path ("length"; "time" = length / speed,
-    the same optimum, needs ``speed``), every revolution safe (b_{n-1} - b_n <= d*(b_n),
-    4.26) and within the robot's ``min_step`` / ``max_step``, as a shortest path over the
-    grid of :func:`models.spiral.graph.schedule_grid` (uniform ``spacing`` or adaptive with
-    ``resolution`` points per safe step). ``table``: a CriticalRadiusTable or a
-    CriticalEnvelope. ``backend`` "min_cost_flow" (OR-Tools SimpleMinCostFlow; ``budget``
-    is checked between the build and the solve) or "cp_sat" (the remaining time is CP-SAT's
-    own limit; FEASIBLE = stopped early). The optimum is certified by shortest-path potentials
-    (:class:`ScheduleCertificate`)."""
-    t0 = time.perf_counter()
-    env = envelope_of(table)
-    a = env.a
+def _checked_request(env: CriticalEnvelope, b_1: float, target: float, objective: str, min_step: float | None,
+                     max_step: float | None, speed: float | None, backend: str) -> tuple[float, float]:
+    """(b_1, target) as floats; InvalidInput naming the argument that cannot be planned."""
     if objective not in OBJECTIVES:
         raise InvalidInput("objective", f"must be one of {', '.join(OBJECTIVES)}")
     if backend not in BACKENDS:
@@ -229,6 +222,68 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
             f"is below {env.b_floor:.9g}, the smallest radius with any guarantee in this table (its b_inf, 4.5.4): "
             "no spiral can localize the disk further",
         )
+    return b_1, target
+
+
+def _integer_costs(graph: ScheduleGraph, objective: str, a: float, spiral_tol: SpiralTolerances
+                   ) -> tuple[np.ndarray, np.ndarray, float, int | None]:
+    """The arcs' integer costs, their shortest-path potentials, the cost unit and, for
+    "revolutions", the weight of one revolution. Revolutions are lexicographic: first
+    their number, then the length (to tie_break_unit_rel a), so that the schedule is also
+    the shortest of the fewest-revolution ones (when the weighted costs fit in 62 bits)."""
+    weight = None
+    if objective == "revolutions":
+        unit = spiral_tol.tie_break_unit_rel * a
+        costs = np.ones(graph.n_arcs, dtype=np.int64)
+        pot = shortest_path_potentials(graph, costs)
+        tie = arc_costs(graph, "length", unit, spiral_tol.arc_nodes)
+        if pot[0] >= 0 and tie.size:
+            w = int(pot[0]) * int(tie.max()) + 1  # > the length of any path with pot[0] arcs
+            if (w + int(tie.max())) * (int(pot[0]) + 1) * graph.x.size < 2 ** 62:
+                weight = w
+                costs = tie + w
+                pot = shortest_path_potentials(graph, costs)
+        if weight is None:
+            unit = 1.0
+    else:
+        unit = spiral_tol.length_unit_rel * a
+        costs = arc_costs(graph, "length", unit, spiral_tol.arc_nodes)
+        pot = shortest_path_potentials(graph, costs)
+    return costs, pot, unit, weight
+
+
+def _certificate(graph: ScheduleGraph, costs: np.ndarray, pot: np.ndarray, used: np.ndarray, path: np.ndarray,
+                 unit: float, weight: int | None) -> ScheduleCertificate:
+    """The optimality certificate of the arcs ``used``: their cost against the dual bound of
+    the shortest-path potentials, and the least reduced cost over the reachable arcs."""
+    primal = int(costs[used].sum())
+    reach = pot[graph.tails] >= 0
+    rc = costs[reach] + pot[graph.tails[reach]] - pot[graph.heads[reach]]
+    min_rc = int(rc.min()) if rc.size else 0
+    dual = int(pot[0])
+    return ScheduleCertificate(primal_cost=primal, dual_bound=dual, gap=primal - dual, min_reduced_cost=min_rc,
+                               n_arcs_checked=int(rc.size), cost_unit=unit, certified=bool(min_rc >= 0 and primal == dual),
+                               revolution_weight=weight, path_potentials=tuple(int(pot[k]) for k in path))
+
+
+def spiral_schedule(table, b_1: float, target: float, objective: str = "revolutions", min_step: float | None = None,
+                    max_step: float | None = None, speed: float | None = None, spacing: float | None = None,
+                    resolution: int = 16, max_nodes: int = 200_000, max_arcs: int = 5_000_000,
+                    backend: str = "min_cost_flow", budget: Budget = UNLIMITED,
+                    spiral_tol: SpiralTolerances = SPIRAL_DEFAULT) -> SpiralSchedule:
+    """The schedule of radii from ``b_1`` down to ``target`` with the fewest revolutions
+    (``objective`` "revolutions") or the shortest path ("length"; "time" = length / speed,
+    the same optimum, needs ``speed``), every revolution safe (b_{n-1} - b_n <= d*(b_n),
+    4.26) and within the robot's ``min_step`` / ``max_step``, as a shortest path over the
+    grid of :func:`models.spiral.graph.schedule_grid` (uniform ``spacing`` or adaptive with
+    ``resolution`` points per safe step). ``table``: a CriticalRadiusTable or a
+    CriticalEnvelope. ``backend`` "min_cost_flow" (OR-Tools SimpleMinCostFlow; ``budget``
+    is checked between the build and the solve) or "cp_sat" (the remaining time is CP-SAT's
+    own limit; FEASIBLE = stopped early). The optimum is certified by shortest-path potentials
+    (:class:`ScheduleCertificate`)."""
+    t0 = time.perf_counter()
+    env = envelope_of(table)
+    b_1, target = _checked_request(env, b_1, target, objective, min_step, max_step, speed, backend)
     # the book's recursion with the same maximum step; it ignores a minimum step, so it is
     # then only a lower bound on the revolutions
     recursion = fastest_spiral(env, b_1, target, max_step=max_step, speed=speed, tol=spiral_tol)
@@ -249,26 +304,7 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
                            f"the grid has {graph.n_arcs} arcs, more than max_arcs = {max_arcs}: coarsen it")
     if backend == "cp_sat" and graph.n_arcs > CP_SAT_MAX_ARCS:
         raise InvalidInput("backend", f"cp_sat takes at most {CP_SAT_MAX_ARCS} arcs ({graph.n_arcs} here)")
-    weight = None
-    if objective == "revolutions":
-        # lexicographic: revolutions first, then length (to tie_break_unit_rel a), so that
-        # the schedule returned is also the shortest of the fewest-revolution ones
-        unit = spiral_tol.tie_break_unit_rel * a
-        costs = np.ones(graph.n_arcs, dtype=np.int64)
-        pot = shortest_path_potentials(graph, costs)
-        tie = arc_costs(graph, "length", unit, spiral_tol.arc_nodes)
-        if pot[0] >= 0 and tie.size:
-            w = int(pot[0]) * int(tie.max()) + 1  # > the length of any path with pot[0] arcs
-            if (w + int(tie.max())) * (int(pot[0]) + 1) * x.size < 2 ** 62:
-                weight = w
-                costs = tie + w
-                pot = shortest_path_potentials(graph, costs)
-        if weight is None:
-            unit = 1.0
-    else:
-        unit = spiral_tol.length_unit_rel * a
-        costs = arc_costs(graph, "length", unit, spiral_tol.arc_nodes)
-        pot = shortest_path_potentials(graph, costs)
+    costs, pot, unit, weight = _integer_costs(graph, objective, env.a, spiral_tol)
     greedy = greedy_on_graph(graph)
     g_rev = g_len = None
     if greedy is not None:
@@ -301,14 +337,7 @@ def spiral_schedule(table, b_1: float, target: float, objective: str = "revoluti
     if used is None:
         return empty(status, stopped, f"the {backend} solve ended with status {status}")
     path = _path_from_arcs(graph, used)
-    primal = int(costs[used].sum())
-    reach = pot[graph.tails] >= 0
-    rc = costs[reach] + pot[graph.tails[reach]] - pot[graph.heads[reach]]
-    min_rc = int(rc.min()) if rc.size else 0
-    dual = int(pot[0])
-    cert = ScheduleCertificate(primal_cost=primal, dual_bound=dual, gap=primal - dual, min_reduced_cost=min_rc,
-                               n_arcs_checked=int(rc.size), cost_unit=unit, certified=bool(min_rc >= 0 and primal == dual),
-                               revolution_weight=weight, path_potentials=tuple(int(pot[k]) for k in path))
+    cert = _certificate(graph, costs, pot, used, path, unit, weight)
     radii = x[path]
     steps = -np.diff(radii)
     excess = float(np.max(steps - env.d_star(radii[1:], max_step))) if steps.size else 0.0

@@ -539,6 +539,154 @@ def _check_inputs(path, points, weights, a, mu_c, start_cm, s: SpiralSimSettings
     return body, wts, cm
 
 
+class _Herding:
+    """One disk herded along a path: the pusher's frame at the disk, the forward solve, the
+    midpoint step and the end of a contact (the module docstring), and the trajectory."""
+
+    def __init__(self, path: _Path, a: float, s: SpiralSimSettings, oracle: MotionOracle,
+                 cm: np.ndarray, theta: float) -> None:
+        self.path, self.a, self.s, self.oracle = path, a, s, oracle
+        self.traj_u, self.traj_cm, self.traj_th, self.traj_b = [0.0], [cm.copy()], [theta], [math.nan]
+        self.steps_total = 0
+        self.current: dict | None = None  # the contact in progress, for a run stopped inside it
+
+    def record(self, u, c, th, beta=math.nan) -> None:
+        self.traj_u.append(u)
+        self.traj_cm.append(c.copy())
+        self.traj_th.append(th)
+        self.traj_b.append(beta)
+
+    def frame(self, u, c, left=False):
+        """Pusher point, push direction, speed, unit line of centres, n . p, beta."""
+        pp = self.path.position(u)
+        tan = self.path.tangent(u, left)
+        sp = float(np.hypot(tan[0], tan[1]))
+        ph = tan / sp
+        d = c - pp
+        n = d / float(np.hypot(d[0], d[1]))
+        n_in = self.path.inward_normal(u, ph)
+        return pp, ph, sp, n, float(n @ ph), math.atan2(float(n @ n_in), float(n @ ph))
+
+    def twist(self, u, c, th) -> Twist:
+        pp, ph, sp, n, _, _ = self.frame(u, c)
+        try:
+            tw = self.oracle.twist(c, th, pp, math.atan2(-n[1], -n[0]) + HALF_PI, math.atan2(ph[1], ph[0]))
+        except TimeLimitReached as exc:
+            raise _Stop("time_limit") from exc
+        except (SolverError, InvalidInput) as exc:
+            raise _Stop("solver_error", f"forward solve at u = {u:.9g}: {exc}") from exc
+        # The twist per unit push along p; per unit u it is scaled by the path's speed.
+        return tw.scaled(sp)
+
+    def project(self, c, u):
+        return at_distance(c, self.path.position(u), self.a)
+
+    def rk2(self, u, c, th, tw1, h):
+        """One midpoint step of length h in u from (c, th) with tw1 the twist at its start;
+        returns the new pose and n . p there (with the tangent of the step's own piece)."""
+        c_h, th_h = advance(c, th, tw1, 0.5 * h)
+        c_h = self.project(c_h, u + 0.5 * h)
+        g_h = self.frame(u + 0.5 * h, c_h)[4]
+        tw2 = self.twist(u + 0.5 * h, c_h, th_h) if g_h > self.s.grazing_cos else tw1
+        c_n, th_n = advance(c, th, tw2, h)
+        c_n = self.project(c_n, u + h)
+        return c_n, th_n, self.frame(u + h, c_n, left=True)[4]
+
+    def locate_end(self, u, c, th, tw1, g0, h, g1):
+        """The step length at which n . p reaches 0 (the disk tangent to the path, contact
+        lost): regula falsi on fresh RK2 steps from the step's start, until
+        |n . p| <= end_cos or end_iter trials; (length, CM, theta) of the last trial."""
+        if g1 >= 0.0:  # 0 <= n . p <= grazing_cos at the full step: the contact ends there
+            c_n, th_n, _ = self.rk2(u, c, th, tw1, h)
+            return h, c_n, th_n
+
+        def trial(hh):
+            c_t, th_t, g_t = self.rk2(u, c, th, tw1, hh)
+            return g_t, (c_t, th_t)
+
+        hh, (c_t, th_t) = regula_falsi(trial, 0.0, g0, h, g1, self.s.end_cos, self.s.end_iter)
+        return hh, c_t, th_t
+
+    def push(self, hit: float, u: float, cm: np.ndarray, theta: float, g: float, beta: float, r_start: float):
+        """One contact from its start at ``hit`` until n . p reaches 0 or the path ends:
+        (u, cm, theta, its record, whether the path ended in contact)."""
+        s = self.s
+        self.record(u, cm, theta, beta)
+        beta0, beta_min, n_steps = beta, beta, 0
+        self.current = {"u_start": hit, "beta0": beta0, "r_start": r_start}
+        ended = at_end = False
+        while not ended:
+            if u >= self.path.u_end:
+                at_end = True
+                break
+            if self.steps_total >= s.max_steps:
+                raise _Stop("step_limit")
+            sp = self.frame(u, cm)[2]
+            h = min(s.step * self.a / sp, self.path.piece_end(u) - u)
+            tw1 = self.twist(u, cm, theta)
+            c_n, th_n, g_n = self.rk2(u, cm, theta, tw1, h)
+            if g_n <= s.grazing_cos:
+                h, c_n, th_n = self.locate_end(u, cm, theta, tw1, g, h, g_n)
+                ended = True
+            cm, theta, u = c_n, th_n, u + h
+            n_steps += 1
+            self.steps_total += 1
+            _, _, _, _, g, beta = self.frame(u, cm, left=True)
+            self.record(u, cm, theta, beta)
+            beta_min = min(beta_min, beta)
+            self.current.update(beta_min=beta_min, steps=n_steps)
+            if not ended:
+                # At a corner of the path the push direction turns: check it again.
+                _, _, _, _, g, beta = self.frame(u, cm)
+                ended = g <= s.grazing_cos
+        side = ("inside" if beta > 0.0 else "outside") if ended else "open"
+        record = ContactRecord(
+            u_start=hit, u_end=u, beta_initial=beta0, beta_min=beta_min,
+            beta_final=beta if side == "open" else math.copysign(HALF_PI, beta),
+            depth_initial=self.a * (1.0 - math.sin(beta0)), side=side,
+            cm_radius_start=r_start, cm_radius_end=float(np.linalg.norm(cm - self.path.centre)), steps=n_steps,
+        )
+        self.current = None
+        return u, cm, theta, record, at_end
+
+    def cut_contact(self) -> ContactRecord | None:
+        """The record of the contact a stopped run was in, up to where it stopped."""
+        if self.current is None:
+            return None
+        b0 = self.current["beta0"]
+        return ContactRecord(
+            u_start=self.current["u_start"], u_end=self.traj_u[-1], beta_initial=b0,
+            beta_min=self.current.get("beta_min", b0), beta_final=float(self.traj_b[-1]),
+            depth_initial=self.a * (1.0 - math.sin(b0)), side="open", cm_radius_start=self.current["r_start"],
+            cm_radius_end=float(np.linalg.norm(self.traj_cm[-1] - self.path.centre)), steps=self.current.get("steps", 0),
+        )
+
+    def run(self, status: str, escaped: bool, error: str | None, contacts: list[ContactRecord], touches: int,
+            promise: float, t0: float) -> SpiralRun:
+        """The run's answer from its trajectory: where it ended, against the promise."""
+        path, a, counts = self.path, self.a, self.oracle.counts
+        tu, tc = np.array(self.traj_u), np.array(self.traj_cm)
+        tt, tb = np.array(self.traj_th), np.array(self.traj_b)
+        marks = path.revolution_marks[path.revolution_marks <= tu[-1]]
+        rad = np.linalg.norm(tc - path.centre, axis=1)
+        rev = np.interp(marks, tu, rad) if marks.size else np.zeros(0)
+        pr = np.linalg.norm(path.position(tu) - path.centre, axis=1)
+        final_radius = float(rad[-1])
+        extent = final_radius + a
+        inside = (status == "completed") and not escaped and extent <= promise + self.s.promise_tol * a
+        return SpiralRun(
+            status=status, escaped=escaped, inside_promise=bool(inside), promised_radius=promise,
+            final_cm=tc[-1].copy(), final_theta=float(tt[-1]), final_radius=final_radius,
+            final_extent=extent, contacts=tuple(contacts), touches=touches,
+            trajectory_u=tu, trajectory_cm=tc, trajectory_theta=tt, trajectory_beta=tb, revolution_cm_radius=rev,
+            max_protrusion=float(np.max(rad + a - pr)), max_force_angle=counts.max_force_angle,
+            u_reached=float(tu[-1]), path_fraction=float(tu[-1] / path.u_end) if path.u_end > 0 else 1.0,
+            steps=self.steps_total, forward_solves=counts.solves, not_optimal=counts.not_optimal,
+            modes=dict(counts.modes), max_kkt=counts.max_kkt, wall_time_s=time.perf_counter() - t0,
+            error=error,
+        )
+
+
 def simulate_spiral(
     path: _Path,
     points,
@@ -565,72 +713,9 @@ def simulate_spiral(
     body, wts, cm = _check_inputs(path, points, weights, a, mu_c, start_cm, s)
     theta = float(start_theta)
     promise = path.final_radius if promised_radius is None else float(promised_radius)
-    centre = path.centre
     t0 = time.perf_counter()
-    oracle = MotionOracle(body, wts, a, mu_c, method, tol, budget)
-    n_steps_total = 0
-
-    traj_u, traj_cm, traj_th, traj_b = [0.0], [cm.copy()], [theta], [math.nan]
-
-    def record(u, c, th, beta=math.nan):
-        traj_u.append(u)
-        traj_cm.append(c.copy())
-        traj_th.append(th)
-        traj_b.append(beta)
-
-    def frame(u, c, left=False):
-        """Pusher point, push direction, speed, unit line of centres, n . p, beta."""
-        pp = path.position(u)
-        tan = path.tangent(u, left)
-        sp = float(np.hypot(tan[0], tan[1]))
-        ph = tan / sp
-        d = c - pp
-        n = d / float(np.hypot(d[0], d[1]))
-        n_in = path.inward_normal(u, ph)
-        return pp, ph, sp, n, float(n @ ph), math.atan2(float(n @ n_in), float(n @ ph))
-
-    def twist(u, c, th) -> Twist:
-        pp, ph, sp, n, _, _ = frame(u, c)
-        try:
-            tw = oracle.twist(c, th, pp, math.atan2(-n[1], -n[0]) + HALF_PI, math.atan2(ph[1], ph[0]))
-        except TimeLimitReached as exc:
-            raise _Stop("time_limit") from exc
-        except (SolverError, InvalidInput) as exc:
-            raise _Stop("solver_error", f"forward solve at u = {u:.9g}: {exc}") from exc
-        # The twist per unit push along p; per unit u it is scaled by the path's speed.
-        return tw.scaled(sp)
-
-    def project(c, u):
-        return at_distance(c, path.position(u), a)
-
-    def rk2(u, c, th, tw1, h):
-        """One midpoint step of length h in u from (c, th) with tw1 the twist at its start;
-        returns the new pose and n . p there (with the tangent of the step's own piece)."""
-        c_h, th_h = advance(c, th, tw1, 0.5 * h)
-        c_h = project(c_h, u + 0.5 * h)
-        g_h = frame(u + 0.5 * h, c_h)[4]
-        tw2 = twist(u + 0.5 * h, c_h, th_h) if g_h > s.grazing_cos else tw1
-        c_n, th_n = advance(c, th, tw2, h)
-        c_n = project(c_n, u + h)
-        return c_n, th_n, frame(u + h, c_n, left=True)[4]
-
-    def locate_end(u, c, th, tw1, g0, h, g1):
-        """The step length at which n . p reaches 0 (the disk tangent to the path, contact
-        lost): regula falsi on fresh RK2 steps from the step's start, until
-        |n . p| <= end_cos or end_iter trials; (length, CM, theta) of the last trial."""
-        if g1 >= 0.0:  # 0 <= n . p <= grazing_cos at the full step: the contact ends there
-            c_n, th_n, _ = rk2(u, c, th, tw1, h)
-            return h, c_n, th_n
-
-        def trial(hh):
-            c_t, th_t, g_t = rk2(u, c, th, tw1, hh)
-            return g_t, (c_t, th_t)
-
-        hh, (c_t, th_t) = regula_falsi(trial, 0.0, g0, h, g1, s.end_cos, s.end_iter)
-        return hh, c_t, th_t
-
+    herd = _Herding(path, a, s, MotionOracle(body, wts, a, mu_c, method, tol, budget), cm, theta)
     contacts: list[ContactRecord] = []
-    current = None  # the contact in progress, for a run stopped inside it
     touches = 0
     u = 0.0
     status = "completed"
@@ -641,66 +726,30 @@ def simulate_spiral(
             # ---- free flight
             hit, tz = first_dip(path, cm, a, u, s.sample, s.graze_depth, s.root_tol, s.max_bisections)
             touches += tz
-            if hit is None:
-                u = path.u_end
-                record(u, cm, theta)
+            if hit is None or hit >= path.u_end:
+                u = path.u_end if hit is None else hit
+                herd.record(u, cm, theta)
                 break
             u = hit
-            if u >= path.u_end:
-                record(u, cm, theta)
-                break
             # ---- contact
-            r_start = float(np.linalg.norm(cm - centre))
-            cm = project(cm, u)
-            _, _, _, _, g, beta = frame(u, cm)
+            r_start = float(np.linalg.norm(cm - path.centre))
+            cm = herd.project(cm, u)
+            _, _, speed, _, g, beta = herd.frame(u, cm)
             if g <= s.grazing_cos:
                 # The pusher meets the disk moving along its tangent (a corner of the path
                 # turning in right at the end of a contact): a touch; move on.
                 touches += 1
-                u = min(path.u_end, u + s.root_tol * a / max(frame(u, cm)[2], 1e-300))
+                u = min(path.u_end, u + s.root_tol * a / max(speed, 1e-300))
                 continue
-            record(u, cm, theta, beta)
-            beta0, beta_min, n_steps = beta, beta, 0
-            current = {"u_start": hit, "beta0": beta0, "r_start": r_start}
-            ended = False
-            while not ended:
-                if u >= path.u_end:
-                    status = "in_contact_at_end"
-                    break
-                if n_steps_total >= s.max_steps:
-                    raise _Stop("step_limit")
-                sp = frame(u, cm)[2]
-                h = min(s.step * a / sp, path.piece_end(u) - u)
-                tw1 = twist(u, cm, theta)
-                c_n, th_n, g_n = rk2(u, cm, theta, tw1, h)
-                if g_n <= s.grazing_cos:
-                    h, c_n, th_n = locate_end(u, cm, theta, tw1, g, h, g_n)
-                    ended = True
-                cm, theta, u = c_n, th_n, u + h
-                n_steps += 1
-                n_steps_total += 1
-                _, _, _, _, g, beta = frame(u, cm, left=True)
-                record(u, cm, theta, beta)
-                beta_min = min(beta_min, beta)
-                current.update(beta_min=beta_min, steps=n_steps)
-                if not ended:
-                    # At a corner of the path the push direction turns: check it again.
-                    _, _, _, _, g, beta = frame(u, cm)
-                    ended = g <= s.grazing_cos
-            side = ("inside" if beta > 0.0 else "outside") if ended else "open"
-            contacts.append(ContactRecord(
-                u_start=hit, u_end=u, beta_initial=beta0, beta_min=beta_min,
-                beta_final=beta if side == "open" else math.copysign(HALF_PI, beta),
-                depth_initial=a * (1.0 - math.sin(beta0)), side=side,
-                cm_radius_start=r_start, cm_radius_end=float(np.linalg.norm(cm - centre)), steps=n_steps,
-            ))
-            current = None
-            if side == "outside":
+            u, cm, theta, contact, at_end = herd.push(hit, u, cm, theta, g, beta, r_start)
+            contacts.append(contact)
+            if contact.side == "outside":
                 escaped = True
                 if stop_on_escape:
                     status = "escaped"
                     break
-            if status == "in_contact_at_end":
+            if at_end:
+                status = "in_contact_at_end"
                 break
     except _Stop as stop:
         status = stop.status
@@ -708,37 +757,10 @@ def simulate_spiral(
     except SolverError as exc:  # the contact search's guard
         status = "solver_error"
         error = str(exc)
-    if current is not None and status not in ("completed", "escaped", "in_contact_at_end"):
-        b0 = current["beta0"]
-        contacts.append(ContactRecord(
-            u_start=current["u_start"], u_end=traj_u[-1], beta_initial=b0,
-            beta_min=current.get("beta_min", b0), beta_final=float(traj_b[-1]),
-            depth_initial=a * (1.0 - math.sin(b0)), side="open", cm_radius_start=current["r_start"],
-            cm_radius_end=float(np.linalg.norm(traj_cm[-1] - centre)), steps=current.get("steps", 0),
-        ))
-
-    tu = np.array(traj_u)
-    tc = np.array(traj_cm)
-    tt = np.array(traj_th)
-    tb = np.array(traj_b)
-    marks = path.revolution_marks[path.revolution_marks <= tu[-1]]
-    rad = np.linalg.norm(tc - centre, axis=1)
-    rev = np.interp(marks, tu, rad) if marks.size else np.zeros(0)
-    pr = np.linalg.norm(path.position(tu) - centre, axis=1)
-    final_radius = float(rad[-1])
-    extent = final_radius + a
-    inside = (status == "completed") and not escaped and extent <= promise + s.promise_tol * a
-    return SpiralRun(
-        status=status, escaped=escaped, inside_promise=bool(inside), promised_radius=promise,
-        final_cm=tc[-1].copy(), final_theta=float(tt[-1]), final_radius=final_radius,
-        final_extent=extent, contacts=tuple(contacts), touches=touches,
-        trajectory_u=tu, trajectory_cm=tc, trajectory_theta=tt, trajectory_beta=tb, revolution_cm_radius=rev,
-        max_protrusion=float(np.max(rad + a - pr)), max_force_angle=oracle.counts.max_force_angle,
-        u_reached=float(tu[-1]), path_fraction=float(tu[-1] / path.u_end) if path.u_end > 0 else 1.0,
-        steps=n_steps_total, forward_solves=oracle.counts.solves, not_optimal=oracle.counts.not_optimal,
-        modes=dict(oracle.counts.modes), max_kkt=oracle.counts.max_kkt, wall_time_s=time.perf_counter() - t0,
-        error=error,
-    )
+    cut = herd.cut_contact()
+    if cut is not None and status not in ("completed", "escaped", "in_contact_at_end"):
+        contacts.append(cut)
+    return herd.run(status, escaped, error, contacts, touches, promise, t0)
 
 
 def collision_pose(path: _Path, u: float, beta: float, a: float):

@@ -41,32 +41,55 @@ def _title(prep: PreparedPush, locus: DiskCorLocus) -> str:
     return f"{head}, sense {locus.sense}"
 
 
-def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
-    """The picture of ``locus`` (computed with every output) on a new SVG-canvas figure."""
+def _locus_view(prep: PreparedPush, locus: DiskCorLocus, tip_in_view: bool) -> SquareView:
+    """A square about the CM, sized in world units first: the disk, the contact, the
+    footprint, and the locus, its tip and the tip line when the tip is near enough."""
     scene = prep.scene
     a_world = scene.disk_radius
     cm_world = np.asarray(scene.center_of_mass, dtype=float)
 
-    # ---- view box: a square about the CM, sized in world units first -----------------
     def rel(point) -> np.ndarray:
         return np.asarray(point, dtype=float) - cm_world
 
     must_see = [np.array([a_world, a_world]), rel(scene.contact_point)]
     if prep.footprint is not None:
         must_see.extend(rel(prep.footprint.vertices))
-    tip_in_view = locus.tip is not None and locus.tip.distance <= MAX_TIP_IN_VIEW * a_world
     if tip_in_view and locus.boundary is not None:
         must_see.extend(rel(locus.boundary))
     if tip_in_view:
         must_see.append(rel(locus.tip.point))
     if locus.tip_line is not None and locus.tip_line.distance <= MAX_TIP_IN_VIEW * a_world:
         must_see.append(rel(locus.tip_line.point))
-    view = SquareView.around(must_see, cm_world)
+    return SquareView.around(must_see, cm_world)
+
+
+def _draw_tip(ax, tip, axis: np.ndarray, view: SquareView, tip_in_view: bool):
+    """The tip, or an arrow toward it when it is off the picture; its legend handle."""
+    if tip_in_view:
+        (h,) = ax.plot(*view.to_drawing(tip.point), marker="^", color=COLORS["tip"], markersize=8,
+                       linestyle="none", label=f"tip (r_tip = {tip.distance:.4g})", zorder=6)
+        return h
+    cm = view.centre
+    reach = view.half / max(abs(axis[0]), abs(axis[1]))  # distance to the view's edge
+    start, end = cm + 0.55 * reach * axis, cm + 0.95 * reach * axis
+    ax.add_patch(FancyArrowPatch(tuple(start), tuple(end), arrowstyle="-|>", mutation_scale=16,
+                                 color=COLORS["tip"], linewidth=1.5, zorder=6))
+    ax.annotate(f"tip off picture\nr_tip = {tip.distance:.4g}", xy=tuple(start),
+                ha="center", va="center", fontsize=8, color=COLORS["tip"], zorder=7,
+                bbox=dict(boxstyle="round", facecolor="white", alpha=0.8, linewidth=0.5))
+    return Line2D([], [], color=COLORS["tip"], marker=">", label=f"to tip (r_tip = {tip.distance:.4g})")
+
+
+def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
+    """The picture of ``locus`` (computed with every output) on a new SVG-canvas figure."""
+    scene = prep.scene
+    a_world = scene.disk_radius
+    tip_in_view = locus.tip is not None and locus.tip.distance <= MAX_TIP_IN_VIEW * a_world
+    view = _locus_view(prep, locus, tip_in_view)
     P = view.to_drawing
     a = a_world / view.scale
     cm = view.centre
     contact = P(scene.contact_point)
-    half = view.half
     line_lo, line_hi = view.clip_box
 
     fig = new_figure(FIGSIZE_IN, FIGSIZE_IN)
@@ -126,21 +149,7 @@ def build_figure(prep: PreparedPush, locus: DiskCorLocus) -> Figure:
         handles.append(line(P(tl.point), tl.direction, color=COLORS["tip"], linewidth=0.8,
                             linestyle="-.", label="tip line", zorder=3))
     if locus.tip is not None:
-        if tip_in_view:
-            (h,) = ax.plot(*P(locus.tip.point), marker="^", color=COLORS["tip"], markersize=8,
-                           linestyle="none", label=f"tip (r_tip = {locus.tip.distance:.4g})", zorder=6)
-            handles.append(h)
-        else:
-            axis = np.asarray(locus.axis, dtype=float)
-            reach = half / max(abs(axis[0]), abs(axis[1]))  # distance to the view's edge
-            start, end = cm + 0.55 * reach * axis, cm + 0.95 * reach * axis
-            ax.add_patch(FancyArrowPatch(tuple(start), tuple(end), arrowstyle="-|>", mutation_scale=16,
-                                         color=COLORS["tip"], linewidth=1.5, zorder=6))
-            ax.annotate(f"tip off picture\nr_tip = {locus.tip.distance:.4g}", xy=tuple(start),
-                        ha="center", va="center", fontsize=8, color=COLORS["tip"], zorder=7,
-                        bbox=dict(boxstyle="round", facecolor="white", alpha=0.8, linewidth=0.5))
-            handles.append(Line2D([], [], color=COLORS["tip"], marker=">",
-                                  label=f"to tip (r_tip = {locus.tip.distance:.4g})"))
+        handles.append(_draw_tip(ax, locus.tip, np.asarray(locus.axis, dtype=float), view, tip_in_view))
     if locus.r_min is not None:
         (h,) = ax.plot(*P(locus.r_min.point), marker="s", color=COLORS["r_min"], markersize=6,
                        linestyle="none", label=f"r_min = {locus.r_min.distance:.4g}", zorder=6)

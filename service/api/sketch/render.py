@@ -18,6 +18,7 @@ their extent is given in the legend.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -99,15 +100,14 @@ def sketch_title(prep: PreparedPush, sk: CorSketch) -> str:
     return f"COR sketch {sk.sketch}{mirror}: {IMPLICATION_TEXT[sk.implication]}\n{head}"
 
 
-def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | None) -> Figure:
-    """The picture of ``sk`` on a new SVG-canvas figure; ``tip_line`` is the frictionless
-    locus's tip line of the scene (models.locus.cor_disk), drawn dashed."""
+def _sketch_view(prep: PreparedPush, sk: CorSketch) -> SquareView:
+    """A square about the CM holding the disk, the contact, the footprint and whatever of
+    the sketch lies within MAX_IN_VIEW disk radii."""
     scene = prep.scene
     a_world = scene.disk_radius
     cm_world = np.asarray(scene.center_of_mass, dtype=float)
     reach = MAX_IN_VIEW * a_world
 
-    # ---- view box: a square about the CM, in world units first ------------------------
     def rel(points) -> np.ndarray:
         return np.atleast_2d(np.asarray(points, dtype=float)) - cm_world
 
@@ -127,122 +127,149 @@ def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | N
         near = r[np.hypot(r[:, 0], r[:, 1]) <= reach]
         if len(near):
             must_see.append(near)
-    view = SquareView.around(must_see, cm_world)
-    P = view.to_drawing
-    a = a_world / view.scale
-    cm = view.centre
-    contact = P(scene.contact_point)
-    lo, hi = view.lo, view.hi
-    line_lo, line_hi = view.clip_box
+    return SquareView.around(must_see, cm_world)
 
-    fig = new_figure(FIGSIZE_IN + LEGEND_WIDTH_IN, FIGSIZE_IN)
-    ax = fig.add_subplot()
-    view.frame(ax)
-    handles = []
 
-    def line(point, direction, gid, **style):
+@dataclass
+class _Canvas:
+    """The axes, the view and the legend's handles of one picture."""
+
+    ax: object
+    view: SquareView
+    handles: list = field(default_factory=list)
+
+    def line(self, point, direction, gid, **style):
+        """An infinite line clipped to the picture (a legend entry only when it misses it)."""
+        line_lo, line_hi = self.view.clip_box
         seg = clip_line_to_box(np.asarray(point, float), np.asarray(direction, float), line_lo, line_hi)
         if seg is None:
-            return Line2D([], [], **style)  # legend entry only
-        (h,) = ax.plot(seg[:, 0], seg[:, 1], gid=gid, **style)
+            return Line2D([], [], **style)
+        (h,) = self.ax.plot(seg[:, 0], seg[:, 1], gid=gid, **style)
         return h
 
-    def polygon(points, gid, **style):
-        ring = clip_polygon_to_box(P(points), line_lo, line_hi)
+    def polygon(self, points, gid, **style) -> None:
+        line_lo, line_hi = self.view.clip_box
+        ring = clip_polygon_to_box(self.view.to_drawing(points), line_lo, line_hi)
         if len(ring) >= 3:
-            ax.add_patch(PolygonPatch(ring, closed=True, gid=gid, **style))
+            self.ax.add_patch(PolygonPatch(ring, closed=True, gid=gid, **style))
 
-    # ---- the slipping loci (shaded) and the elementary loci (outline) ----------------
+
+def _draw_loci(c: _Canvas, sk: CorSketch) -> None:
+    """The slipping loci (shaded) and the elementary loci (outline)."""
     for polys, key, name in ((sk.down_slipping, "down", "down-slipping locus"),
                              (sk.up_slipping, "up", "up-slipping locus")):
         style = dict(facecolor=COLORS[key], edgecolor="none", alpha=0.35, zorder=1)
         for i, poly in enumerate(polys):
-            polygon(poly, f"{key}-slipping-{i}", **style)
+            c.polygon(poly, f"{key}-slipping-{i}", **style)
         label = name if polys else f"{name} (empty)"
-        handles.append(PolygonPatch(np.zeros((3, 2)), label=label, **style))
+        c.handles.append(PolygonPatch(np.zeros((3, 2)), label=label, **style))
     for loc, key, name in ((sk.plus, "plus", "{COR}_(α+ν)"), (sk.minus, "minus", "{COR}_(α−ν)")):
         style = dict(fill=False, edgecolor=COLORS[key], linewidth=1.1, zorder=2)
         if loc.boundary is not None:
-            polygon(loc.boundary, f"locus-{key}", **style)
+            c.polygon(loc.boundary, f"locus-{key}", **style)
             label = f"{name}: {loc.configuration.replace('_', ' ')}"
         else:
             label = f"{name}: translation (wrapped)"
-        handles.append(PolygonPatch(np.zeros((3, 2)), label=label, **style))
+        c.handles.append(PolygonPatch(np.zeros((3, 2)), label=label, **style))
 
-    # ---- workpiece --------------------------------------------------------------------
-    disk = Circle(tuple(cm), a, fill=False, edgecolor=COLORS["disk"], linestyle="--", linewidth=1.0,
-                  label=f"disk (a = {a_world:.4g})", zorder=3, gid="disk")
-    ax.add_patch(disk)
-    handles.append(disk)
+
+def _draw_workpiece(c: _Canvas, prep: PreparedPush) -> None:
+    """The disk, the footprint and the CM."""
+    a_world = prep.scene.disk_radius
+    disk = Circle(tuple(c.view.centre), a_world / c.view.scale, fill=False, edgecolor=COLORS["disk"],
+                  linestyle="--", linewidth=1.0, label=f"disk (a = {a_world:.4g})", zorder=3, gid="disk")
+    c.ax.add_patch(disk)
+    c.handles.append(disk)
     if prep.footprint is not None:
-        poly = PolygonPatch(P(prep.footprint.vertices), closed=True, facecolor=COLORS["workpiece"],
+        poly = PolygonPatch(c.view.to_drawing(prep.footprint.vertices), closed=True, facecolor=COLORS["workpiece"],
                             alpha=0.12, edgecolor=COLORS["workpiece"], linewidth=1.2,
                             label="workpiece", zorder=3, gid="workpiece")
-        ax.add_patch(poly)
-        handles.append(poly)
-    (h,) = ax.plot(*cm, marker="+", color="black", markersize=12, markeredgewidth=1.5,
-                   linestyle="none", label="centre of mass", zorder=6, gid="center-of-mass")
-    handles.append(h)
+        c.ax.add_patch(poly)
+        c.handles.append(poly)
+    (h,) = c.ax.plot(*c.view.centre, marker="+", color="black", markersize=12, markeredgewidth=1.5,
+                     linestyle="none", label="centre of mass", zorder=6, gid="center-of-mass")
+    c.handles.append(h)
 
-    # ---- lines through the contact ------------------------------------------------------
-    jp = np.asarray(sk.sticking_line_direction, dtype=float)
-    n = np.asarray(sk.edge_normal_direction, dtype=float)
-    handles.append(line(contact, jp, "sticking-line", color=COLORS["sticking_line"], linewidth=0.9,
-                        label="sticking line", zorder=3))
-    handles.append(line(contact, n, "edge-normal-line", color=COLORS["normal"], linewidth=0.9, linestyle="-.",
-                        label="edge normal line", zorder=3))
-    if tip_line is not None:
-        handles.append(line(P(tip_line.point), tip_line.direction, "tip-line", color=COLORS["tip_line"],
-                            linewidth=0.9, linestyle="--", label="tip line", zorder=3))
 
-    # ---- the sticking locus (bold) and the tip-line estimate ---------------------------
+def _draw_sticking(c: _Canvas, sk: CorSketch, contact: np.ndarray, jp: np.ndarray) -> None:
+    """The sticking locus (bold, or an arrow toward it when it is off the picture) and the
+    tip-line estimate of its end."""
+    P = c.view.to_drawing
+    line_lo, line_hi = c.view.clip_box
     if sk.sticking is not None:
         s = sk.sticking
         seg = _clip_segment(P(s.low), P(s.high), line_lo, line_hi)
         style = dict(color=COLORS["sticking"], linewidth=3.2, solid_capstyle="butt", zorder=5)
         label = f"sticking locus, t ∈ [{s.t_low:.4g}, {s.t_high:.4g}]"
         if seg is not None:
-            (h,) = ax.plot(seg[:, 0], seg[:, 1], label=label, gid="sticking-locus", **style)
+            (h,) = c.ax.plot(seg[:, 0], seg[:, 1], label=label, gid="sticking-locus", **style)
         else:
             h = Line2D([], [], label=f"{label} (off picture)", **style)
-            _arrow_along(ax, contact, jp if s.t_low > 0.0 else -jp, lo, hi, COLORS["sticking"])
-        handles.append(h)
+            _arrow_along(c.ax, contact, jp if s.t_low > 0.0 else -jp, c.view.lo, c.view.hi, COLORS["sticking"])
+        c.handles.append(h)
     else:
-        handles.append(Line2D([], [], color=COLORS["sticking"], linewidth=3.2, label="sticking locus (empty)"))
+        c.handles.append(Line2D([], [], color=COLORS["sticking"], linewidth=3.2, label="sticking locus (empty)"))
     if sk.tip_line_low is not None:
         pt = P(sk.tip_line_low)
         label = f"tip-line estimate, t = {sk.tip_line_t:.4g}"
         if np.all(line_lo <= pt) and np.all(pt <= line_hi):
-            (h,) = ax.plot(*pt, marker="x", color=COLORS["tip_line"], markersize=8, markeredgewidth=1.8,
-                           linestyle="none", label=label, zorder=6, gid="tip-line-estimate")
+            (h,) = c.ax.plot(*pt, marker="x", color=COLORS["tip_line"], markersize=8, markeredgewidth=1.8,
+                             linestyle="none", label=label, zorder=6, gid="tip-line-estimate")
         else:
             h = Line2D([], [], marker="x", color=COLORS["tip_line"], linestyle="none", label=f"{label} (off picture)")
-        handles.append(h)
+        c.handles.append(h)
 
-    # ---- pusher: contact, push arrow, friction cone ----------------------------------------
-    p = np.asarray(scene.push_hat, dtype=float)
+
+def _draw_pusher(c: _Canvas, prep: PreparedPush, sk: CorSketch, contact: np.ndarray, n: np.ndarray) -> None:
+    """The contact, the push arrow, the friction cone and, for a translation, its arrow."""
+    a = prep.scene.disk_radius / c.view.scale
+    cm = c.view.centre
+    p = np.asarray(prep.scene.push_hat, dtype=float)
     ang_n = math.degrees(math.atan2(n[1], n[0]))
     nu_deg = math.degrees(sk.nu)
     cone = Wedge(tuple(contact), CONE_RADIUS_REL * a, ang_n - nu_deg, ang_n + nu_deg, facecolor=COLORS["cone"],
                  edgecolor="#b7950b", alpha=0.55, linewidth=0.8, zorder=4,
                  label=f"friction cone (ν = {nu_deg:.3g}°)", gid="friction-cone")
-    ax.add_patch(cone)
-    handles.append(cone)
-    ax.add_patch(FancyArrowPatch(tuple(contact - 0.6 * a * p), tuple(contact), arrowstyle="-|>",
-                                 mutation_scale=14, color=COLORS["push"], linewidth=1.5, zorder=6,
-                                 gid="push-arrow"))
-    (h,) = ax.plot(*contact, marker="o", color=COLORS["push"], markersize=6, linestyle="none",
-                   label="contact and push", zorder=7, gid="contact")
-    handles.append(h)
+    c.ax.add_patch(cone)
+    c.handles.append(cone)
+    c.ax.add_patch(FancyArrowPatch(tuple(contact - 0.6 * a * p), tuple(contact), arrowstyle="-|>",
+                                   mutation_scale=14, color=COLORS["push"], linewidth=1.5, zorder=6,
+                                   gid="push-arrow"))
+    (h,) = c.ax.plot(*contact, marker="o", color=COLORS["push"], markersize=6, linestyle="none",
+                     label="contact and push", zorder=7, gid="contact")
+    c.handles.append(h)
     if is_translation(sk):
-        ax.add_patch(FancyArrowPatch(tuple(cm), tuple(cm + 0.8 * a * p), arrowstyle="-|>", mutation_scale=18,
-                                     color=COLORS["sticking"], linewidth=2.0, zorder=6, gid="translation"))
-        handles.append(Line2D([], [], color=COLORS["sticking"], marker=">", linewidth=2.0,
-                              label="translation (COR at infinity)"))
+        c.ax.add_patch(FancyArrowPatch(tuple(cm), tuple(cm + 0.8 * a * p), arrowstyle="-|>", mutation_scale=18,
+                                       color=COLORS["sticking"], linewidth=2.0, zorder=6, gid="translation"))
+        c.handles.append(Line2D([], [], color=COLORS["sticking"], marker=">", linewidth=2.0,
+                                label="translation (COR at infinity)"))
 
-    ax.set_title(sketch_title(prep, sk), fontsize=9)
-    legend = ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
-                       fontsize=7, framealpha=0.85)
+
+def build_sketch_figure(prep: PreparedPush, sk: CorSketch, tip_line: TipLine | None) -> Figure:
+    """The picture of ``sk`` on a new SVG-canvas figure; ``tip_line`` is the frictionless
+    locus's tip line of the scene (models.locus.cor_disk), drawn dashed."""
+    view = _sketch_view(prep, sk)
+    contact = view.to_drawing(prep.scene.contact_point)
+    fig = new_figure(FIGSIZE_IN + LEGEND_WIDTH_IN, FIGSIZE_IN)
+    c = _Canvas(fig.add_subplot(), view)
+    view.frame(c.ax)
+    _draw_loci(c, sk)
+    _draw_workpiece(c, prep)
+    # lines through the contact
+    jp = np.asarray(sk.sticking_line_direction, dtype=float)
+    n = np.asarray(sk.edge_normal_direction, dtype=float)
+    c.handles.append(c.line(contact, jp, "sticking-line", color=COLORS["sticking_line"], linewidth=0.9,
+                            label="sticking line", zorder=3))
+    c.handles.append(c.line(contact, n, "edge-normal-line", color=COLORS["normal"], linewidth=0.9, linestyle="-.",
+                            label="edge normal line", zorder=3))
+    if tip_line is not None:
+        c.handles.append(c.line(view.to_drawing(tip_line.point), tip_line.direction, "tip-line",
+                                color=COLORS["tip_line"], linewidth=0.9, linestyle="--", label="tip line", zorder=3))
+    _draw_sticking(c, sk, contact, jp)
+    _draw_pusher(c, prep, sk, contact, n)
+    c.ax.set_title(sketch_title(prep, sk), fontsize=9)
+    legend = c.ax.legend(handles=c.handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
+                         fontsize=7, framealpha=0.85)
     legend.set_gid("legend")
     fig.tight_layout()
     return fig

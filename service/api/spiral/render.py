@@ -300,9 +300,23 @@ def _power_label(k: float) -> str:
     return f"n^-{k:.3g}" if k >= 0.0 else f"n^+{-k:.3g}"
 
 
-def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_points, centre, target,
-                          fit, title: str, tip_line_radii=None) -> Figure:
-    """The two panels on a new SVG-canvas figure (see :func:`render_schedule_svg`)."""
+@dataclass(frozen=True)
+class _Schedule:
+    """The checked inputs of the schedule's picture (finite, of the right shapes)."""
+
+    b: np.ndarray
+    a: float
+    b_inf: float
+    b_floor: float
+    centre: np.ndarray
+    target: float | None
+    path: np.ndarray | None
+    tip: np.ndarray | None
+    fit: tuple[float, float, int, int] | None
+
+
+def _checked_schedule(radii, a, b_inf, b_floor, path_points, centre, target, fit, tip_line_radii) -> _Schedule:
+    """The inputs checked in the order the picture takes them (the first bad one is named)."""
     b = _finite_array(radii, "the schedule's radii", ndim=1)
     if b.size == 0:
         raise ValueError("the schedule needs at least one radius")
@@ -319,41 +333,51 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
         path = _finite_array(path_points, "the pusher's path", ndim=2)
         if path.shape[1] != 2:
             raise ValueError(f"the path is an (N, 2) array, got shape {path.shape}")
-    tip = None
-    if tip_line_radii is not None:
-        tip = _finite_array(tip_line_radii, "the tip-line schedule's radii", ndim=1)
+    tip = None if tip_line_radii is None else _finite_array(tip_line_radii, "the tip-line schedule's radii", ndim=1)
+    checked_fit = None
     if fit is not None:
         k_fit, c_fit, n_min, n_max = fit
-        k_fit = finite(k_fit, "the fit's exponent k")
-        c_fit = finite(c_fit, "the fit's coefficient C")
-        n_min, n_max = int(n_min), int(n_max)
+        checked_fit = (finite(k_fit, "the fit's exponent k"), finite(c_fit, "the fit's coefficient C"),
+                       int(n_min), int(n_max))
+    return _Schedule(b=b, a=a, b_inf=b_inf, b_floor=b_floor, centre=c_world, target=target, path=path, tip=tip,
+                     fit=checked_fit)
+
+
+@dataclass(frozen=True)
+class _Approach:
+    """The right panel's data, ratios only (every scale draws the same): (b_n - b_inf) / a,
+    the floor's and the target's, the tip-line schedule's."""
+
+    dev: np.ndarray
+    floor_rel: float
+    target_rel: float | None
+    tip_dev: np.ndarray | None
+
+    @classmethod
+    def of(cls, sch: _Schedule) -> _Approach:
+        a, b_inf = sch.a, sch.b_inf
+        return cls(dev=_ratio(sch.b - b_inf, a, "(b_n - b_inf) / a"),
+                   floor_rel=float(_ratio(sch.b_floor - b_inf, a, "(b_floor - b_inf) / a")),
+                   target_rel=None if sch.target is None else float(_ratio(sch.target - b_inf, a,
+                                                                             "(target - b_inf) / a")),
+                   tip_dev=None if sch.tip is None else _ratio(sch.tip - b_inf, a, "(tip-line b_n - b_inf) / a"))
+
+
+def _draw_path_panel(ax, sch: _Schedule) -> None:
+    """Left: the pusher's path (or its revolutions as circles) with b_1, the target and b_inf,
+    in a square about the centre, as the COR locus picture."""
+    b, a, b_inf, target, path = sch.b, sch.a, sch.b_inf, sch.target, sch.path
     b_1 = float(b[0])
-
-    # ---- the right panel's data (ratios only: every scale draws the same) --------------
-    n = np.arange(1, b.size + 1, dtype=float)
-    dev = _ratio(b - b_inf, a, "(b_n - b_inf) / a")
-    floor_rel = float(_ratio(b_floor - b_inf, a, "(b_floor - b_inf) / a"))
-    target_rel = None if target is None else float(_ratio(target - b_inf, a, "(target - b_inf) / a"))
-    tip_dev = None if tip is None else _ratio(tip - b_inf, a, "(tip-line b_n - b_inf) / a")
-
-    # ---- left panel frame: a square about the centre, as the COR locus picture -----------
     reach = [abs(b_1), abs(b_inf)] + ([abs(target)] if target is not None else [])
     must_see = [np.array([max(reach), max(reach)])]
     if path is not None and len(path):
-        must_see.append(path - c_world)
-    view = SquareView.around(must_see, c_world)
-    P = view.to_drawing
-    scale = view.scale
-    cen = view.centre
-
-    fig = new_figure(2.0 * FIGSIZE_IN, FIGSIZE_IN)
-    ax, ax2 = fig.subplots(1, 2)
-
-    # ---- left: the pusher's path ----------------------------------------------------------
+        must_see.append(path - sch.centre)
+    view = SquareView.around(must_see, sch.centre)
+    scale, cen = view.scale, view.centre
     view.frame(ax)
     handles: list = []
     if path is not None and len(path):
-        drawn = decimate_polyline(P(path))
+        drawn = decimate_polyline(view.to_drawing(path))
         note = "" if len(drawn) == len(path) else f", {len(drawn)} of {len(path)} points drawn"
         (h,) = ax.plot(drawn[:, 0], drawn[:, 1], color=COLORS["path"], linewidth=0.6, zorder=2,
                        label=f"pusher path ({len(b)} revolutions{note})", gid="pusher-path")
@@ -386,12 +410,18 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
     (h,) = ax.plot(*cen, marker="+", color=COLORS["centre"], markersize=10, markeredgewidth=1.3,
                    linestyle="none", zorder=5, label="centre", gid="centre")
     handles.append(h)
-    ax.set_title(f"pusher path (a = {a:.4g}, b_floor = {b_floor:.4g})", fontsize=9)
+    ax.set_title(f"pusher path (a = {a:.4g}, b_floor = {sch.b_floor:.4g})", fontsize=9)
     legend = ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2,
                        fontsize=7, framealpha=0.85)
     legend.set_gid("legend-path")
 
-    # ---- right: figure 4-21, (b_n - b_inf) / a against n on log-log axes -----------------
+
+def _draw_approach_panel(ax2, sch: _Schedule, data: _Approach) -> None:
+    """Right: figure 4-21, (b_n - b_inf) / a against n on log-log axes, with the tip-line
+    schedule, the fit, the target and the floor."""
+    b, a = sch.b, sch.a
+    n = np.arange(1, b.size + 1, dtype=float)
+    dev, floor_rel, target_rel, tip_dev = data.dev, data.floor_rel, data.target_rel, data.tip_dev
     ax2.set_xscale("log")
     ax2.set_yscale("log")
     ax2.grid(True, which="both", linewidth=0.3, alpha=0.5)
@@ -418,21 +448,8 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
             handles2.append(h)
             xs.append(nt[tpos])
             ys.append(tip_dev[tpos])
-    if fit is not None:
-        label = f"fit (b_n - b_inf) = {c_fit:.3g} {_power_label(k_fit)}, n in [{n_min}, {n_max}]"
-        lo_n, hi_n = max(min(n_min, n_max), 1), max(n_min, n_max, 1)
-        nf = np.geomspace(lo_n, hi_n, 64) if hi_n > lo_n else np.array([float(lo_n)])
-        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-            yf = c_fit * nf ** (-k_fit) / a
-        ok = np.isfinite(yf) & (yf > 0.0)
-        if np.any(ok):
-            (h,) = ax2.plot(nf[ok], yf[ok], color=COLORS["fit"], linewidth=1.6, linestyle="-.",
-                            marker="s" if ok.sum() == 1 else None, zorder=4, label=label, gid="fit")
-            xs.append(nf[ok])
-            ys.append(yf[ok])
-        else:
-            h = Line2D([], [], color=COLORS["fit"], linestyle="-.", label=f"{label} (not drawable)")
-        handles2.append(h)
+    if sch.fit is not None:
+        handles2.append(_draw_fit(ax2, sch.fit, a, xs, ys))
     for value, key, text in ((target_rel, "target", "target"), (floor_rel, "b_floor", "table floor b_floor")):
         if value is not None and value > 0.0:
             h = ax2.axhline(value, color=COLORS[key], linestyle=":", linewidth=1.0, zorder=1,
@@ -459,6 +476,34 @@ def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_po
                          fontsize=7, framealpha=0.85)
     legend2.set_gid("legend-schedule")
 
+
+def _draw_fit(ax2, fit: tuple[float, float, int, int], a: float, xs: list, ys: list):
+    """The power-law fit's line (its legend handle; what it draws joins ``xs``, ``ys``)."""
+    k_fit, c_fit, n_min, n_max = fit
+    label = f"fit (b_n - b_inf) = {c_fit:.3g} {_power_label(k_fit)}, n in [{n_min}, {n_max}]"
+    lo_n, hi_n = max(min(n_min, n_max), 1), max(n_min, n_max, 1)
+    nf = np.geomspace(lo_n, hi_n, 64) if hi_n > lo_n else np.array([float(lo_n)])
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        yf = c_fit * nf ** (-k_fit) / a
+    ok = np.isfinite(yf) & (yf > 0.0)
+    if not np.any(ok):
+        return Line2D([], [], color=COLORS["fit"], linestyle="-.", label=f"{label} (not drawable)")
+    (h,) = ax2.plot(nf[ok], yf[ok], color=COLORS["fit"], linewidth=1.6, linestyle="-.",
+                    marker="s" if ok.sum() == 1 else None, zorder=4, label=label, gid="fit")
+    xs.append(nf[ok])
+    ys.append(yf[ok])
+    return h
+
+
+def build_schedule_figure(radii, a: float, b_inf: float, b_floor: float, path_points, centre, target,
+                          fit, title: str, tip_line_radii=None) -> Figure:
+    """The two panels on a new SVG-canvas figure (see :func:`render_schedule_svg`)."""
+    sch = _checked_schedule(radii, a, b_inf, b_floor, path_points, centre, target, fit, tip_line_radii)
+    data = _Approach.of(sch)
+    fig = new_figure(2.0 * FIGSIZE_IN, FIGSIZE_IN)
+    ax, ax2 = fig.subplots(1, 2)
+    _draw_path_panel(ax, sch)
+    _draw_approach_panel(ax2, sch, data)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return fig
