@@ -345,10 +345,12 @@ def canonical_outline(part: Footprint, j: int, fence: Fence) -> np.ndarray:
     """The part's outline (CM frame) in canonical_edge's frame with no turn yet: edge j
     along t0 = (cos |gamma|, sin |gamma|), the part above it (toward n0 = J t0), a point at
     (u, h) in the edge's frame (u mirrored to L - u for gamma < 0) at (u - u_c) t0 + (h - h_c) n0,
-    as the contact of endpoint_turn at l = u. Mirrored outlines run clockwise."""
+    as the contact of endpoint_turn at l = u, in the order the outline was given (its
+    dipods, solver/feeder/part_bound.py, follow that order). Mirrored outlines run the other way."""
     p, length, e = part.hull_edge(j)
-    u = (part.vertices - p) @ e
-    h = (part.vertices - p) @ perp(e)
+    given = part.vertices[::-1] if part.input_reversed else part.vertices
+    u = (given - p) @ e
+    h = (given - p) @ perp(e)
     u_c, h_c, _, _ = canonical_edge(part, j, fence, fence.mu_low)
     if fence.sign < 0.0:
         u = length - u

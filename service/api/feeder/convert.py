@@ -230,8 +230,7 @@ def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
         part=part, angle_min=a.min, angle_max=a.max, angle_step=a.step, mu_c=(float(mu[0]), float(mu[1])),
         max_depth=req.max_depth, alternate=req.alternate, prove_with_cp_sat=req.prove_with_cp_sat,
         validation_parts=req.validation_parts, seed=req.seed,
-        belt=None if req.belt is None else BeltSpec(req.belt.width, req.belt.clearance, req.belt.spacing, req.belt.entry_x),
-)
+        belt=None if req.belt is None else BeltSpec(req.belt.width, req.belt.clearance, req.belt.spacing, req.belt.entry_x))
 
 
 def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignResponse:

@@ -126,3 +126,92 @@ def test_inside_polygon_agrees_with_the_triangulation():
         expected = in_tri.any(axis=1)
         assert 0 < expected.sum() < len(pts)
         assert np.array_equal(inside_polygon(fp.vertices, pts), expected)
+
+
+# --- the one polygon type: hull, orientation, body frame, projection ----------------------
+
+
+def star(rng: np.random.Generator, n: int) -> np.ndarray:
+    """A random simple polygon, star-shaped about the origin (angular gaps below pi)."""
+    th = 2.0 * math.pi * (np.arange(n) + rng.uniform(0.0, 0.4, n)) / n
+    r = rng.uniform(0.3, 1.0, n)
+    return np.column_stack([r * np.cos(th), r * np.sin(th)])
+
+
+def test_the_hull_is_convex_counter_clockwise_holds_every_vertex_and_starts_at_the_least_x():
+    rng = np.random.default_rng(SEED)
+    for _ in range(50):
+        f = Footprint.create(star(rng, int(rng.integers(4, 12))))
+        h = f.hull
+        e = np.roll(h, -1, axis=0) - h
+        turns = e[:, 0] * np.roll(e[:, 1], -1) - e[:, 1] * np.roll(e[:, 0], -1)
+        assert np.all(turns > 0.0)  # strictly convex: collinear points dropped
+        for j in range(f.hull_size):  # every vertex on the inner side of every hull edge
+            assert np.all(e[j, 0] * (f.vertices[:, 1] - h[j, 1]) - e[j, 1] * (f.vertices[:, 0] - h[j, 0]) >= -1e-12)
+        rel = f.vertices - f.center_of_mass
+        assert f.hull_indices[0] == min(range(len(rel)), key=lambda i: (rel[i, 0], rel[i, 1]))
+        assert f.circumradius == pytest.approx(np.max(np.hypot(*(h - f.center_of_mass).T)), rel=1e-15)
+
+
+def test_a_collinear_vertex_is_in_the_outline_but_not_in_the_hull():
+    f = Footprint.create([[0, 0], [1, 0], [2, 0], [2, 1], [0, 1]])
+    assert 1 not in f.hull_indices and f.hull_size == 4
+
+
+def test_a_clockwise_outline_maps_its_vertices_back_to_the_order_given():
+    given = np.array(L_SHAPE, dtype=float)[::-1]  # clockwise
+    f = Footprint.create(given)
+    assert f.input_reversed and not Footprint.create(L_SHAPE).input_reversed
+    for i in range(len(given)):
+        assert np.array_equal(f.vertices[i], given[f.input_index(i)])
+    ccw = Footprint.create(L_SHAPE)
+    assert [ccw.input_index(i) for i in range(len(L_SHAPE))] == list(range(len(L_SHAPE)))
+
+
+def test_the_body_frame_moves_the_centre_of_mass_to_the_origin_and_keeps_the_rest():
+    f = Footprint.create(L_SHAPE, center_of_mass=[0.7, 0.9])
+    b = f.centred()
+    assert np.array_equal(b.center_of_mass, [0.0, 0.0])
+    assert np.array_equal(b.vertices, f.vertices - f.center_of_mass)
+    assert (b.hull_indices, b.circumradius, b.area, b.input_reversed) == (
+        f.hull_indices, f.circumradius, f.area, f.input_reversed)
+
+
+def test_hull_edges_and_the_centre_of_mass_over_them():
+    f = Footprint.create(SQUARE, center_of_mass=[0.5, -0.25])
+    for j in range(f.hull_size):
+        start, length, e = f.hull_edge(j)
+        assert np.allclose(start + length * e, f.hull[(j + 1) % f.hull_size])
+        assert f.hull_edge_angle(j) == pytest.approx(math.atan2(e[1], e[0]))
+        u, h = f.cm_over_hull_edge(j)
+        assert np.allclose(start + u * e + h * np.array([-e[1], e[0]]), f.center_of_mass)
+        assert h > 0.0  # inside
+    # the square's bottom edge: CM 0.75 above it, 1.5 along it from (-1, -1)
+    j = next(j for j in range(4) if np.allclose(f.hull_edge(j)[0], [-1.0, -1.0]))
+    assert f.cm_over_hull_edge(j) == pytest.approx((1.5, 0.75))
+
+
+def test_the_projection_onto_the_outline_is_the_nearest_of_a_dense_sample():
+    rng = np.random.default_rng(SEED)
+    f = Footprint.create(L_SHAPE)
+    a, b = f.vertices, np.roll(f.vertices, -1, axis=0)
+    s = np.linspace(0.0, 1.0, 2001)[:, None, None]
+    dense = (a + s * (b - a)).reshape(-1, 2)
+    for p in rng.uniform(-1.0, 3.0, size=(40, 2)):
+        foot = f.nearest_on_outline(p)
+        best = float(np.min(np.hypot(*(dense - p).T)))
+        assert float(np.hypot(*(foot - p))) == pytest.approx(f.distance_to_outline(p), abs=1e-15)
+        assert best - 1e-3 <= f.distance_to_outline(p) <= best + 1e-12
+        assert float(np.min(np.hypot(*(dense - foot).T))) <= 1e-3  # on the outline
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1e6])
+def test_the_hull_does_not_depend_on_the_scale(scale):
+    rng = np.random.default_rng(SEED + 1)
+    v = star(rng, 9)
+    assert Footprint.create(v * scale).hull_indices == Footprint.create(v).hull_indices
+
+
+def test_a_symmetric_bow_tie_is_called_self_crossing_not_collinear():
+    with pytest.raises(InvalidInput, match="not a simple polygon"):
+        Footprint.create([[0, 0], [2, 2], [2, 0], [0, 2]])
