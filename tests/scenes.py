@@ -39,6 +39,17 @@ def point_in_polygon(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
     return np.sum(cond & (x < xint), axis=1) % 2 == 1
 
 
+def polygon_grid(vertices: np.ndarray, cells: int) -> np.ndarray:
+    """The midpoints of a square grid's cells inside the polygon, ``cells`` across its larger
+    side: a quadrature of the polygon's area, independent of the code under test."""
+    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+    h = float(np.max(hi - lo)) / cells
+    xs = np.arange(lo[0] + h / 2, hi[0], h)
+    ys = np.arange(lo[1] + h / 2, hi[1], h)
+    grid = np.array(np.meshgrid(xs, ys)).reshape(2, -1).T
+    return grid[point_in_polygon(grid, vertices)]
+
+
 def distance_to_polyline(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
     """Distance from each point to the closed polygon's edges."""
     pts = np.atleast_2d(points)[:, None, :]

@@ -14,7 +14,7 @@ from models.core.errors import InvalidInput
 from models.core.footprint import Footprint
 from models.core.scene import PushScene
 from models.locus import cor_disk as cd
-from tests.scenes import SEED, point_in_polygon, scene_for_mu
+from tests.scenes import SEED, point_in_polygon, polygon_grid, scene_for_mu
 
 
 def regular_polygon(n: int, circumradius: float, phase: float = 0.3, centre=(0.0, 0.0)) -> np.ndarray:
@@ -248,15 +248,11 @@ def test_invalid_disk_radius():
 # --- mean distance (the quasi-static check's rbar, 6.8) by closed forms and quadrature ------
 
 L_SHAPE_MD = np.array([[0, 0], [3, 0], [3, 1], [1, 1], [1, 2.5], [0, 2.5]], dtype=float)
+"""An L whose reflex vertex and edges give the mean distance every case of its formula."""
 
 
 def grid_mean_distance(vertices: np.ndarray, about, cells: int = 1500) -> float:
-    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
-    h = float(np.max(hi - lo)) / cells
-    xs = np.arange(lo[0] + h / 2, hi[0], h)
-    ys = np.arange(lo[1] + h / 2, hi[1], h)
-    grid = np.array(np.meshgrid(xs, ys)).reshape(2, -1).T
-    pts = grid[point_in_polygon(grid, vertices)]
+    pts = polygon_grid(vertices, cells)
     return float(np.mean(np.linalg.norm(pts - np.asarray(about), axis=1)))
 
 

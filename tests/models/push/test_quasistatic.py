@@ -15,7 +15,7 @@ from models.core.errors import InvalidInput
 from models.core.footprint import Footprint
 from models.core.inertia import polygon_radius_of_gyration
 from models.push import quasistatic as qs
-from tests.scenes import SEED, point_in_polygon
+from tests.scenes import SEED, point_in_polygon, polygon_grid
 
 CM_G = 981.0  # the book's g in cm/s^2
 L_SHAPE = np.array([[0, 0], [3, 0], [3, 1], [1, 1], [1, 2.5], [0, 2.5]], dtype=float)
@@ -39,12 +39,7 @@ def disk_elements(a: float, rings: int = 60, sectors: int = 120):
 
 def polygon_elements(vertices: np.ndarray, cells: int = 240):
     """Midpoint cells of a square grid inside the polygon, relative to their centroid."""
-    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
-    h = float(np.max(hi - lo)) / cells
-    xs = np.arange(lo[0] + h / 2, hi[0], h)
-    ys = np.arange(lo[1] + h / 2, hi[1], h)
-    grid = np.array(np.meshgrid(xs, ys)).reshape(2, -1).T
-    pts = grid[point_in_polygon(grid, vertices)]
+    pts = polygon_grid(vertices, cells)
     return pts - pts.mean(axis=0), np.full(len(pts), 1.0 / len(pts))
 
 
