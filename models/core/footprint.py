@@ -179,15 +179,17 @@ def _check_outline(v: np.ndarray, tolerances: Tolerances) -> None:
         raise InvalidInput("workpiece", "has repeated consecutive vertices")
 
 
-def _checked_center_of_mass(v: np.ndarray, center_of_mass: ArrayLike | None, tolerances: Tolerances) -> np.ndarray:
+def _checked_center_of_mass(v: np.ndarray, normalised: tuple[np.ndarray, np.ndarray, float],
+                            center_of_mass: ArrayLike | None, tolerances: Tolerances) -> np.ndarray:
     """The CM given (finite, in the convex hull of the CCW outline ``v``, 3.1.5) or, when
-    None, the centroid of the area (a part of uniform density)."""
+    None, the centroid of the area (a part of uniform density). ``normalised``: ``v`` about
+    its mean in units of its span (:func:`_normalised`)."""
     if center_of_mass is None:
         return area_centroid(v)
     cm = np.asarray(center_of_mass, dtype=float)
     if cm.shape != (2,) or not np.all(np.isfinite(cm)):
         raise InvalidInput("center_of_mass", "must be a finite point [x, y]")
-    vn, mean, span = _normalised(v)
+    vn, mean, span = normalised
     hull = vn[convex_hull_indices(vn, 0.0)]
     edges = np.roll(hull, -1, axis=0) - hull
     if not np.all(_cross(edges, (cm - mean) / span - hull) >= -tolerances.polygon_area_rel):
@@ -229,11 +231,12 @@ class Footprint:
             v = v[::-1].copy()
             area = -area
         # crossing before area: a symmetric bow-tie has no net area, yet is not "collinear"
-        if _segments_cross(_normalised(v)[0], tolerances.polygon_area_rel):  # in span units
+        normalised = _normalised(v)  # crossing and hull tests in span units: no over/underflow
+        if _segments_cross(normalised[0], tolerances.polygon_area_rel):
             raise InvalidInput("workpiece", "is not a simple polygon: two edges cross or touch")
         if area <= tolerances.polygon_area_rel * span * span:
             raise InvalidInput("workpiece", "is degenerate: its vertices are (nearly) collinear")
-        cm = _checked_center_of_mass(v, center_of_mass, tolerances)
+        cm = _checked_center_of_mass(v, normalised, center_of_mass, tolerances)
         q = v - cm
         lengths = np.hypot(q[:, 0], q[:, 1])
         radius = float(np.max(lengths))

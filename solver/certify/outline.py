@@ -22,7 +22,7 @@ from typing import Protocol
 import numpy as np
 
 from models.core.errors import InvalidInput
-from models.core.footprint import Footprint, inside_polygon
+from models.core.footprint import Footprint, edge_feet, inside_polygon
 from solver.core.tolerances import SolverTolerances
 
 ON_BOUNDARY_REL = 1e-9
@@ -80,12 +80,7 @@ class Outline:
         vertex = self.snap_to_vertex(r)
         if vertex is not None:
             return vertex, True
-        v = self.vertices
-        a, b = v, np.roll(v, -1, axis=0)
-        ab = b - a
-        t = np.clip(np.einsum("ij,ij->i", r - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
-        foot = a + t[:, None] * ab
-        d = np.hypot(foot[:, 0] - r[0], foot[:, 1] - r[1])
+        foot, d = edge_feet(self.vertices, r)
         k = int(np.argmin(d))
         if d[k] <= ON_BOUNDARY_REL:
             return foot[k], True
