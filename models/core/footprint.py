@@ -252,6 +252,18 @@ class Footprint:
         """The index in the outline as given of vertex ``i`` of ``vertices``."""
         return len(self.vertices) - 1 - int(i) if self.input_reversed else int(i)
 
+    def hull_edge_of_input(self, i: int) -> int | None:
+        """The hull edge that is edge ``i`` of the outline as given (from its vertex i to
+        vertex i + 1), or None when that edge is not on the convex hull."""
+        n = len(self.vertices)
+        a, b = (n - 1 - i % n, n - 1 - (i + 1) % n) if self.input_reversed else (i % n, (i + 1) % n)
+        start, stop = (b, a) if self.input_reversed else (a, b)  # the edge in CCW order
+        h = self.hull_indices
+        for j in range(len(h)):
+            if h[j] == start and h[(j + 1) % len(h)] == stop:
+                return j
+        return None
+
     @cached_property
     def hull(self) -> np.ndarray:
         """The convex hull's vertices (counter-clockwise), array (m, 2)."""

@@ -64,11 +64,15 @@ class DesignTolerances:
             within it (dominance).
         mask_cells: cells of the circle in each node's bit mask, a quick necessary test of
             dominance (a set within another touches only cells the other touches).
+        sliver: radians of the orientations arriving at a placed fence that it may leave
+            unaligned (models/feeder/placed.py): the cells around a balance that need more
+            reach than any other, whose width falls like e^(-reach / M) (fence.py phase 6).
     """
 
     symmetry_rel: float = 1e-9
     subset_slack: float = 1e-12
     mask_cells: int = 1440
+    sliver: float = 1e-9
 
 
 DESIGN_DEFAULT = DesignTolerances()

@@ -69,7 +69,7 @@ from models.core.errors import InvalidInput
 from models.core.footprint import Footprint
 from models.core.mpp import mason_sense, perp
 from models.core.scene import PushScene
-from models.feeder.arcs import Arcs, wrap
+from models.feeder.arcs import TWO_PI, Arcs, wrap
 from models.feeder.maps import ConfigurationMap
 from models.locus.cor_disk import disk_cor_locus
 from models.sketch.disk_sketch import force_scene
@@ -101,6 +101,10 @@ class FeederTolerances:
             a mu_c interval, and more on the wide, safe side near the friction angle).
         reach_cells: cells per piece of a contact interval in the reach integral (phase 6),
             crowded toward both ends (where the slip rate can grow without bound).
+        tail_cells: sub-cells of a piece's last cell where its turn starts at a balance
+            (phase 6), each e times narrower toward it; the innermost needs an infinite reach.
+        tail_probe: where the rate's growth K / x near a balance is sampled, as a fraction
+            of that last cell.
         crossing_rel: u_X this close to an end of its edge (times the part's radius) counts
             as on both sides of it (phase 4: the part may stay or pivot). Where the force
             line passes through a vertex (a rectangle's short edge at mu_c = 0.25) the
@@ -114,6 +118,8 @@ class FeederTolerances:
     mu_samples: int = 3
     b_margin: float = 2e-3
     reach_cells: int = 32
+    tail_cells: int = 40
+    tail_probe: float = 1e-6
     crossing_rel: float = 1e-6
 
     def mu_values(self, lo: float, hi: float) -> list[float]:
@@ -480,17 +486,60 @@ def _reach_after_flush(part: Footprint, fence: Fence, j: int, pivot_slip: Callab
     return need
 
 
-def unaligned_orientations(part: Footprint, fence: Fence, pieces: list[Piece], tol: FeederTolerances = DEFAULT,
-                           checkpoint: Callable[[str], None] | None = None) -> Arcs:
-    """Initial orientations from which the fence's ``reach`` may not be enough for an edge
-    to come flush and slide until the end meets u_X (phase 6): in each piece, cells of
-    orientation whose bound on the slip toward the end exceeds the reach. The bound on a
-    cell is an upper sum graded toward where the turn starts (upper_sum), exact when R x is
-    monotone on the cell; a cell touching an orientation where the part can
-    slide without turning is always unaligned."""
-    reach = fence.reach
-    if reach is None or fence.sliding_mu() is None:
-        return Arcs.empty()
+@dataclass(frozen=True)
+class ReachProfile:
+    """Phase 6 for every reach at once: cells of initial orientation [lo, lo + width] and
+    for each a bound on the reach it needs (part units; inf: no reach suffices, a balance
+    where the part can slide without turning touches the cell). A fence of reach R leaves
+    unaligned exactly the cells that need more than R (:meth:`unaligned`)."""
+
+    lo: np.ndarray
+    width: np.ndarray
+    need: np.ndarray
+
+    @classmethod
+    def none(cls) -> ReachProfile:
+        """A fence on which every flush part jams: nothing to align."""
+        return cls(np.zeros(0), np.zeros(0), np.zeros(0))
+
+    def unaligned(self, reach: float) -> Arcs:
+        """The initial orientations a fence of this reach may leave unaligned."""
+        over = self.need > reach
+        return Arcs.of(zip(self.lo[over].tolist(), self.width[over].tolist()))
+
+    def meeting(self, arcs: Arcs) -> np.ndarray:
+        """Which cells meet the closed set ``arcs`` (boolean per cell)."""
+        hit = np.zeros(self.lo.shape, dtype=bool)
+        for s, w in arcs.arcs:
+            hit |= (np.mod(self.lo - s, TWO_PI) <= w) | (np.mod(s - self.lo, TWO_PI) <= self.width)
+        return hit
+
+    def needed(self, arcs: Arcs, allowance: float = 0.0) -> tuple[float, float]:
+        """The least reach that aligns every orientation of ``arcs`` but at most
+        ``allowance`` radians of them (the cells needing the most, whole), and the measure
+        of the cells it leaves unaligned: (inf, measure) when even that is not enough;
+        (0, 0) for the empty set."""
+        hit = np.nonzero(self.meeting(arcs))[0]
+        if hit.size == 0:
+            return 0.0, 0.0
+        order = hit[np.argsort(-self.need[hit], kind="stable")]
+        dropped = np.cumsum(self.width[order])
+        keep = int(np.searchsorted(dropped, allowance, side="right"))  # cells that may stay unaligned
+        if keep == order.size:
+            return 0.0, float(dropped[-1])
+        return float(self.need[order[keep]]), float(dropped[keep - 1]) if keep else 0.0
+
+
+def reach_profile(part: Footprint, fence: Fence, pieces: list[Piece] | None = None,
+                  tol: FeederTolerances = DEFAULT, checkpoint: Callable[[str], None] | None = None) -> ReachProfile:
+    """The reach each initial orientation needs for an edge to come flush and slide until
+    the end meets u_X (phase 6), per cell of each piece (:func:`contact_pieces`): a cell's
+    bound is an upper sum graded toward where the turn starts (upper_sum), exact when R x is
+    monotone on the cell; a cell touching an orientation where the part can slide without
+    turning needs an infinite reach."""
+    if fence.sliding_mu() is None:
+        return ReachProfile.none()
+    pieces = contact_pieces(part, fence) if pieces is None else pieces
     rates: dict[tuple[int, float], float] = {}
 
     def rate(k: int, theta: float) -> float:
@@ -526,7 +575,9 @@ def unaligned_orientations(part: Footprint, fence: Fence, pieces: list[Piece], t
             totals[(k, sense)] = float(upper_sum(k, nodes if sense == "cw" else nodes[::-1])[-1])
         return totals[(k, sense)]
 
-    out = []
+    lo: list[float] = []
+    width: list[float] = []
+    need_of: list[float] = []
     for piece in pieces:
         if checkpoint is not None:
             checkpoint(f"the reach needed from vertex {piece.vertex} turning {piece.sense}")
@@ -546,11 +597,63 @@ def unaligned_orientations(part: Footprint, fence: Fence, pieces: list[Piece], t
                       if piece.hi < c_width else 0.0)
             nodes = (piece.start + _reach_nodes(0.0, piece.width, tol.reach_cells))[::-1]
         need = before + after + upper_sum(k, nodes)
-        for i in range(len(nodes) - 1):
-            if need[i + 1] > reach:  # the cell's far end bounds every orientation in it
-                lo = min(float(nodes[i]), float(nodes[i + 1]))
-                out.append((lo, abs(float(nodes[i + 1] - nodes[i]))))
-    return Arcs.of(out)
+        tail = _balance_tail(nodes, float(need[-2]), lambda th: rate(k, th), tol)
+        for i in range(len(nodes) - (1 if tail is None else 2)):  # the cell's far end bounds every orientation in it
+            lo.append(min(float(nodes[i]), float(nodes[i + 1])))
+            width.append(abs(float(nodes[i + 1] - nodes[i])))
+            need_of.append(float(need[i + 1]))
+        if tail is not None:
+            lo.extend(tail[0])
+            width.extend(tail[1])
+            need_of.extend(tail[2])
+    return ReachProfile(np.array(lo), np.array(width), np.array(need_of))
+
+
+def _balance_tail(nodes: np.ndarray, need_before: float, rate: Callable[[float], float],
+                  tol: FeederTolerances) -> tuple[list[float], list[float], list[float]] | None:
+    """The last cell of a piece whose turn starts at a balance (the rate is inf at nodes[-1]),
+    split toward it: the rate there grows like K / x with x the distance to the balance, so
+    from x to the cell's far end x_1 the slip is at most M ln(x_1 / x), M the largest of R x
+    at x_1 and near the balance (the same bound as the inner cells of upper_sum). Sub-cells
+    [x_1 e^-m, x_1 e^-(m-1)] need at most need_before + M m; the innermost, touching the
+    balance, needs an infinite reach. None when there is no balance at nodes[-1] (or no
+    finite M)."""
+    end, far = float(nodes[-1]), float(nodes[-2])
+    if not math.isinf(rate(end)) or not math.isfinite(need_before):
+        return None
+    x1 = abs(end - far)
+    toward = math.copysign(1.0, far - end)  # from the balance into the cell
+    probe = x1 * tol.tail_probe
+    m_bound = max(rate(far) * x1, rate(end + toward * probe) * probe)
+    if not math.isfinite(m_bound):
+        return None
+    lo, width, need = [], [], []
+    for m in range(1, tol.tail_cells + 1):
+        outer, inner = x1 * math.exp(-(m - 1)), x1 * math.exp(-m)
+        lo.append(min(end + toward * inner, end + toward * outer))
+        width.append(outer - inner)
+        need.append(need_before + m_bound * m)
+    inner = x1 * math.exp(-tol.tail_cells)
+    lo.append(min(end, end + toward * inner))
+    width.append(inner)
+    need.append(math.inf)
+    return lo, width, need
+
+
+def contact_pieces(part: Footprint, fence: Fence) -> list[Piece]:
+    """Phases 1-2: the pieces of initial orientation, per hull vertex meeting the fence
+    first, cut where Mason's rule changes its vote; a piece where both senses are possible
+    (a mu_c interval) appears once per sense."""
+    pieces: list[Piece] = []
+    for k in range(part.hull_size):
+        start, width = contact_interval(part, k, fence.angle)
+        cuts = sorted({0.0, width} | {d for b in vote_breakpoints(part, k, fence)
+                                      if 0.0 < (d := wrap(b - start)) < width})
+        for a, b in zip(cuts[:-1], cuts[1:]):
+            senses = senses_at(part, k, start + 0.5 * (a + b), fence)
+            pieces.extend(Piece(vertex=k, start=start + a, width=b - a, sense=sense, lo=a, hi=b)
+                          for sense in sorted(senses))
+    return pieces
 
 
 OwnRate = Callable[[int, float], Callable[[float, float], float]]
@@ -649,18 +752,10 @@ def fence_map(part: Footprint, fence: Fence, tol: FeederTolerances = DEFAULT,
     gamma = fence.angle
     finals_of_flush = {j: final_edges(part, j, fence, tol) for j in range(part.hull_size)}
     kernels: dict[int, list[tuple[float, float]]] = {}
-    pieces: list[Piece] = []
-    for k in range(part.hull_size):
-        start, width = contact_interval(part, k, gamma)
-        cuts = sorted({0.0, width} | {d for b in vote_breakpoints(part, k, fence)
-                                      if 0.0 < (d := wrap(b - start)) < width})
-        for a, b in zip(cuts[:-1], cuts[1:]):
-            senses = senses_at(part, k, start + 0.5 * (a + b), fence)
-            for sense in sorted(senses):
-                piece = Piece(vertex=k, start=start + a, width=b - a, sense=sense, lo=a, hi=b)
-                pieces.append(piece)
-                for f in finals_of_flush[piece.flushed_edge % part.hull_size]:
-                    kernels.setdefault(f, []).append((piece.start, piece.width))
+    pieces = contact_pieces(part, fence)
+    for piece in pieces:
+        for f in finals_of_flush[piece.flushed_edge % part.hull_size]:
+            kernels.setdefault(f, []).append((piece.start, piece.width))
     edges = tuple(sorted(kernels))
     turns_made = []
     for j in edges:
@@ -680,7 +775,8 @@ def fence_map(part: Footprint, fence: Fence, tol: FeederTolerances = DEFAULT,
     if fence.may_jam():
         notes.append(f"mu_c up to {fence.mu_high:g} >= |tan(fence_angle)| = {fence.jam_threshold:g}: "
                      "a flush part may jam on this fence (6.4)")
-    unaligned = unaligned_orientations(part, fence, pieces, tol, checkpoint)
+    unaligned = (Arcs.empty() if fence.reach is None else
+                 reach_profile(part, fence, pieces, tol, checkpoint).unaligned(fence.reach))
     if not unaligned.is_empty:
         notes.append(f"a reach of {fence.reach:g} may be too short for {math.degrees(unaligned.measure):.3g} degrees "
                      "of initial orientations: the part may meet the fence's end before an edge is flush, and the "

@@ -7,8 +7,10 @@ import math
 import numpy as np
 
 from models.core.footprint import Footprint
-from models.feeder.arcs import Arcs
+from models.feeder.arcs import TWO_PI, Arcs
 from models.feeder.fence import Fence, FenceMap, feeder_part
+from models.feeder.gate import GateSpec
+from models.feeder.placed import Goal, PlacedDesign
 from service.api.feeder.schemas import (
     FeederCpSatOut,
     FeederDesignFenceOut,
@@ -20,6 +22,9 @@ from service.api.feeder.schemas import (
     FeederFenceIn,
     FeederFenceMapOut,
     FeederFenceRunOut,
+    FeederGateIn,
+    FeederGateOut,
+    FeederGoalIn,
     FeederLayoutOut,
     FeederMapRequest,
     FeederMapResponse,
@@ -221,27 +226,99 @@ def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
     mu = given if isinstance(given, tuple) else (given, given)
     if not mu[0] <= mu[1]:
         raise FieldError(("mu_c_range",), "must be [low, high] with low <= high")
-    if req.belt is not None:  # the belt's own checks are the solver's (models/feeder/layout.py)
-        for name in ("width", "clearance", "spacing", "entry_x"):
+    if req.belt is not None:  # the belt's own checks are the solver's (models/feeder/placed.py)
+        for name in ("width", "clearance", "spacing", "entry_x", "entry_spread"):
             value = getattr(req.belt, name)
             if value is not None:
                 at_most_radii(abs(value), part, FEEDER_MAX_WORLD_RADII, ("belt", name))
+    elif req.goal is not None or req.gate is not None:
+        raise FieldError(("goal" if req.goal is not None else "gate",), "needs a belt: goals and gates are for "
+                                                                        "designs placed on one")
+    with located(rename={"goal": ("goal",), "gate.features": ("gate", "features"), "gate.margin": ("gate", "margin"),
+                         "gate.min_yield": ("gate", "min_yield"), "goal.side": ("goal", "side"),
+                         "goal.tolerance": ("goal", "tolerance")}):
+        goal = goal_of(req.goal, part)
+        gate = None if req.gate is None else gate_of(req.gate, part)
+    b = req.belt
     return FeederDesignProblem(
         part=part, angle_min=a.min, angle_max=a.max, angle_step=a.step, mu_c=(float(mu[0]), float(mu[1])),
         max_depth=req.max_depth, alternate=req.alternate, prove_with_cp_sat=req.prove_with_cp_sat,
         validation_parts=req.validation_parts, seed=req.seed,
-        belt=None if req.belt is None else BeltSpec(req.belt.width, req.belt.clearance, req.belt.spacing, req.belt.entry_x))
+        belt=None if b is None else BeltSpec(b.width, b.clearance, b.spacing, b.entry_x, b.entry_spread),
+        goal=goal, gate=gate, min_yield=req.min_yield)
+
+
+def goal_of(g: FeederGoalIn | None, part: Footprint) -> Goal:
+    """The goal: intervals in [0, 2 pi) (each shorter than a turn), or an edge of the outline
+    against a guide."""
+    if g is None:
+        return Goal()
+    if (g.accepted is None) == (g.edge is None):
+        raise FieldError(("goal",), "give exactly one of accepted or edge")
+    if g.edge is not None:
+        if g.edge >= len(part.vertices):
+            raise FieldError(("goal", "edge"), f"must be below the outline's {len(part.vertices)} edges")
+        j = part.hull_edge_of_input(g.edge)
+        if j is None:
+            raise FieldError(("goal", "edge"), "is not on the part's convex hull: it never lies against a guide")
+        return Goal.edge_against_guide(part, j, g.side, g.tolerance)
+    arcs = []
+    for i, (start, end) in enumerate(g.accepted or []):
+        if not 0.0 <= start < TWO_PI:
+            raise FieldError(("goal", "accepted", i, 0), "must be in [0, 2 pi)")
+        if not start < end < start + TWO_PI:
+            raise FieldError(("goal", "accepted", i, 1), "must lie after start by less than 2 pi")
+        arcs.append((start, end - start))
+    return Goal(Arcs.of(arcs))
+
+
+def gate_of(g: FeederGateIn, part: Footprint) -> GateSpec:
+    """The gate allowed: a margin no two silhouettes can clear (their extents differ by less
+    than the part's diameter) is refused."""
+    margin = 0.0 if g.margin is None else g.margin
+    if 2.0 * margin >= 2.0 * part.circumradius:
+        raise FieldError(("gate", "margin"), "no gate can realise it: two silhouettes' extents differ by less than "
+                                             "the part's diameter, twice the margin is more")
+    return GateSpec(tuple(dict.fromkeys(g.features)), margin, g.min_yield)
+
+
+def _design_out(res: FeederDesignResult) -> FeederDesignOut | None:
+    d = res.design
+    if d is None or res.final_set is None:
+        return None
+    last = res.maps[d.fences[-1]]
+    out = FeederDesignOut(
+        fences=[FeederDesignFenceOut(angle=res.maps[f].fence.angle, side=res.maps[f].fence.side) for f in d.fences],
+        final_band=arcs_out(res.final_set), final_edges=sorted(last.final_edges[j] for j in d.final_bands),
+        margin=d.margin if math.isfinite(d.margin) else math.pi)
+    if isinstance(d, PlacedDesign) and res.accepted_set is not None:
+        out.accepted_band = arcs_out(res.accepted_set)
+        out.accepted_edges = sorted(last.final_edges[j] for j in d.accepted_bands)
+        out.guaranteed_yield = d.guaranteed_yield
+        out.expected_passes = 1.0 / d.guaranteed_yield if d.guaranteed_yield > 0.0 else None
+        out.lost = d.lost.measure
+        out.slivers = d.slivers
+    return out
+
+
+def _layout_out(res: FeederDesignResult) -> FeederLayoutOut | None:
+    pl = res.placement
+    d = res.design
+    if pl is None or not isinstance(d, PlacedDesign):
+        return None
+    fences = [FeederPlacedFenceOut(angle=f.angle, side=f.side, root=[float(f.root[0]), float(f.root[1])],
+                                   end=[float(f.end[0]), float(f.end[1])], length=f.length, reach=f.reach,
+                                   reach_needed=f.reach_needed, binding=list(b))
+              for f, b in zip(pl.fences, pl.binding)]
+    gate = None
+    if d.gate is not None and pl.gate_y is not None:
+        gate = FeederGateOut(feature=d.gate.feature, rule=d.gate.rule, threshold=d.gate.threshold,
+                             margin=d.gate.margin, y=pl.gate_y)
+    return FeederLayoutOut(belt_width=pl.belt.width, gap=pl.belt.gap, entry_x=pl.belt.entry_x,
+                           entry_spread=pl.belt.entry_spread, belt_length=pl.length, fences=fences, gate=gate)
 
 
 def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignResponse:
-    design = None
-    d = res.design
-    if d is not None and res.final_set is not None:
-        last = res.maps[d.fences[-1]]
-        design = FeederDesignOut(
-            fences=[FeederDesignFenceOut(angle=res.maps[f].fence.angle, side=res.maps[f].fence.side) for f in d.fences],
-            final_band=arcs_out(res.final_set), final_edges=sorted(last.final_edges[j] for j in d.final_bands),
-            margin=d.margin if math.isfinite(d.margin) else math.pi)
     cp = None
     if res.cp_sat is not None:
         cp = FeederCpSatOut(depth_proven=res.cp_sat.depth_proven, statuses=list(res.cp_sat.statuses),
@@ -251,7 +328,9 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
         v = res.validation
         val = FeederValidationOut(parts=v.parts, in_band=v.in_band, outside=v.outside, unflushed=v.unflushed,
                                   unfinished=v.unfinished, missed=v.missed, on_belt=v.on_belt, off_belt=v.off_belt,
-                                  rate=None if math.isnan(v.rate) else v.rate)
+                                  rejected=v.rejected, rate=None if math.isnan(v.rate) else v.rate,
+                                  yield_per_pass=v.yield_per_pass if v.on_belt and v.parts else None,
+                                  succeeded=v.succeeded if v.on_belt and v.parts else None)
     base = None
     if res.baseline is not None:
         b = res.baseline
@@ -259,24 +338,17 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
                                  alphas=None if b.alphas is None else list(b.alphas),
                                  tolerance=b.tolerance if math.isfinite(b.tolerance) and b.alphas else None,
                                  solve_time_ms=b.solve_time_s * 1e3)
-    layout = None
-    if res.layout is not None:
-        lay = res.layout
-        placed = [FeederPlacedFenceOut(angle=f.angle, side=f.side, root=[float(f.root[0]), float(f.root[1])],
-                                       end=[float(f.end[0]), float(f.end[1])], length=f.length, reach=c.reach,
-                                       may_miss=c.may_miss, unaligned_arriving=c.unaligned_arriving)
-                  for f, c in zip(lay.fences, res.placed)]
-        layout = FeederLayoutOut(belt_width=lay.belt_width, gap=lay.gap, belt_length=lay.belt_length, fences=placed,
-                                 realizable=bool(res.realizable))
-    search = res.search
+    search = res.search if res.placed_search is None else res.placed_search
     progress = res.progress
     return FeederDesignResponse(
-        design=design,
+        design=_design_out(res),
         depth_proven=search.depth_proven if search is not None else (progress.depth_proven if progress else 0),
         exhausted=bool(search is not None and search.exhausted),
+        fences_only_exhausted=res.fences_only_exhausted,
         candidates=len(res.maps),
         nodes=search.nodes if search is not None else (progress.nodes if progress else 0),
         pruned=search.pruned if search is not None else (progress.pruned if progress else 0),
-        cp_sat=cp, validation=val, layout=layout, push_plan_baseline=base, timings_ms={k: v * 1e3 for k, v in res.timings.items()},
+        cp_sat=cp, validation=val, layout=_layout_out(res), push_plan_baseline=base,
+        timings_ms={k: v * 1e3 for k, v in res.timings.items()},
         status=res.status, complete=res.complete, message=res.message,
         solve_time_ms=res.solve_time_s * 1e3, elapsed_ms=elapsed_ms)

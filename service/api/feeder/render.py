@@ -59,6 +59,7 @@ COLORS = {
     "path": LOCUS_COLORS["locus_edge"],
     "part": LOCUS_COLORS["workpiece"],
     "belt": "0.45",
+    "gate": "0.2",
 }
 PATH_COLORS = (LOCUS_COLORS["workpiece"], LOCUS_COLORS["push"], LOCUS_COLORS["disk"], LOCUS_COLORS["locus_edge"])
 """One per part on a belt's top view, in turn."""
@@ -72,6 +73,7 @@ class BeltPicture:
     fences: Sequence[tuple[np.ndarray, np.ndarray]]
     width: float | None
     parts: Sequence[Sequence[FenceRun]]
+    gate_y: float | None = None  # a reject gate across the belt there (None: no gate)
 
 
 def degree_spans(arcs: Arcs) -> list[tuple[float, float]]:
@@ -211,6 +213,8 @@ def _draw_belt(ax, part: Footprint, belt: BeltPicture, label: str) -> None:
     paths = [[(run.cms, run.thetas) for run in runs] for runs in belt.parts]
     poses = [(np.vstack([c for c, _ in p]), np.concatenate([t for _, t in p])) for p in paths if p]
     ends = np.array([pt for f in belt.fences for pt in f]).reshape(-1, 2)
+    if belt.gate_y is not None:  # the gate in view
+        ends = np.vstack([ends, [[0.0, belt.gate_y]]])
     outlines = [_outlines(part, cms, thetas, BELT_OUTLINES) for cms, thetas in poses]
     pts = np.vstack([ends, *[c for c, _ in poses], *[o for group in outlines for o in group]])
     if not np.all(np.isfinite(pts)):
@@ -221,6 +225,9 @@ def _draw_belt(ax, part: Footprint, belt: BeltPicture, label: str) -> None:
         for x in (-0.5 * belt.width, 0.5 * belt.width):
             side = view.to_drawing(np.array([[x, pts[:, 1].min()], [x, pts[:, 1].max()]]))
             ax.plot(side[:, 0], side[:, 1], color=COLORS["belt"], linewidth=0.8, linestyle="--")
+    if belt.gate_y is not None and belt.width is not None:
+        line = view.to_drawing(np.array([[-0.5 * belt.width, belt.gate_y], [0.5 * belt.width, belt.gate_y]]))
+        ax.plot(line[:, 0], line[:, 1], color=COLORS["gate"], linewidth=1.5, linestyle=":", label="reject gate")
     for i, (root, end) in enumerate(belt.fences):
         seg = view.to_drawing(np.array([root, end]))
         ax.plot(seg[:, 0], seg[:, 1], color=COLORS["fence"], linewidth=3.0, solid_capstyle="butt",

@@ -131,18 +131,20 @@ async def feeder_design_route(req: FeederDesignRequest, request: Request,
 def design_job(req: FeederDesignRequest, svg: bool, deadline: Deadline) -> FeederDesignResponse | Response:
     budget = deadline.budget()
     problem = design_problem(req)
-    with located(rename={"belt_width": ("belt", "width"), "entry_x": ("belt", "entry_x"),
-                         "spacing": ("belt", "spacing"), "validation_parts": ("validation_parts",)}):
+    with located(rename={"belt.width": ("belt", "width"), "belt.entry_x": ("belt", "entry_x"),
+                         "belt.spacing": ("belt", "spacing"), "belt.clearance": ("belt", "clearance"),
+                         "belt.entry_spread": ("belt", "entry_spread"), "validation_parts": ("validation_parts",),
+                         "min_yield": ("min_yield",)}):
         result = feeder_design(problem, budget)
     design = result.design
     if svg and design is not None:
         maps = [result.maps[f] for f in design.fences]
         title = f"A feeder of {len(maps)} fence{'s' if len(maps) > 1 else ''} (5.4): each fence's map and their product"
         belt = None
-        if result.layout is not None:
+        if result.placement is not None:
             examples = result.validation.examples if result.validation is not None else ()
-            belt = BeltPicture([(f.root, f.end) for f in result.layout.fences], result.layout.belt_width,
-                               [r.runs for r in examples])
+            belt = BeltPicture([(f.root, f.end) for f in result.placement.fences], result.placement.belt.width,
+                               [r.runs for r in examples], result.placement.gate_y)
         return Response(content=render_maps_svg(problem.part, maps, result.product, title, belt),
                         media_type=SVG_MEDIA_TYPE)
     return design_response(result, budget.elapsed() * 1e3)

@@ -278,8 +278,45 @@ class FeederBeltIn(Strict):
     spacing: Length | None = Field(default=None, description="Along the belt from a fence's free end to the next "
                                                              "fence's root (default the part's diameter).")
     entry_x: Annotated[float, Field(strict=True, allow_inf_nan=False)] | None = Field(
-        default=None, description="Lane of the arriving parts' centre of mass, x across the belt (default: beside "
-                                  "the first fence's root).")
+        default=None, description="Lane of the arriving parts' centre of mass, x across the belt, in the part's "
+                                  "units (default: beside the right side, the clearance from it; the first fence "
+                                  "then hangs from the right).")
+    entry_spread: Length = Field(default=0.0, description="Half width of the entry lane, in the part's units: parts "
+                                                          "arrive with their centre of mass anywhere within it of "
+                                                          "entry_x.")
+
+
+Radians = Annotated[float, Field(strict=True, allow_inf_nan=False)]
+
+
+class FeederGoalIn(Strict):
+    """What the next station accepts: give either ``accepted`` or ``edge``."""
+
+    accepted: list[Annotated[list[Radians], Field(min_length=2, max_length=2)]] | None = Field(
+        default=None, min_length=1, description="Accepted final orientations as intervals [start, end], radians, "
+                                                "start in [0, 2 pi), end after start by less than 2 pi (an interval "
+                                                "may run past 2 pi).")
+    edge: Annotated[int, Field(strict=True, ge=0)] | None = Field(
+        default=None, description="Accept the part with this edge of the outline (from vertex edge to vertex "
+                                  "edge + 1, in the order given) along the belt's motion against a guide.")
+    side: Literal["right", "left", "either"] = Field(
+        default="either", description="With edge: the guide it lies against, on the belt's right (+x) or left side, "
+                                      "or either (the part half a turn round).")
+    tolerance: Radians = Field(default=0.0873, description="With edge: how far from exactly along the guide, radians.")
+
+
+class FeederGateIn(Strict):
+    """Allow a reject gate after the fences (book 7.1): it measures one feature of the
+    silhouette and returns the parts it rejects to the start."""
+
+    features: list[Literal["across", "along"]] = Field(
+        default=["across", "along"], min_length=1,
+        description="Features the gate may measure: the silhouette's extent across the belt (x) or along it (y).")
+    margin: Length | None = Field(default=None, description="Least distance, in the part's units, from the threshold "
+                                                            "to every band's range of the feature (default 0.005 of "
+                                                            "the part's radius).")
+    min_yield: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=1.0)] = Field(
+        default=0.25, description="Least guaranteed yield per pass a gate design must have.")
 
 
 class FeederDesignRequest(Strict):
@@ -304,31 +341,54 @@ class FeederDesignRequest(Strict):
     validation_parts: Annotated[int, Field(strict=True, ge=0, le=FEEDER_MAX_VALIDATION_PARTS)] = Field(
         default=0, description="Simulated parts (random support, orientation, mu_c) run through the design.")
     seed: Annotated[int, Field(strict=True, ge=0, le=2**63 - 1)] = 0
-    belt: FeederBeltIn | None = Field(default=None, description="Place the design on this belt (book 1.8.6, figure "
-                                                                "1-9): each fence's root, end, length and reach.")
+    belt: FeederBeltIn | None = Field(default=None, description="Search the design as placed on this belt (book "
+                                                                "1.8.6, figure 1-9): each fence's side, angle, free "
+                                                                "end and reach inside the search.")
+    goal: FeederGoalIn | None = Field(default=None, description="With a belt: the final orientations accepted "
+                                                                "(default: one band per symmetry class, 5.3.1).")
+    gate: FeederGateIn | None = Field(default=None, description="With a belt: allow a reject gate when no design of "
+                                                                "fences alone reaches min_yield up to max_depth.")
+    min_yield: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=1.0)] = Field(
+        default=0.995, description="With a belt: least guaranteed yield per pass of a design of fences alone.")
     time_limit_s: TimeLimit | None = None
 
 
 class FeederPlacedFenceOut(Out):
-    angle: float
-    side: str
-    root: list[float] = Field(description="[x, y] where it hangs from the belt's side: x across the belt, y against "
-                                          "the belt's motion (the belt runs in -y), the first root at y = 0.")
-    end: list[float] = Field(description="[x, y] of its free end.")
-    length: float
-    reach: float = Field(description="Along the fence from the part's least favourable first contact to the end.")
-    may_miss: bool = Field(description="The part may pass the free end untouched (reach 0: after a fence on the "
-                                       "same side it arrives beside the end).")
-    unaligned_arriving: float = Field(description="Radians of the orientations the part may arrive in that this "
-                                                  "reach may not align (1.8.6).")
+    angle: float = Field(description="Fence angle gamma, radians.")
+    side: str = Field(description="The side of the belt it hangs from: right (gamma > 0) or left.")
+    root: list[float] = Field(description="[x, y] where it hangs from the belt's side, in the part's units: x across "
+                                          "the belt, y against the belt's motion (the belt runs in -y), the first root "
+                                          "at y = 0.")
+    end: list[float] = Field(description="[x, y] of its free end, in the part's units.")
+    length: float = Field(description="From root to free end, in the part's units.")
+    reach: float = Field(description="Along the fence from the part's least favourable first contact to the free "
+                                     "end, in the part's units.")
+    reach_needed: float = Field(description="The reach the orientations arriving at it need to come flush (1.8.6, "
+                                            "bounded with the circumscribing disk), in the part's units.")
+    binding: list[str] = Field(description="What keeps this fence from being shorter: reach (it needs its reach), "
+                                           "width (the gap at its free end), jam (a shallower candidate would jam).")
+
+
+class FeederGateOut(Out):
+    feature: str = Field(description="across (the silhouette's extent across the belt, x) or along (along it, y).")
+    rule: str = Field(description="at_most or at_least: the gate accepts a part whose feature is at most (at least) "
+                                  "the threshold.")
+    threshold: float = Field(description="In the part's units.")
+    margin: float = Field(description="Least distance from the threshold to any band's range of the feature, in the "
+                                      "part's units.")
+    y: float = Field(description="Where it stands along the belt (world y, part's units): spacing after the last "
+                                 "fence's free end.")
 
 
 class FeederLayoutOut(Out):
-    belt_width: float
-    gap: float = Field(description="Free width left at each fence's end for the part to pass.")
-    belt_length: float = Field(description="From the first root to the last free end, along the belt.")
+    belt_width: float = Field(description="In the part's units.")
+    gap: float = Field(description="Free width left at each fence's end for the part to pass, in the part's units.")
+    entry_x: float = Field(description="The entry lane's centre (x of the centre of mass), in the part's units.")
+    entry_spread: float = Field(description="The entry lane's half width, in the part's units.")
+    belt_length: float = Field(description="From the first root to the last free end (to the gate, with one), along "
+                                           "the belt, in the part's units: the shortest for this design and width.")
     fences: list[FeederPlacedFenceOut]
-    realizable: bool = Field(description="No fence may be missed and every arriving orientation is aligned.")
+    gate: FeederGateOut | None = Field(description="The reject gate (null: fences only).")
 
 
 class FeederDesignFenceOut(Out):
@@ -338,9 +398,23 @@ class FeederDesignFenceOut(Out):
 
 class FeederDesignOut(Out):
     fences: list[FeederDesignFenceOut] = Field(description="In the order the part meets them.")
-    final_band: list[Arc] = Field(description="The orientations the part leaves the last fence in.")
+    final_band: list[Arc] = Field(description="The orientations the part may leave the last fence in.")
     final_edges: list[int] = Field(description="The hull edges flush on the last fence (one, or one per symmetry).")
     margin: float = Field(description="Radians every band edge may move without the design failing (1.8.6).")
+    accepted_band: list[Arc] | None = Field(default=None, description="On a belt: the orientations accepted (all of "
+                                                                      "final_band without a gate).")
+    accepted_edges: list[int] | None = Field(default=None, description="On a belt: the hull edges of the accepted "
+                                                                       "bands.")
+    guaranteed_yield: float | None = Field(default=None, description="On a belt: the share of initial orientations "
+                                                                     "every outcome of which is accepted, from the "
+                                                                     "maps (per pass).")
+    expected_passes: float | None = Field(default=None, description="On a belt: at most 1 / guaranteed_yield passes "
+                                                                    "a part on average (rejected parts start again).")
+    lost: float | None = Field(default=None, description="On a belt: radians of initial orientations the first "
+                                                         "fence's reach may leave unaligned (counted as lost).")
+    slivers: float | None = Field(default=None, description="On a belt: radians of arriving orientations later "
+                                                            "fences may leave unaligned (within a sliver of a "
+                                                            "balance), counted against the yield.")
 
 
 class FeederCpSatOut(Out):
@@ -356,8 +430,13 @@ class FeederValidationOut(Out):
     outside: int = Field(description="Parts that came flush on every fence and ended elsewhere (a failure).")
     unflushed: int = Field(description="Parts that left some fence without an edge flush (too short a fence).")
     unfinished: int = Field(description="Parts that jammed, stalled, met two fences at once or ran out of steps or time.")
-    missed: int = Field(description="Parts that passed some placed fence untouched (on a belt only; not counted as in "
-                                    "the band).")
+    missed: int = Field(description="Parts that passed some placed fence untouched (on a belt only; a failure).")
+    rejected: int = Field(default=0, description="On a belt with a gate: parts the gate returned to the start.")
+    yield_per_pass: float | None = Field(default=None, description="On a belt: the share of the parts accepted in an "
+                                                                   "accepted band.")
+    succeeded: float | None = Field(default=None, description="On a belt: the share of the parts that ended as "
+                                                              "promised (accepted in band, or rejected by the gate); "
+                                                              "every failure counts against it.")
     on_belt: bool = Field(description="The parts met the placed fences of `layout` one after the other, entering in "
                                       "its lane; otherwise each fence alone in its own frame.")
     off_belt: int = Field(description="On a belt: parts whose outline crossed a side of the belt somewhere (side walls "
@@ -376,6 +455,10 @@ class FeederDesignResponse(Out):
     design: FeederDesignOut | None
     depth_proven: int = Field(description="No design has this many fences or fewer (complete depths only).")
     exhausted: bool = Field(description="No design exists with these candidate fences at any depth.")
+    fences_only_exhausted: bool | None = Field(default=None, description="On a belt with a gate allowed and a gate "
+                                                                         "design returned: no design of fences alone "
+                                                                         "exists at any depth (false: none up to "
+                                                                         "max_depth).")
     candidates: int = Field(description="Candidate fences whose maps were made.")
     nodes: int
     pruned: int

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from models.core.errors import InvalidInput
-from models.feeder.arcs import TWO_PI
+from models.feeder.arcs import TWO_PI, Arcs
 from models.feeder.fence import (
     FINE,
     Fence,
@@ -17,6 +17,7 @@ from models.feeder.fence import (
     feeder_part,
     fence_map,
     final_edges,
+    reach_profile,
     rotation,
 )
 from models.feeder.maps import matrix_product
@@ -307,3 +308,34 @@ def test_the_unaligned_set_does_not_depend_on_the_body_frame_phase_6(verts, cm, 
         got = fence_map(feeder_part(v, c), Fence.create(gamma, (0.2, 0.4), reach=1e9)).map.unaligned.measure
         ref = got if ref is None else ref
         assert got == pytest.approx(ref, abs=1e-6)
+
+
+def test_the_reach_profile_is_phase_6_for_every_reach_at_once_1_8_6():
+    """One profile answers every reach: its unaligned set is the map's for that reach;
+    needed(X, allowance) is the least reach leaving at most the allowance of X's cells
+    unaligned (the next smaller need leaves more); near a balance the cells split toward it,
+    so the unaligned set shrinks with the reach like e^(-reach / M) but never vanishes."""
+    verts, cm = PENTAGON
+    part = feeder_part(verts, cm)
+    a = part.circumradius
+    profile = reach_profile(part, Fence.create(0.7, 0.25))
+    for reach in (0.5, 2.0, 5.0, 20.0):
+        via_map = fence_map(part, Fence.create(0.7, 0.25, reach=reach * a)).map.unaligned
+        assert profile.unaligned(reach * a) == via_map
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        x = Arcs.of([(float(rng.uniform(0, TWO_PI)), float(rng.uniform(0.01, 1.0)))])
+        allowance = float(rng.choice([0.0, 1e-9, 1e-3]))
+        reach, dropped = profile.needed(x, allowance)
+        hit = profile.meeting(x)
+        over = hit & (profile.need > reach)
+        assert profile.width[over].sum() <= dropped + 1e-15 <= allowance + 1e-15
+        if math.isfinite(reach) and reach > 0.0:
+            lower = profile.need[hit & (profile.need < reach)]
+            below = lower.max() if lower.size else 0.0
+            assert profile.width[hit & (profile.need > below)].sum() > allowance
+    slivers = [profile.unaligned(r * a).measure for r in (5.0, 10.0, 20.0, 1e6)]
+    assert all(s1 > s2 for s1, s2 in zip(slivers, slivers[1:])) and slivers[2] < 1e-6
+    # the innermost cells (e^-40 of a last cell, below a double's resolution of the angle)
+    # are points: the balances themselves, unaligned at any reach
+    assert not profile.unaligned(1e6 * a).is_empty

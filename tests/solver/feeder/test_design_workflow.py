@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 
 from models.feeder.fence import feeder_part
+from models.feeder.gate import GateSpec
+from models.feeder.placed import PlacedDesign
 from solver import Budget, FeederDesignProblem, feeder_design
 from solver.feeder.design import BeltSpec
 from tests.feeder_cases import PARTS, Clock, CountingClock
@@ -32,26 +34,38 @@ def test_a_rectangle_design_is_validated_by_simulated_parts_over_a_mu_c_interval
     assert abs((res.final_set.arcs[1][0] - s) % (2 * math.pi) - math.pi) < 1e-9
 
 
-def test_on_a_belt_the_design_is_validated_through_its_placed_fences_1_8_6():
-    """With a belt, the validation parts enter in the layout's lane and meet the placed
-    fences one after the other (world frame), not each fence in its own frame: the
-    rectangle's alternating design brings all of them into its band; the pentagon's
-    shortest design (fences on one side, not alternating) lets every part pass a fence
-    placed beside the previous one's end untouched (reach 0: ``may_miss``), which the
-    validation counts as missed, never as in the band."""
-    radius = feeder_part(*PARTS["rectangle"]).circumradius
-    res = feeder_design(problem("rectangle", validation_parts=12, seed=5, belt=BeltSpec(width=12.0 * radius)))
-    v = res.validation
-    assert v is not None and v.on_belt and v.parts == 12
-    assert v.in_band == 12 and v.missed == v.outside == v.unflushed == v.unfinished == 0
-    assert len(v.examples) == 3 and all(len(r.runs) == 2 for r in v.examples)
-    assert not any(c.may_miss for c in res.placed)
-    radius = feeder_part(*PARTS["pentagon"]).circumradius
-    res = feeder_design(problem("pentagon", alternate=False, validation_parts=6, seed=5,
-                                belt=BeltSpec(width=12.0 * radius)))
-    v = res.validation
-    assert res.design is not None and any(c.may_miss for c in res.placed)
-    assert v is not None and v.on_belt and v.missed + v.unfinished == 6 and v.in_band == 0
+def test_on_a_belt_the_design_is_searched_as_placed_and_validated_there_1_8_6():
+    """With a belt, the right triangle's design uses same-side runs (no alternating design
+    exists, issue 13) and every placed fence has the reach its arriving orientations need;
+    the parts simulated on the placed belt (entering across the lane) all end in the band;
+    the product of the placed maps leaves unaligned exactly the first fence's loss."""
+    radius = feeder_part(*PARTS["right triangle"]).circumradius
+    res = feeder_design(problem("right triangle", alternate=False, validation_parts=12, seed=5,
+                                belt=BeltSpec(width=20.0 * radius, entry_spread=0.5 * radius)))
+    d, pl, v = res.design, res.placement, res.validation
+    assert isinstance(d, PlacedDesign) and d.gate is None and d.guaranteed_yield >= 0.995
+    assert pl is not None and len(pl.fences) == len(d.fences)
+    assert any(f.side == g.side for f, g in zip(pl.fences, pl.fences[1:]))  # a same-side run
+    assert all(f.reach >= f.reach_needed - 1e-9 * radius for f in pl.fences)
+    assert res.product is not None and res.product.unaligned == d.lost
+    assert v is not None and v.on_belt and v.parts == 12 and v.in_band == 12 and v.failed == 0
+
+
+def test_the_alternating_layout_of_issue_13_fails_on_the_belt_and_the_placed_search_knows_why():
+    """The pentagon's shortest sequence without a belt (non-alternating, issue 13) is placed
+    by nobody now: on a belt 20 radii wide the fences-only search is exhausted (every
+    same-side run needs more width than the belt has); with a gate allowed the design
+    accepts only the accepted band and rejects the rest in simulation."""
+    part = feeder_part(*PARTS["pentagon"])
+    belt = BeltSpec(width=20.0 * part.circumradius)
+    res = feeder_design(problem("pentagon", alternate=False, belt=belt, max_depth=6))
+    assert res.design is None and res.placed_search is not None and res.placed_search.exhausted
+    assert res.placed_search.refused["width"] > 0
+    res = feeder_design(problem("pentagon", alternate=False, belt=belt, max_depth=6, gate=GateSpec(),
+                                validation_parts=10, seed=7))
+    d, v = res.design, res.validation
+    assert isinstance(d, PlacedDesign) and d.gate is not None and res.fences_only_exhausted
+    assert v is not None and v.outside == 0 and v.in_band + v.rejected == 10 and v.failed == 0
 
 
 def test_an_expired_budget_answers_what_was_established():

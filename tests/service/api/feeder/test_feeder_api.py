@@ -256,30 +256,83 @@ def test_a_design_for_the_pentagon_is_found_proven_and_validated_5_4(client):
     assert r.text.count("<g id=\"axes_") == len(d["fences"]) + 1  # each fence and the product (figure 5-4)
 
 
-def test_a_design_placed_on_a_belt_says_whether_it_is_realizable_1_8_6(client):
-    """A rectangle's two alternating fences on a belt of 12 part radii: each fence's root,
-    end, length and reach; the second catches the part near its root. The same fences on
-    one side would let the part pass the second fence's end."""
-    a = math.hypot(2.0, 0.5)
-    body = {"part": {"vertices": [[0, 0], [4, 0], [4, 1], [0, 1]], "center_of_mass": [2, 0.5]},
-            "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(5)},
-            "mu_c": 0.25, "belt": {"width": 12 * a}}
+TRIANGLE = {"vertices": [[0, 0], [2, 0], [0, 3]], "center_of_mass": [2 / 3, 1.0]}
+TRIANGLE_A = math.hypot(4 / 3, 2.0)
+
+
+def test_a_design_searched_as_placed_on_a_belt_1_8_6(client):
+    """The right triangle on a belt of 20 part radii (fences at 20..70 degrees in 10 degree
+    steps): fences only, guaranteed yield at least the 99.5 % asked; each placed fence has
+    at least the reach its arriving orientations need, the belt is as long as the placement's
+    first root to last end, and the parts simulated on it all end in the accepted band."""
+    a = TRIANGLE_A
+    body = {"part": TRIANGLE, "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(10)},
+            "mu_c": 0.25, "alternate": False, "belt": {"width": 20 * a}, "validation_parts": 6, "seed": 3}
     out = client.post("/v1/feeder/design", json=body).json()
-    lay = out["layout"]
-    assert out["design"] is not None and lay is not None and len(lay["fences"]) == 2
-    f0, f1 = lay["fences"]
-    assert f0["side"] != f1["side"] and not f0["may_miss"] and not f1["may_miss"]
-    assert f1["reach"] > 10 * a and f1["root"][1] < f0["end"][1]
-    assert lay["gap"] == pytest.approx(2.1 * a) and lay["realizable"] == (f0["unaligned_arriving"] == 0.0
-                                                                           and f1["unaligned_arriving"] == 0.0)
-    r = client.post("/v1/feeder/design", json={**body, "belt": {"width": a}})
-    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "belt", "width"]
-    # validated on the belt: parts enter in the lane and meet the placed fences in turn
-    body["validation_parts"] = 4
-    v = client.post("/v1/feeder/design", json=body).json()["validation"]
-    assert v["on_belt"] and v["in_band"] == 4 and v["missed"] == v["unfinished"] == v["outside"] == 0
+    d, lay, v = out["design"], out["layout"], out["validation"]
+    assert d is not None and lay["gate"] is None and d["guaranteed_yield"] >= 0.995
+    assert d["accepted_band"] == d["final_band"] and d["expected_passes"] == pytest.approx(1 / d["guaranteed_yield"])
+    for f in lay["fences"]:
+        assert f["reach"] >= f["reach_needed"] - 1e-9 * a and f["binding"]
+        assert abs(f["end"][0]) <= 10 * a - lay["gap"] + 1e-9 * a
+    assert lay["belt_length"] == pytest.approx(-lay["fences"][-1]["end"][1])
+    assert v["on_belt"] and v["in_band"] == 6 and v["succeeded"] == 1.0 and v["rejected"] == 0
     r = client.post("/v1/feeder/design?format=svg", json=body)
-    assert r.status_code == 200 and r.text.count("<g id=\"axes_") == 4  # the belt, two fences, the product
+    assert r.status_code == 200 and r.text.count("<g id=\"axes_") == len(d["fences"]) + 2  # belt, fences, product
+
+
+def test_a_gate_design_rejects_what_the_fences_cannot_orient_7_1(client):
+    """The pentagon with one candidate angle on a belt: no single-fence design of fences
+    alone, so a gate: every simulated part it accepts lies in the accepted band, the others
+    are rejected, none fails; the gate stands past the last fence."""
+    body = {"part": {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]},
+            "angles": {"min": 1.2217, "max": 1.2217, "step": 0.1}, "mu_c": 0.25, "alternate": False, "max_depth": 1,
+            "belt": {"width": 20 * math.hypot(2.1, 1.5)}, "gate": {}, "validation_parts": 8, "seed": 2}
+    out = client.post("/v1/feeder/design", json=body).json()
+    d, lay, v = out["design"], out["layout"], out["validation"]
+    assert d is not None and lay["gate"] is not None and 0.25 <= d["guaranteed_yield"] < 0.995
+    assert lay["gate"]["y"] < lay["fences"][-1]["end"][1] and lay["gate"]["margin"] > 0.0
+    assert v["outside"] == 0 and v["in_band"] + v["rejected"] == 8 and v["succeeded"] == 1.0
+    assert out["fences_only_exhausted"] is not None
+
+
+def test_a_goal_the_user_states_is_designed_for(client):
+    """Accepting the triangle's hypotenuse against either guide: the design's accepted band
+    lies within the goal (within the tolerance of the two orientations)."""
+    a = TRIANGLE_A
+    body = {"part": TRIANGLE, "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(10)},
+            "mu_c": 0.25, "alternate": False, "belt": {"width": 20 * a}, "max_depth": 2,
+            "goal": {"edge": 1, "side": "either", "tolerance": 1.0}, "gate": {"min_yield": 0.05}}
+    out = client.post("/v1/feeder/design", json=body).json()
+    d = out["design"]
+    assert d is not None
+    # the hypotenuse (2, 0) -> (0, 3) has its outward normal along +x at theta = pi/2 - phi
+    phi = math.atan2(3.0, -2.0)
+    centres = [(0.5 * math.pi - phi) % (2 * math.pi), (1.5 * math.pi - phi) % (2 * math.pi)]
+    for start, width in d["accepted_band"]:
+        for t in (start, start + width):
+            assert min(abs((t - c + math.pi) % (2 * math.pi) - math.pi) for c in centres) <= 1.0 + 1e-9
+
+
+@pytest.mark.parametrize(("patch", "loc"), [
+    ({"goal": {"accepted": []}}, ["body", "goal", "accepted"]),
+    ({"goal": {"accepted": [[7.0, 8.0]]}}, ["body", "goal", "accepted", 0, 0]),
+    ({"goal": {"accepted": [[1.0, 0.5]]}}, ["body", "goal", "accepted", 0, 1]),
+    ({"goal": {"edge": 3}}, ["body", "goal", "edge"]),
+    ({"goal": {"edge": 0, "accepted": [[0.0, 1.0]]}}, ["body", "goal"]),
+    ({"goal": {"edge": 0, "tolerance": 2.0}}, ["body", "goal", "tolerance"]),
+    ({"gate": {"margin": 100.0}}, ["body", "gate", "margin"]),
+    ({"gate": {"features": []}}, ["body", "gate", "features"]),
+    ({"gate": {"min_yield": 0.0}}, ["body", "gate", "min_yield"]),
+    ({"min_yield": 1.5}, ["body", "min_yield"]),
+    ({"belt": None, "gate": {}}, ["body", "gate"]),
+    ({"belt": {"width": 30.0, "entry_spread": 20.0}}, ["body", "belt", "entry_spread"]),
+])
+def test_bad_goals_and_gates_are_refused_at_the_field(client, patch, loc):
+    body = {"part": TRIANGLE, "angles": {"min": 0.5, "max": 0.9, "step": 0.2}, "mu_c": 0.25,
+            "belt": {"width": 20 * TRIANGLE_A}, **patch}
+    r = client.post("/v1/feeder/design", json=body)
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == loc, r.text
 
 
 @pytest.mark.parametrize(("patch", "loc"), [
