@@ -130,6 +130,9 @@ class FeederTolerances:
 
 DEFAULT = FeederTolerances()
 FINE = FeederTolerances(endpoint_steps=200, locus_points=400, b_margin=0.0)
+DESIGN = FeederTolerances(reach_cells=16)
+"""A design's preset: reach profiles of every candidate at half the cells (half the time; the
+reach each fence needs grows by about 5 %, the pentagon's candidates in docs/benchmarks.md)."""
 
 
 def feeder_part(vertices: ArrayLike, center_of_mass: ArrayLike = (0.0, 0.0),
@@ -528,6 +531,45 @@ class ReachProfile:
         if keep == order.size:
             return 0.0, float(dropped[-1])
         return float(self.need[order[keep]]), float(dropped[keep - 1]) if keep else 0.0
+
+
+@dataclass(frozen=True)
+class SampledReach:
+    """Phase 6 over a mu_c interval, one :class:`ReachProfile` per mu_c sample (both ends and
+    between, ``FeederTolerances.mu_values``). A part has one mu_c: near its balance only a
+    sliver is unaligned, wherever in the interval mu_c lies, whereas one profile over the
+    whole interval (``fence_map`` with a reach) must leave unaligned every orientation whose
+    balance some mu_c of the interval puts there. A design needs each sample's reach; its
+    losses are each sample's (their union, the safe side), each leaving at most its share of
+    an allowance. Between the samples the balance
+    moves continuously and is not bounded here (the validation draws mu_c over the
+    interval)."""
+
+    profiles: tuple[ReachProfile, ...]
+
+    def unaligned(self, reach: float) -> Arcs:
+        return Arcs.union_of(p.unaligned(reach) for p in self.profiles)
+
+    def needed(self, arcs: Arcs, allowance: float = 0.0) -> tuple[float, float]:
+        """The least reach every sample needs, each leaving at most its share of the
+        allowance unaligned (their union stays within it)."""
+        got = [p.needed(arcs, allowance / len(self.profiles)) for p in self.profiles]
+        return max(r for r, _ in got), sum(d for _, d in got)
+
+
+ReachBound = ReachProfile | SampledReach
+"""What a placed search asks of a fence's reach: unaligned(reach) and needed(arcs, allowance)."""
+
+
+def sampled_reach(part: Footprint, fence: Fence, tol: FeederTolerances = DEFAULT,
+                  checkpoint: Callable[[str], None] | None = None) -> ReachBound:
+    """The fence's reach bound for a design: one profile for a point mu_c, one per mu_c
+    sample over an interval (:class:`SampledReach`)."""
+    mus = tol.mu_values(fence.mu_low, fence.mu_high)
+    if len(mus) == 1:
+        return reach_profile(part, fence, tol=tol, checkpoint=checkpoint)
+    return SampledReach(tuple(reach_profile(part, Fence.create(fence.angle, (m, m)), tol=tol, checkpoint=checkpoint)
+                              for m in mus))
 
 
 def reach_profile(part: Footprint, fence: Fence, pieces: list[Piece] | None = None,

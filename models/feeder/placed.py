@@ -64,7 +64,7 @@ from models.core.errors import InvalidInput
 from models.core.footprint import Footprint
 from models.feeder.arcs import TWO_PI, Arcs
 from models.feeder.design_graph import DESIGN_DEFAULT, DesignGraph, DesignTolerances, Progress
-from models.feeder.fence import ReachProfile
+from models.feeder.fence import ReachBound
 from models.feeder.gate import Gate, GateSpec, critical_orientations, extent_range, separations
 from models.feeder.layout import CLEARANCE_RADII, SPACING_RADII
 
@@ -228,7 +228,7 @@ class PlacedGraph:
     """The design graph with what placing needs: each candidate's reach profile, the goal's
     accepted bands, and each band's range of every gate feature."""
 
-    def __init__(self, graph: DesignGraph, profiles: Sequence[ReachProfile], goal: Goal,
+    def __init__(self, graph: DesignGraph, profiles: Sequence[ReachBound], goal: Goal,
                  gate: GateSpec | None) -> None:
         if len(profiles) != len(graph.maps):
             raise ValueError("one reach profile per candidate fence")

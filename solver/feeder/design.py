@@ -30,7 +30,7 @@ from models.feeder.design_graph import (
     SearchResult,
     search_design,
 )
-from models.feeder.fence import DEFAULT, FeederTolerances, Fence, FenceMap, ReachProfile, fence_map, reach_profile
+from models.feeder.fence import DESIGN, FeederTolerances, Fence, FenceMap, ReachBound, fence_map, sampled_reach
 from models.feeder.gate import MARGIN_RADII, GateSpec
 from models.feeder.maps import ConfigurationMap, sequence
 from models.feeder.placed import Belt, Goal, PlacedDesign, PlacedGraph, PlacedSearchResult, search_placed
@@ -86,7 +86,7 @@ class FeederDesignProblem:
     goal: Goal = Goal()
     gate: GateSpec | None = None
     min_yield: float = MIN_YIELD
-    tol: FeederTolerances = DEFAULT
+    tol: FeederTolerances = DESIGN
     design_tol: DesignTolerances = DESIGN_DEFAULT
 
     def angles(self) -> list[float]:
@@ -157,11 +157,11 @@ def _maps(problem: FeederDesignProblem, budget: Budget, maps: list[FenceMap]) ->
         maps.append(fence_map(problem.part, Fence.create(g, problem.mu_c), problem.tol, checkpoint=budget.checkpoint))
 
 
-def _profiles(problem: FeederDesignProblem, maps: list[FenceMap], budget: Budget) -> list[ReachProfile]:
+def _profiles(problem: FeederDesignProblem, maps: list[FenceMap], budget: Budget) -> list[ReachBound]:
     out = []
     for m in maps:
         budget.checkpoint(f"the reach profile of the fence at {math.degrees(m.fence.angle):+.1f} degrees")
-        out.append(reach_profile(problem.part, m.fence, tol=problem.tol, checkpoint=budget.checkpoint))
+        out.append(sampled_reach(problem.part, m.fence, problem.tol, budget.checkpoint))
     return out
 
 
@@ -171,7 +171,7 @@ def _jam_held(problem: FeederDesignProblem, angle: float) -> bool:
     return shallower < problem.angle_min - ANGLE_GRID_SLACK or problem.mu_c[1] >= math.tan(shallower)
 
 
-def _search_placed(problem: FeederDesignProblem, graph: DesignGraph, profiles: list[ReachProfile], belt: Belt,
+def _search_placed(problem: FeederDesignProblem, graph: DesignGraph, profiles: list[ReachBound], belt: Belt,
                    budget: Budget, progress: Progress) -> tuple[PlacedSearchResult, bool | None]:
     """Fences only first; with a gate allowed and no fences-only design, the gate designs.
     Returns the result and, when a gate search ran, whether fences alone were exhausted."""

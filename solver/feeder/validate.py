@@ -7,7 +7,8 @@ On a belt the parts meet the placed fences one after the other in the world fram
 the gate, if any. Every part is counted once: accepted in an accepted band, accepted outside
 every accepted band (a defect: the design promised otherwise), rejected by the gate (returned
 to the start: a success of a gate design), or failed: passed a fence untouched, left one still
-turning, crossed a side of the belt, or did not finish (jammed, stalled, step or time limit).
+turning (without a gate; with one the gate judges it), crossed a side of the belt, or did not
+finish (jammed, stalled, step or time limit).
 Without a belt each fence runs in its own frame (issue 13's validation, kept for the
 sequence-only design).
 """
@@ -46,9 +47,10 @@ first fence's root (so the outline is clear of every fence)."""
 class Validation:
     """Simulated parts through the design (module docstring): ``in_band`` accepted in an
     accepted band, ``outside`` accepted elsewhere, ``rejected`` by the gate, and the
-    failures: ``unflushed`` (left a fence still turning), ``missed`` (passed a fence
-    untouched, on a belt only), ``off_belt`` (crossed a side), ``unfinished``. The failures
-    are counted in that order, each part once. ``on_belt``: the placed fences in the world
+    failures: ``unflushed`` (left a fence still turning, without a gate), ``missed`` (passed a
+    fence untouched, on a belt only), ``off_belt`` (crossed a side), ``unfinished``. Each part
+    is counted once; ``unflushed_gated`` says how many of those the gate judged had left a
+    fence still turning. ``on_belt``: the placed fences in the world
     frame; ``examples``: the first few parts' runs (for the top view)."""
 
     parts: int
@@ -61,6 +63,7 @@ class Validation:
     on_belt: bool = False
     off_belt: int = 0
     rejected: int = 0
+    unflushed_gated: int = 0  # with a gate: parts that left a fence still turning and were judged by it
     examples: tuple[BeltRun, ...] = ()
 
     @property
@@ -137,17 +140,21 @@ def validate_on_belt(part: Footprint, fences: list[Fence], placement: Placement,
     counts = dict(in_band=0, outside=0, rejected=0, unflushed=0, missed=0, off_belt=0, unfinished=0)
     for run in runs:
         counts[_outcome(part, run, 0.5 * belt.width, accepted, gate)] += 1
+    gated = sum(1 for r in runs if gate is not None and r.status == "left" and not r.missed and not r.flushed)
     return Validation(parts=n, solve_time_s=time.perf_counter() - t0, on_belt=True,
-                      examples=tuple(runs[:VALIDATION_EXAMPLES]), **counts)
+                      examples=tuple(runs[:VALIDATION_EXAMPLES]), unflushed_gated=gated, **counts)
 
 
 def _outcome(part: Footprint, run: BeltRun, half_width: float, accepted: Arcs, gate: Gate | None) -> str:
-    """What became of one part (module docstring): the first failure, else what the gate did."""
+    """What became of one part (module docstring): the first failure, else what the gate did.
+    A part that left a fence still turning fails without a gate; with one, the gate judges
+    it like any other (its orientation is then not one the maps bound: the guaranteed yield
+    counts it as lost, the gate may still reject it)."""
     if run.status != "left" or run.theta_final is None:
         return "unfinished"
     if run.missed:
         return "missed"
-    if not run.flushed:
+    if gate is None and not run.flushed:
         return "unflushed"
     if _leaves_belt(part, run, half_width):
         return "off_belt"

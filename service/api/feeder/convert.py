@@ -328,7 +328,7 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
         v = res.validation
         val = FeederValidationOut(parts=v.parts, in_band=v.in_band, outside=v.outside, unflushed=v.unflushed,
                                   unfinished=v.unfinished, missed=v.missed, on_belt=v.on_belt, off_belt=v.off_belt,
-                                  rejected=v.rejected, rate=None if math.isnan(v.rate) else v.rate,
+                                  rejected=v.rejected, unflushed_gated=v.unflushed_gated, rate=None if math.isnan(v.rate) else v.rate,
                                   yield_per_pass=v.yield_per_pass if v.on_belt and v.parts else None,
                                   succeeded=v.succeeded if v.on_belt and v.parts else None)
     base = None

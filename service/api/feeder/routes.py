@@ -122,8 +122,11 @@ async def feeder_design_route(req: FeederDesignRequest, request: Request,
     """The maps of candidate fences (both sides of the belt, a range of angles), the
     shortest design by a breadth-first search over their code sets with exact pruning,
     the most robust of the shortest (the largest margin, 1.8.6), optionally proven again by
-    CP-SAT, and optionally validated by simulated parts. Past the time limit: what was
-    established (the depth proven, the design if found)."""
+    CP-SAT, and optionally validated by simulated parts. With a belt the design is searched
+    as placed: each fence's reach in the search, the goal given, a reject gate when fences
+    alone cannot (7.1), the guaranteed yield per pass and the shortest belt; its validation
+    runs on the placed belt. Past the time limit: what was established (the depth proven,
+    the design if found)."""
     return await runner(request).expensive_job(request, design_job, req, response_format == "svg",
                                                time_limit_s=req.time_limit_s)
 

@@ -428,10 +428,14 @@ class FeederValidationOut(Out):
     parts: int
     in_band: int = Field(description="Parts that ended in the promised band.")
     outside: int = Field(description="Parts that came flush on every fence and ended elsewhere (a failure).")
-    unflushed: int = Field(description="Parts that left some fence without an edge flush (too short a fence).")
+    unflushed: int = Field(description="Parts that left some fence without an edge flush (too short a fence): a "
+                                       "failure (with a gate, see unflushed_gated).")
     unfinished: int = Field(description="Parts that jammed, stalled, met two fences at once or ran out of steps or time.")
     missed: int = Field(description="Parts that passed some placed fence untouched (on a belt only; a failure).")
     rejected: int = Field(default=0, description="On a belt with a gate: parts the gate returned to the start.")
+    unflushed_gated: int = Field(default=0, description="On a belt with a gate: parts that left a fence still turning "
+                                                        "and were then judged by the gate (counted in in_band, outside "
+                                                        "or rejected; without a gate they count in unflushed).")
     yield_per_pass: float | None = Field(default=None, description="On a belt: the share of the parts accepted in an "
                                                                    "accepted band.")
     succeeded: float | None = Field(default=None, description="On a belt: the share of the parts that ended as "

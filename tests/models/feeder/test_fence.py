@@ -10,6 +10,8 @@ from models.feeder.arcs import TWO_PI, Arcs
 from models.feeder.fence import (
     FINE,
     Fence,
+    ReachProfile,
+    SampledReach,
     canonical_edge,
     canonical_outline,
     contact_interval,
@@ -19,6 +21,7 @@ from models.feeder.fence import (
     final_edges,
     reach_profile,
     rotation,
+    sampled_reach,
 )
 from models.feeder.maps import matrix_product
 
@@ -339,3 +342,25 @@ def test_the_reach_profile_is_phase_6_for_every_reach_at_once_1_8_6():
     # the innermost cells (e^-40 of a last cell, below a double's resolution of the angle)
     # are points: the balances themselves, unaligned at any reach
     assert not profile.unaligned(1e6 * a).is_empty
+
+
+def test_over_a_mu_c_interval_a_design_samples_the_reach_per_mu_c_1_8_6():
+    """One profile over [0.1, 0.3] leaves unaligned every orientation whose balance some
+    mu_c there puts there (tens of degrees at any reach); a part has one mu_c, so a design
+    takes one profile per sample: each needs its own reach, the union of their slivers is
+    tiny, and the allowance is shared so the union stays within it."""
+    verts, cm = PENTAGON
+    part = feeder_part(verts, cm)
+    a = part.circumradius
+    whole = reach_profile(part, Fence.create(0.7, (0.1, 0.3)))
+    sampled = sampled_reach(part, Fence.create(0.7, (0.1, 0.3)))
+    assert isinstance(sampled, SampledReach) and len(sampled.profiles) == 3
+    assert whole.unaligned(20 * a).measure > math.radians(45)
+    assert sampled.unaligned(20 * a).measure < 1e-6
+    circle = Arcs.circle()
+    allowance = math.radians(2.0)
+    reach, dropped = sampled.needed(circle, allowance)
+    assert reach == max(p.needed(circle, allowance / 3)[0] for p in sampled.profiles)
+    assert sampled.unaligned(reach).measure <= dropped <= allowance
+    one, ref = sampled_reach(part, Fence.create(0.7, 0.25)), reach_profile(part, Fence.create(0.7, 0.25))
+    assert isinstance(one, ReachProfile) and np.array_equal(one.need, ref.need) and np.array_equal(one.lo, ref.lo)

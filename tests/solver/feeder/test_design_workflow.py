@@ -78,3 +78,30 @@ def test_an_expired_budget_answers_what_was_established():
     # a budget that runs out during the maps keeps the maps made
     res = feeder_design(problem("pentagon"), Budget.of(5.0, clock=CountingClock(20)))
     assert res.status == "time_limit" and 0 < len(res.maps) < 12 and res.search is None
+
+
+class Tally:
+    """A clock that never runs out and counts its readings."""
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def __call__(self) -> float:
+        self.calls += 1
+        return 0.0
+
+
+def test_a_placed_search_cut_by_its_time_limit_answers_what_it_established():
+    """A budget that runs out a few readings before the end (machine-independent: counted
+    readings) stops the placed search: the answer is incomplete, keeps every map and reach
+    profile made, and reports the nodes searched and the depth proven so far."""
+    part = feeder_part(*PARTS["pentagon"])
+    kw = dict(alternate=False, belt=BeltSpec(width=20.0 * part.circumradius), max_depth=6, gate=GateSpec())
+    tally = Tally()
+    full = feeder_design(problem("pentagon", **kw), Budget.of(5.0, clock=tally))
+    assert full.complete and full.design is not None
+    res = feeder_design(problem("pentagon", **kw), Budget.of(5.0, clock=CountingClock(tally.calls - 3)))
+    assert res.status == "time_limit" and not res.complete and res.design is None
+    assert len(res.maps) == len(full.maps) and "reach_profiles" in res.timings
+    assert res.progress is not None and res.progress.nodes > 0 and res.progress.depth_proven >= 1
+    assert "no design shorter than" in res.message
