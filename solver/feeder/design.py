@@ -43,23 +43,27 @@ from solver.feeder.validate import Validation, validate_in_own_frames, validate_
 
 MIN_YIELD = 0.995
 """The default least guaranteed yield per pass of a fences-only design on a belt."""
+ENTRY_SPREAD_RADII = 0.5
+"""The default half width of the entry lane, in part radii."""
 
 
 @dataclass(frozen=True)
 class BeltSpec:
     """The belt a design is placed on (models/feeder/placed.py), lengths in the part's units;
-    None for ``clearance``, ``spacing`` and ``entry_x`` takes a tenth of the part's radius, its
-    diameter, and the lane beside the right side (the first fence hangs there); parts enter
-    with their CM within ``entry_spread`` of ``entry_x``."""
+    None for ``clearance``, ``spacing``, ``entry_x`` and ``entry_spread`` takes a tenth of the
+    part's radius, its diameter, the lane beside the right side (the first fence hangs there)
+    and ENTRY_SPREAD_RADII of the radius; parts enter with their CM within ``entry_spread``
+    of ``entry_x``."""
 
     width: float
     clearance: float | None = None
     spacing: float | None = None
     entry_x: float | None = None
-    entry_spread: float = 0.0
+    entry_spread: float | None = None
 
     def belt(self, part_radius: float) -> Belt:
-        return Belt.create(self.width, part_radius, self.clearance, self.spacing, self.entry_x, self.entry_spread)
+        spread = ENTRY_SPREAD_RADII * part_radius if self.entry_spread is None else self.entry_spread
+        return Belt.create(self.width, part_radius, self.clearance, self.spacing, self.entry_x, spread)
 
 
 @dataclass(frozen=True)
@@ -166,9 +170,10 @@ def _profiles(problem: FeederDesignProblem, maps: list[FenceMap], budget: Budget
 
 
 def _jam_held(problem: FeederDesignProblem, angle: float) -> bool:
-    """Whether the next shallower candidate than ``angle`` would jam (6.4)."""
+    """Whether a fence one candidate step shallower than ``angle`` would jam (6.4), whether
+    or not the candidates go that low."""
     shallower = abs(angle) - problem.angle_step
-    return shallower < problem.angle_min - ANGLE_GRID_SLACK or problem.mu_c[1] >= math.tan(shallower)
+    return shallower <= 0.0 or problem.mu_c[1] >= math.tan(shallower)
 
 
 def _search_placed(problem: FeederDesignProblem, graph: DesignGraph, profiles: list[ReachBound], belt: Belt,

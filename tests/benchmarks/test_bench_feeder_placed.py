@@ -80,7 +80,8 @@ def test_bench_feeder_placed():
     lines = [
         f"`tests/benchmarks/test_bench_feeder_placed.py`, seed {SEED}, {platform.python_version()}, one core of a "
         f"2-core machine (the other busy), {time.perf_counter() - t0:.0f} s in all. Belt {BELT_RADII:g} part radii "
-        "wide (clearance 0.1 a, spacing 2 a, parts entering beside the right side), candidates 20°…70° in 5° steps "
+        "wide (clearance 0.1 a, spacing 2 a, parts entering with the CM anywhere within 0.5 a of a lane beside the "
+        "right side), candidates 20°…70° in 5° steps "
         "on both sides, sides free (same-side runs where the width allows), depth up to 8, a fences-only design "
         "needs a guaranteed yield of 99.5 %; when none exists up to that depth a reject gate is allowed (either "
         "silhouette extent, margin 0.005 a, guaranteed yield at least 25 %: fewer fences, then the higher yield).",
@@ -122,7 +123,7 @@ def test_bench_feeder_placed_time():
             print(rows[-1], flush=True)
     lines = [
         f"`tests/benchmarks/test_bench_feeder_placed.py::test_bench_feeder_placed_time`, {platform.python_version()}, "
-        "one core of a 2-core machine, best of 2. The pentagon on the belt above, the design without validation: "
+        "one core of a 2-core machine whose other core ran the benchmark above, best of 2. The pentagon on the belt above, the design without validation: "
         "candidate maps, reach profiles (phase 6 for every reach at once), the placed search (fences only, then with "
         "a gate), and the placement's linear programme.",
         "",

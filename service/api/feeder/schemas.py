@@ -281,9 +281,10 @@ class FeederBeltIn(Strict):
         default=None, description="Lane of the arriving parts' centre of mass, x across the belt, in the part's "
                                   "units (default: beside the right side, the clearance from it; the first fence "
                                   "then hangs from the right).")
-    entry_spread: Length = Field(default=0.0, description="Half width of the entry lane, in the part's units: parts "
-                                                          "arrive with their centre of mass anywhere within it of "
-                                                          "entry_x.")
+    entry_spread: Length | None = Field(default=None, description="Half width of the entry lane, in the part's "
+                                                                  "units: parts arrive with their centre of mass "
+                                                                  "anywhere within it of entry_x (default half the "
+                                                                  "part's radius).")
 
 
 Radians = Annotated[float, Field(strict=True, allow_inf_nan=False)]

@@ -294,6 +294,8 @@ def test_a_gate_design_rejects_what_the_fences_cannot_orient_7_1(client):
     assert lay["gate"]["y"] < lay["fences"][-1]["end"][1] and lay["gate"]["margin"] > 0.0
     assert v["outside"] == 0 and v["in_band"] + v["rejected"] == 8 and v["succeeded"] == 1.0
     assert out["fences_only_exhausted"] is not None
+    svg = client.post("/v1/feeder/design?format=svg", json=body)
+    assert svg.status_code == 200 and "reject gate" in svg.text  # the top view draws it (figure 1-9)
 
 
 def test_a_goal_the_user_states_is_designed_for(client):
