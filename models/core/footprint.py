@@ -252,16 +252,27 @@ class Footprint:
         """The index in the outline as given of vertex ``i`` of ``vertices``."""
         return len(self.vertices) - 1 - int(i) if self.input_reversed else int(i)
 
-    def hull_edge_of_input(self, i: int) -> int | None:
-        """The hull edge that is edge ``i`` of the outline as given (from its vertex i to
-        vertex i + 1), or None when that edge is not on the convex hull."""
+    def hull_edge_of_input(self, i: int, tolerances: Tolerances = DEFAULT) -> int | None:
+        """The hull edge that edge ``i`` of the outline as given (from its vertex i to vertex
+        i + 1) lies on, or None when it is not on the convex hull. A hull edge may span
+        several outline edges (collinear vertices are not hull vertices): the outline edge
+        must run, in CCW order, between the hull edge's ends and lie on its line."""
         n = len(self.vertices)
         a, b = (n - 1 - i % n, n - 1 - (i + 1) % n) if self.input_reversed else (i % n, (i + 1) % n)
-        start, stop = (b, a) if self.input_reversed else (a, b)  # the edge in CCW order
+        start = b if self.input_reversed else a  # the edge's first vertex in CCW order
         h = self.hull_indices
         for j in range(len(h)):
-            if h[j] == start and h[(j + 1) % len(h)] == stop:
-                return j
+            lo, hi = h[j], h[(j + 1) % len(h)]
+            if (start - lo) % n >= (hi - lo) % n:
+                continue  # not between this hull edge's ends
+            p0, p1 = self.vertices[lo], self.vertices[hi]
+            d = p1 - p0
+            length = float(np.hypot(*d))
+            for k in (start, (start + 1) % n):
+                off = self.vertices[k] - p0
+                if abs(float(d[0] * off[1] - d[1] * off[0])) > tolerances.polygon_area_rel * self.circumradius * length:
+                    return None
+            return j
         return None
 
     @cached_property

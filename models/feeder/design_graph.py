@@ -211,7 +211,7 @@ class _Node:
     goal: bool
 
 
-def _mask(arcs: Arcs, cells: int) -> int:
+def cell_mask(arcs: Arcs, cells: int) -> int:
     """The cells the set touches, as the bits of an integer."""
     bits = np.packbits(arcs.cells(cells).astype(np.uint8), bitorder="little")
     return int.from_bytes(bits.tobytes(), "little")
@@ -242,7 +242,7 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
         if graph.first_ok[f]:
             occ = graph.start[f]
             arcs = graph.occupied_set(f, occ)
-            frontier.append(_Node(f, occ, arcs, math.inf, (f,), _mask(arcs, tol.mask_cells), graph.is_goal(f, occ)))
+            frontier.append(_Node(f, occ, arcs, math.inf, (f,), cell_mask(arcs, tol.mask_cells), graph.is_goal(f, occ)))
     nodes = len(frontier)
     pruned = 0
     per_depth = [len(frontier)]
@@ -284,7 +284,7 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                     continue
                 if (f, occ) not in sets:
                     arcs = graph.occupied_set(f, occ)
-                    sets[(f, occ)] = (arcs, _mask(arcs, tol.mask_cells))
+                    sets[(f, occ)] = (arcs, cell_mask(arcs, tol.mask_cells))
                 arcs, mask = sets[(f, occ)]
                 if not goal and _dominated(seen.get(key, []), arcs, mask, margin, tol.subset_slack):
                     pruned += 1

@@ -77,25 +77,32 @@ MIN_YIELD = 0.25
 on average)."""
 MARGIN_RADII = 0.005
 """The default margin of a gate's threshold, in part radii."""
+MAX_DEPTH = 4
+"""The default most fences before a gate: the gate search cannot prune as much as the
+fences-only one (models/feeder/placed.py) and grows about twofold per fence."""
 
 
 @dataclass(frozen=True)
 class GateSpec:
     """What a design may use as a gate: the features allowed, the least margin (part units)
-    between the threshold and any band's range, and the least guaranteed yield per pass a
-    gate design must reach to count."""
+    between the threshold and any band's range (None: MARGIN_RADII of the part's radius), the
+    least guaranteed yield per pass a gate design must reach to count, and the most fences
+    before the gate."""
 
     features: tuple[str, ...] = tuple(FEATURES)
-    margin: float = 0.0
+    margin: float | None = None
     min_yield: float = MIN_YIELD
+    max_depth: int = MAX_DEPTH
 
     def __post_init__(self) -> None:
         if not self.features or any(f not in FEATURES for f in self.features):
             raise InvalidInput("gate.features", f"must be a non-empty list of {list(FEATURES)}")
-        if not (math.isfinite(self.margin) and self.margin >= 0.0):
+        if self.margin is not None and not (math.isfinite(self.margin) and self.margin >= 0.0):
             raise InvalidInput("gate.margin", "must be a finite length >= 0")
         if not (0.0 < self.min_yield <= 1.0):
             raise InvalidInput("gate.min_yield", "must be in (0, 1]")
+        if self.max_depth < 1:
+            raise InvalidInput("gate.max_depth", "must be at least 1")
 
 
 @dataclass(frozen=True)

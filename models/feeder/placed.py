@@ -27,9 +27,12 @@ is chosen afterwards (solver/feeder/placement.py: the shortest belt).
 
 The first fence sees every orientation, and near each balance where the part can slide
 without turning no reach aligns it (phase 6): the first fence takes the least reach whose
-unaligned set has measure at most the loss allowed, (1 - min_yield) 2 pi, and those initial
-orientations are lost (any outcome; they count against the guaranteed yield). A later fence
-must align every orientation that may arrive at it, or the step is refused.
+unaligned set has measure at most the loss allowed, (1 - min_yield) 2 pi (for a gate design
+also each share of FIRST_LOSSES below 1 - the gate's min_yield: a shorter fence that loses
+more), and those initial orientations are lost (any outcome; they count against the
+guaranteed yield). A later fence must align every orientation that may arrive at it but a
+sliver of at most DesignTolerances.sliver radians (counted against the yield), or the step
+is refused.
 
 Goals (5.3.1 and the user's). By default one band per symmetry class (models/feeder/design_graph.py);
 or a set G of accepted final orientations: a band is accepted when it lies within G.
@@ -44,11 +47,14 @@ Among designs, fewer fences first, then a fences-only design (every band accepte
 least min_yield), then a gate design of the largest guaranteed yield (at least the gate's
 min_yield), then the largest margin.
 
-Dominance (design_graph.py's rule with the lane): a node is dropped when a node already
-reached holds a set of orientations within its set, a lane containing its lane, and no
-smaller margin; every continuation of the dropped node is then matched, fence for fence, by
-one of the kept node. The yield of a gate design is not monotone under that inclusion, so
-among gate designs the search returns the best of those it keeps.
+Dominance, fences only (design_graph.py's rule with the lane): a node is dropped when a
+node already reached holds a set of orientations within its set, a lane containing its lane,
+no more lost and no smaller margin; every continuation of the dropped node is then matched,
+fence for fence, by one of the kept node (with alternating sides, only among nodes whose
+last fence is on the same side). With a gate that is not enough: a smaller set of bands may
+miss the accepted bands a gate needs, or carry more origins into a rejected band; so the
+gate search drops only a node whose state (fence, bands, origins per band, lost set) is
+matched by one reached before, and its depth proven and exhaustion are proofs as well.
 """
 
 from __future__ import annotations
@@ -56,16 +62,14 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
-
-import numpy as np
+from dataclasses import dataclass, field, replace
 
 from models.core.errors import InvalidInput
 from models.core.footprint import Footprint
 from models.feeder.arcs import TWO_PI, Arcs
-from models.feeder.design_graph import DESIGN_DEFAULT, DesignGraph, DesignTolerances, Progress
+from models.feeder.design_graph import DESIGN_DEFAULT, DesignGraph, DesignTolerances, Progress, cell_mask
 from models.feeder.fence import ReachBound
-from models.feeder.gate import Gate, GateSpec, critical_orientations, extent_range, separations
+from models.feeder.gate import MARGIN_RADII, Gate, GateSpec, critical_orientations, extent_range, separations
 from models.feeder.layout import CLEARANCE_RADII, SPACING_RADII
 
 FIRST_LOSSES = (0.01, 0.02, 0.05, 0.1, 0.2, 0.4)
@@ -235,6 +239,8 @@ class PlacedGraph:
         self.graph = graph
         self.profiles = tuple(profiles)
         self.goal = goal
+        if gate is not None and gate.margin is None:
+            gate = replace(gate, margin=MARGIN_RADII * graph.maps[0].part.circumradius)
         self.gate = gate
         if goal.accepted is None:
             self.accepted = None
@@ -267,7 +273,7 @@ class PlacedGraph:
         out: list[Gate] = []
         for feature in self.gate.features:
             ranges = {j: self.ranges[f][feature][j] for j in occupied}
-            out.extend(g for g in separations(ranges, feature, self.gate.margin)
+            out.extend(g for g in separations(ranges, feature, self.gate.margin or 0.0)
                        if any(g.accepted <= c for c in allowed))
         return out
 
@@ -277,19 +283,30 @@ def _yield(lost: Arcs, slivers: float, origins: dict[int, Arcs], accepted: froze
     return max(1.0 - (gone.measure + slivers) / TWO_PI, 0.0)
 
 
-def _mask(arcs: Arcs, cells: int) -> int:
-    bits = np.packbits(arcs.cells(cells).astype(np.uint8), bitorder="little")
-    return int.from_bytes(bits.tobytes(), "little")
-
-
 def _contains(outer: tuple[float, float], inner: tuple[float, float]) -> bool:
     return outer[0] <= inner[0] and inner[1] <= outer[1]
 
 
 def _dominated(seen: list[_Node], node: _Node, slack: float) -> bool:
+    """Fences only (module docstring): a node reached before with a set within this one's,
+    a lane containing its lane, no more lost and no smaller margin."""
     for old in seen:
-        if (old.margin >= node.margin and old.lost_measure <= node.lost_measure and old.mask & ~node.mask == 0 and _contains(old.lane, node.lane)
-                and old.arcs.issubset(node.arcs, slack)):
+        if (old.margin >= node.margin and old.lost_measure <= node.lost_measure and old.mask & ~node.mask == 0
+                and _contains(old.lane, node.lane) and old.arcs.issubset(node.arcs, slack)):
+            return True
+    return False
+
+
+def _same_state(seen: list[_Node], node: _Node, slack: float) -> bool:
+    """With a gate: a node reached before at the same fence with the same bands, a lane
+    containing this one's, no more lost, no smaller margin and, band by band, origins within
+    this one's. Only then is every continuation (the bands it reaches, a gate's split, its
+    yield) matched; a smaller set of bands may lose the accepted ones a gate needs."""
+    for old in seen:
+        if (old.fence == node.fence and old.occupied == node.occupied and old.margin >= node.margin
+                and _contains(old.lane, node.lane) and old.lost.issubset(node.lost, slack)
+                and old.slivers <= node.slivers
+                and all(old.origins[j].issubset(node.origins[j], slack) for j in node.occupied)):
             return True
     return False
 
@@ -301,7 +318,6 @@ class _Search:
     pg: PlacedGraph
     belt: Belt
     min_yield: float
-    alternate: bool
     tol: DesignTolerances
     refused: dict[str, int] = field(default_factory=lambda: {"jam": 0, "reach": 0, "width": 0})
 
@@ -329,7 +345,7 @@ class _Search:
                 arcs = g.occupied_set(f, occ)
                 origins = {j: fm.map.kernels[j] for j in occ}
                 out.append(_Node(f, occ, arcs, math.inf, (f,), (reach,), lane, origins,
-                                 _mask(arcs, self.tol.mask_cells), lost, 0.0))
+                                 cell_mask(arcs, self.tol.mask_cells), lost, 0.0))
         return out
 
     def child(self, node: _Node, f: int) -> _Node | None:
@@ -355,7 +371,7 @@ class _Search:
             origins[j] = Arcs.union_of(node.origins[i] for i in rows if g.meets[node.fence][f][i, j])
         arcs = g.occupied_set(f, occ)
         return _Node(f, occ, arcs, min(node.margin, m), node.path + (f,), node.reaches + (reach,), lane, origins,
-                     _mask(arcs, self.tol.mask_cells), node.lost, node.slivers + sliver)
+                     cell_mask(arcs, self.tol.mask_cells), node.lost, node.slivers + sliver)
 
     def designs(self, nd: _Node) -> list[tuple[float, float, _Node, Gate | None]]:
         """The designs the node makes, as (guaranteed yield, margin, node, gate): fences only
@@ -387,22 +403,32 @@ def search_placed(pg: PlacedGraph, belt: Belt, max_depth: int, min_yield: float 
                   tol: DesignTolerances = DESIGN_DEFAULT, checkpoint: Callable[[str], None] | None = None,
                   progress: Progress | None = None) -> PlacedSearchResult:
     """Breadth-first search for the best placed design (module docstring) up to
-    ``max_depth`` fences; ``checkpoint`` (a deadline) is called before each depth and each
-    node's children, and ``progress`` then holds what was established."""
+    ``max_depth`` fences; ``checkpoint`` (a deadline) is called before each node's children
+    and each candidate child, and ``progress`` then holds what was established."""
     if max_depth < 1:
         raise InvalidInput("max_depth", "must be at least 1")
     if not (0.0 < min_yield <= 1.0):
         raise InvalidInput("min_yield", "must be in (0, 1]")
     t0 = time.perf_counter()
     progress = Progress() if progress is None else progress
-    s = _Search(pg, belt, min_yield, alternate, tol)
+    s = _Search(pg, belt, min_yield, tol)
     g = pg.graph
     losses = [(1.0 - min_yield) * TWO_PI]
     if pg.gate is not None:
         most = 1.0 - pg.gate.min_yield
         losses += [share * TWO_PI for share in FIRST_LOSSES if share < most] + [most * TWO_PI]
     frontier = s.firsts(losses)
-    seen: list[_Node] = list(frontier)
+    prune = _dominated if pg.gate is None else _same_state
+
+    def key_of(nd: _Node) -> tuple[object, ...]:
+        """Nodes compared for pruning: by the last side when sides alternate; with a gate
+        only nodes of the same fence and bands can match."""
+        side = g.side(nd.fence) if alternate else 0.0
+        return (side,) if pg.gate is None else (side, nd.fence, nd.occupied)
+
+    seen: dict[tuple[object, ...], list[_Node]] = {}
+    for node in frontier:
+        seen.setdefault(key_of(node), []).append(node)
     nodes, pruned, per_depth = len(frontier), 0, [len(frontier)]
     depth = 1
     while True:
@@ -421,16 +447,19 @@ def search_placed(pg: PlacedGraph, belt: Belt, max_depth: int, min_yield: float 
                 progress.nodes, progress.pruned = nodes, pruned
                 checkpoint(f"depth {depth + 1} of the placed design search ({nodes} nodes so far)")
             for f in range(len(g.maps)):
+                if checkpoint is not None and f:
+                    checkpoint(f"depth {depth + 1} of the placed design search ({nodes} nodes so far)")
                 if alternate and g.side(f) == g.side(node.fence):
                     continue
                 child = s.child(node, f)
                 if child is None:
                     continue
                 # a design is never pruned: a set within it need not be one by its own bands
-                if not s.designs(child) and _dominated(seen, child, tol.subset_slack):
+                key = key_of(child)
+                if not s.designs(child) and prune(seen.setdefault(key, []), child, tol.subset_slack):
                     pruned += 1
                     continue
-                seen.append(child)
+                seen.setdefault(key, []).append(child)
                 nxt.append(child)
                 nodes += 1
         frontier = nxt

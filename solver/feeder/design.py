@@ -31,7 +31,7 @@ from models.feeder.design_graph import (
     search_design,
 )
 from models.feeder.fence import DESIGN, FeederTolerances, Fence, FenceMap, ReachBound, fence_map, sampled_reach
-from models.feeder.gate import MARGIN_RADII, GateSpec
+from models.feeder.gate import GateSpec
 from models.feeder.maps import ConfigurationMap, sequence
 from models.feeder.placed import Belt, Goal, PlacedDesign, PlacedGraph, PlacedSearchResult, search_placed
 from models.feeder.pushplan import PushPlan, plan_pushes
@@ -185,10 +185,8 @@ def _search_placed(problem: FeederDesignProblem, graph: DesignGraph, profiles: l
                         budget.checkpoint, progress)
     if res.design is not None or problem.gate is None:
         return res, None
-    gate = problem.gate
-    if gate.margin == 0.0:
-        gate = GateSpec(gate.features, MARGIN_RADII * problem.part.circumradius, gate.min_yield)
-    gated = search_placed(PlacedGraph(graph, profiles, problem.goal, gate), belt, problem.max_depth, problem.min_yield,
+    depth = min(problem.max_depth, problem.gate.max_depth)
+    gated = search_placed(PlacedGraph(graph, profiles, problem.goal, problem.gate), belt, depth, problem.min_yield,
                           problem.alternate, problem.design_tol, budget.checkpoint, progress)
     return gated, res.exhausted
 

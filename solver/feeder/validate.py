@@ -138,9 +138,11 @@ def validate_on_belt(part: Footprint, fences: list[Fence], placement: Placement,
     starts = np.column_stack([xs, np.full(n, y0)])
     runs = simulate_belt_batch(part, segs, mu_of, supports, theta, starts, budget=budget)
     counts = dict(in_band=0, outside=0, rejected=0, unflushed=0, missed=0, off_belt=0, unfinished=0)
+    gated = 0
     for run in runs:
-        counts[_outcome(part, run, 0.5 * belt.width, accepted, gate)] += 1
-    gated = sum(1 for r in runs if gate is not None and r.status == "left" and not r.missed and not r.flushed)
+        outcome = _outcome(part, run, 0.5 * belt.width, accepted, gate)
+        counts[outcome] += 1
+        gated += outcome in ("in_band", "outside", "rejected") and gate is not None and not run.flushed
     return Validation(parts=n, solve_time_s=time.perf_counter() - t0, on_belt=True,
                       examples=tuple(runs[:VALIDATION_EXAMPLES]), unflushed_gated=gated, **counts)
 

@@ -10,6 +10,7 @@ the candidate step and the width of the mu_c interval. Run with
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import platform
@@ -19,6 +20,7 @@ import pytest
 
 from models.feeder.fence import feeder_part
 from models.feeder.gate import GateSpec
+from models.feeder.placed import Goal
 from solver import BeltSpec, FeederDesignProblem, feeder_design
 from tests.benchmarks._docs import write_section
 from tests.benchmarks.test_bench_feeder_design import ALL_PARTS
@@ -132,3 +134,43 @@ def test_bench_feeder_placed_time():
         *rows,
     ]
     write_section("Feeder design time on a belt (issue 24)", lines)
+
+
+GOAL_CASES = (
+    # (part, input edge against a guide, side, tolerance in degrees)
+    ("near-symmetric", 0, "either", 40.0),
+    ("rectangle", 0, "either", 40.0),
+    ("pentagon", 0, "either", 40.0),
+)
+
+
+def test_bench_feeder_placed_goal():
+    """Goals a user states: an edge against a guide, either way round."""
+    rows = []
+    for name, edge, side, tol_deg in GOAL_CASES:
+        base = problem(name, (0.25, 0.25))
+        part = base.part
+        j = part.hull_edge_of_input(edge)
+        goal = Goal.edge_against_guide(part, j, side, math.radians(tol_deg))
+        t = time.perf_counter()
+        res = feeder_design(dataclasses.replace(base, goal=goal))
+        dt = time.perf_counter() - t
+        d, v = res.design, res.validation
+        if d is None:
+            rows.append(f"| {name} | {edge} ({side}, ±{tol_deg:g}°) | none | – | – | – | {dt:.0f} |")
+            continue
+        gate = "–" if d.gate is None else f"{d.gate.feature} {d.gate.rule}"
+        rows.append(f"| {name} | {edge} ({side}, ±{tol_deg:g}°) | {fences_text(res)} | {gate} | "
+                    f"{100 * d.guaranteed_yield:.2f} | {v.in_band} / {v.rejected} / {v.outside} / {v.failed} | {dt:.0f} |")
+        print(rows[-1], flush=True)
+    lines = [
+        "The same belt and candidates, μ_c = 0.25, with a goal the user states instead of one band: edge 0 of the "
+        "outline as given (from vertex 0 to vertex 1) along the belt against a guide on either side, within the "
+        f"tolerance; {VALIDATION} simulated parts each (accepted in the goal / rejected / accepted outside / failed); "
+        "seconds for the whole request.",
+        "",
+        "| part | edge (side, tolerance) | design (γ, deg) | gate | guaranteed (%) | simulated | s |",
+        "|---|---|---|---|---|---|---|",
+        *rows,
+    ]
+    write_section("Feeder designs for a goal the user states (issue 24)", lines)

@@ -275,11 +275,10 @@ def goal_of(g: FeederGoalIn | None, part: Footprint) -> Goal:
 def gate_of(g: FeederGateIn, part: Footprint) -> GateSpec:
     """The gate allowed: a margin no two silhouettes can clear (their extents differ by less
     than the part's diameter) is refused."""
-    margin = 0.0 if g.margin is None else g.margin
-    if 2.0 * margin >= 2.0 * part.circumradius:
+    if g.margin is not None and 2.0 * g.margin >= 2.0 * part.circumradius:
         raise FieldError(("gate", "margin"), "no gate can realise it: two silhouettes' extents differ by less than "
                                              "the part's diameter, twice the margin is more")
-    return GateSpec(tuple(dict.fromkeys(g.features)), margin, g.min_yield)
+    return GateSpec(tuple(dict.fromkeys(g.features)), g.margin, g.min_yield, g.max_depth)
 
 
 def _design_out(res: FeederDesignResult) -> FeederDesignOut | None:

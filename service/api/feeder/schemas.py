@@ -303,7 +303,11 @@ class FeederGoalIn(Strict):
     side: Literal["right", "left", "either"] = Field(
         default="either", description="With edge: the guide it lies against, on the belt's right (+x) or left side, "
                                       "or either (the part half a turn round).")
-    tolerance: Radians = Field(default=0.0873, description="With edge: how far from exactly along the guide, radians.")
+    tolerance: Radians = Field(default=0.6981, description="With edge: how far from exactly along the guide, radians "
+                                                           "(default 40 degrees). A band is accepted only when it lies "
+                                                           "within the goal, and bands after a fence are some 13 to 40 "
+                                                           "degrees wide: a tolerance below half a band's width "
+                                                           "accepts none.")
 
 
 class FeederGateIn(Strict):
@@ -318,6 +322,9 @@ class FeederGateIn(Strict):
                                                             "the part's radius).")
     min_yield: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=1.0)] = Field(
         default=0.25, description="Least guaranteed yield per pass a gate design must have.")
+    max_depth: Annotated[int, Field(strict=True, ge=1, le=FEEDER_MAX_DESIGN_DEPTH)] = Field(
+        default=4, description="The most fences before the gate (at most max_depth): the gate search prunes less "
+                               "than the fences-only one and grows about twofold per fence.")
 
 
 class FeederDesignRequest(Strict):
@@ -365,7 +372,8 @@ class FeederPlacedFenceOut(Out):
     reach: float = Field(description="Along the fence from the part's least favourable first contact to the free "
                                      "end, in the part's units.")
     reach_needed: float = Field(description="The reach the orientations arriving at it need to come flush (1.8.6, "
-                                            "bounded with the circumscribing disk), in the part's units.")
+                                            "bounded with the circumscribing disk), plus a slack of a quarter of the "
+                                            "part's radius, in the part's units.")
     binding: list[str] = Field(description="What keeps this fence from being shorter: reach (it needs its reach), "
                                            "width (the gap at its free end), jam (a shallower candidate would jam).")
 
@@ -408,7 +416,9 @@ class FeederDesignOut(Out):
                                                                        "bands.")
     guaranteed_yield: float | None = Field(default=None, description="On a belt: the share of initial orientations "
                                                                      "every outcome of which is accepted, from the "
-                                                                     "maps (per pass).")
+                                                                     "maps (per pass), at each mu_c sample of an "
+                                                                     "interval; slivers are counted by their own "
+                                                                     "measure (docs/mechanics.md).")
     expected_passes: float | None = Field(default=None, description="On a belt: at most 1 / guaranteed_yield passes "
                                                                     "a part on average (rejected parts start again).")
     lost: float | None = Field(default=None, description="On a belt: radians of initial orientations the first "
@@ -460,10 +470,10 @@ class FeederDesignResponse(Out):
     design: FeederDesignOut | None
     depth_proven: int = Field(description="No design has this many fences or fewer (complete depths only).")
     exhausted: bool = Field(description="No design exists with these candidate fences at any depth.")
-    fences_only_exhausted: bool | None = Field(default=None, description="On a belt with a gate allowed and a gate "
-                                                                         "design returned: no design of fences alone "
-                                                                         "exists at any depth (false: none up to "
-                                                                         "max_depth).")
+    fences_only_exhausted: bool | None = Field(default=None, description="On a belt with a gate allowed, when no "
+                                                                         "design of fences alone was found (the gate "
+                                                                         "search then ran): whether none exists at "
+                                                                         "any depth (false: none up to max_depth).")
     candidates: int = Field(description="Candidate fences whose maps were made.")
     nodes: int
     pruned: int

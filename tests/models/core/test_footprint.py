@@ -215,3 +215,16 @@ def test_the_hull_does_not_depend_on_the_scale(scale):
 def test_a_symmetric_bow_tie_is_called_self_crossing_not_collinear():
     with pytest.raises(InvalidInput, match="not a simple polygon"):
         Footprint.create([[0, 0], [2, 2], [2, 0], [0, 2]])
+
+
+def test_an_outline_edge_maps_to_the_hull_edge_it_lies_on():
+    """Edges of the outline as given (either orientation) map to hull edges; a notch's
+    edges map to none; edges split by a collinear vertex map to the one hull edge."""
+    ell = [[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]]
+    f = Footprint.create(ell)
+    assert [f.hull_edge_of_input(i) for i in range(6)] == [0, 1, None, None, 3, 4]
+    g = Footprint.create(ell[::-1])
+    assert [g.hull_edge_of_input(i) for i in range(6)] == [3, None, None, 1, 0, 4]
+    split = [[0, 0], [1, 0], [2, 0], [2, 1], [0, 1]]
+    assert [Footprint.create(split).hull_edge_of_input(i) for i in range(5)] == [0, 0, 1, 2, 3]
+    assert [Footprint.create(split[::-1]).hull_edge_of_input(i) for i in range(5)] == [2, 1, 0, 0, 3]

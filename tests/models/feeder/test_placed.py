@@ -17,8 +17,9 @@ from models.core.errors import InvalidInput
 from models.feeder.arcs import TWO_PI, Arcs
 from models.feeder.design_graph import DesignGraph
 from models.feeder.fence import Fence, fence_map, reach_profile
+from models.feeder.gate import GateSpec
 from models.feeder.maps import ConfigurationMap, sequence
-from models.feeder.placed import REACH_SLACK_RADII, Belt, Goal, PlacedGraph, search_placed
+from models.feeder.placed import FIRST_LOSSES, REACH_SLACK_RADII, Belt, Goal, PlacedGraph, search_placed
 from solver.feeder.placement import place
 from tests.feeder_cases import part
 
@@ -139,3 +140,72 @@ def test_the_placed_search_agrees_with_a_brute_force_over_every_sequence_5_3(nam
     pl = place(belt, [ANGLES[f] for f in d.fences], list(d.reaches))
     assert all(f.reach >= r - 1e-9 * p.circumradius for f, r in zip(pl.fences, d.reaches))
     assert all(abs(f.end[0]) <= 0.5 * belt.width - belt.gap + 1e-9 * p.circumradius for f in pl.fences)
+
+
+def brute_force_gated(name: str, belt: Belt, depth: int, gate: GateSpec):
+    """As :func:`brute_force`, with a gate: every first-fence loss the search tries, and at
+    the end of each sequence every gate after its last fence, the yield from the product's
+    kernels (5.4): 1 - |unaligned u jam u the kernels of the rejected bands| / 2 pi."""
+    p, maps, profiles, g = setting(name)
+    pg = PlacedGraph(g, profiles, Goal(), gate)
+    slack = REACH_SLACK_RADII * p.circumradius
+    most = 1.0 - gate.min_yield
+    losses = sorted({0.01 * TWO_PI} | {s * TWO_PI for s in FIRST_LOSSES if s < most} | {most * TWO_PI})
+    for n in range(1, depth + 1):
+        found = []
+        for seq in itertools.product(range(len(maps)), repeat=n):
+            for loss in losses:
+                f0 = seq[0]
+                reach, _ = profiles[f0].needed(Arcs.circle(), loss)
+                if not math.isfinite(reach):
+                    continue
+                lost = profiles[f0].unaligned(reach)
+                lane = belt.lane_after(None, maps[f0].fence.sign, maps[f0].fence.angle, reach + slack)
+                occ, ok = g.start[f0], lane is not None
+                for prev, f in zip(seq, seq[1:]):
+                    step = g.step(prev, occ, f) if ok else None
+                    if step is None:
+                        ok = False
+                        break
+                    need, sliver = profiles[f].needed(g.occupied_set(prev, occ), 1e-9)
+                    lane = belt.lane_after(lane, maps[f].fence.sign, maps[f].fence.angle, need + slack) \
+                        if math.isfinite(need) and sliver == 0.0 else None
+                    ok, occ = lane is not None, step[0]
+                if not ok:
+                    continue
+                first = maps[f0].map
+                prod = sequence([ConfigurationMap(first.bands, first.kernels, first.jam, lost)]
+                                + [maps[f].map for f in seq[1:]])
+                if g.is_goal(seq[-1], occ):
+                    y = 1.0 - prod.unaligned.union(prod.jam).measure / TWO_PI
+                    if y >= 0.99:
+                        found.append((0, y, seq))
+                    continue
+                for gt in pg.gates(seq[-1], occ):
+                    gone = Arcs.union_of([prod.unaligned, prod.jam]
+                                         + [prod.kernels[j] for j in occ if j not in gt.accepted])
+                    y = 1.0 - gone.measure / TWO_PI
+                    if y >= gate.min_yield:
+                        found.append((1, y, seq))
+        if found:
+            kind = min(k for k, _, _ in found)
+            return n, max(y for k, y, _ in found if k == kind), kind
+    return None, None, None
+
+
+def test_the_gate_search_agrees_with_a_brute_force_over_every_sequence_7_1():
+    """With a gate allowed the search prunes only states seen exactly; on the pentagon it
+    finds the least depth a design exists at, prefers fences alone there, and reaches the
+    largest guaranteed yield of the brute force (two fences, six candidates)."""
+    name = "pentagon"
+    p, maps, profiles, g = setting(name)
+    belt = Belt.create(20.0 * p.circumradius, p.circumradius)
+    gate = GateSpec(margin=0.005 * p.circumradius, min_yield=0.2)
+    res = search_placed(PlacedGraph(g, profiles, Goal(), gate), belt, 2, min_yield=0.99)
+    n, y_best, kind = brute_force_gated(name, belt, 2, gate)
+    if n is None:
+        assert res.design is None
+        return
+    d = res.design
+    assert d is not None and len(d.fences) == n and (d.gate is not None) == (kind == 1)
+    assert d.guaranteed_yield == pytest.approx(y_best, abs=1e-9)
