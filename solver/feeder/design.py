@@ -19,6 +19,7 @@ import math
 import time
 from dataclasses import dataclass, field
 
+from models.core.errors import InvalidInput
 from models.core.footprint import Footprint
 from models.feeder.arcs import Arcs
 from models.feeder.design_graph import (
@@ -194,6 +195,9 @@ def _search_placed(problem: FeederDesignProblem, graph: DesignGraph, profiles: l
 def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> FeederDesignResult:
     t0 = time.perf_counter()
     # what would fail only after the maps and the search is refused first
+    if problem.belt is None and (problem.goal.accepted is not None or problem.gate is not None):
+        raise InvalidInput("goal" if problem.goal.accepted is not None else "gate",
+                           "needs a belt: goals and gates are for designs placed on one")
     belt = None if problem.belt is None else problem.belt.belt(problem.part.circumradius)
     timings: dict[str, float] = {}
     maps: list[FenceMap] = []

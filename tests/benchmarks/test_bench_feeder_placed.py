@@ -146,7 +146,7 @@ def test_bench_feeder_placed_time():
             print(rows[-1], flush=True)
     lines = [
         f"`tests/benchmarks/test_bench_feeder_placed.py::test_bench_feeder_placed_time`, {platform.python_version()}, "
-        "one core of a 2-core machine whose other core ran the benchmark above, best of 2. The pentagon on the belt above, the design without validation: "
+        "one core of an otherwise idle 2-core machine, best of 2. The pentagon on the belt above, the design without validation: "
         "candidate maps, reach profiles (phase 6 for every reach at once), the placed search (fences only, then with "
         "a gate), and the placement's linear programme.",
         "",

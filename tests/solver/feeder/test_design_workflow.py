@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from models.feeder.fence import feeder_part
 from models.feeder.gate import GateSpec
 from models.feeder.placed import PlacedDesign
@@ -51,6 +53,7 @@ def test_on_a_belt_the_design_is_searched_as_placed_and_validated_there_1_8_6():
     assert v is not None and v.on_belt and v.parts == 12 and v.in_band == 12 and v.failed == 0
 
 
+@pytest.mark.slow
 def test_the_alternating_layout_of_issue_13_fails_on_the_belt_and_the_placed_search_knows_why():
     """The pentagon's shortest sequence without a belt (non-alternating, issue 13) is placed
     by nobody now: on a belt 20 radii wide the fences-only search is exhausted (every
@@ -91,6 +94,7 @@ class Tally:
         return 0.0
 
 
+@pytest.mark.slow
 def test_a_placed_search_cut_by_its_time_limit_answers_what_it_established():
     """A budget that runs out a few readings before the end (machine-independent: counted
     readings) stops the placed search: the answer is incomplete, keeps every map and reach
