@@ -122,6 +122,13 @@ class Server(BaseApplication):  # type: ignore[misc]
             "limit_request_field_size": 8190,
             "accesslog": None,
         }
+        # gunicorn's control socket defaults to one path in the user's home, shared by every
+        # instance on the host (and unwritable in the image): a path of this instance's own,
+        # or none
+        if s.control_socket:
+            options["control_socket"] = s.control_socket
+        else:
+            options["control_socket_disable"] = True
         for key, value in options.items():
             self.cfg.set(key, value)
 

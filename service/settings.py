@@ -29,6 +29,10 @@ variable                        default     meaning
 ``PESHKIN_STORE_PATH``          (tmp)       SQLite file of reusable results (r* rows of spiral
                                             localization), shared by all processes; "" for
                                             none; default <tmp>/peshkin-service/results.sqlite3
+``PESHKIN_CONTROL_SOCKET``      (none)      gunicorn's control socket (``gunicornc``): a path of
+                                            this instance's own; unset or "" for none (gunicorn's
+                                            default, one path in the user's home, would be shared
+                                            by every instance on the host)
 ==============================  ==========  =====================================================
 
 ``python -m service`` starts the supervisor (gunicorn) with these; ``uvicorn
@@ -68,6 +72,7 @@ class Settings:
     keep_alive_s: float = 5.0
     graceful_timeout_s: float = 30.0
     store_path: str = os.path.join(tempfile.gettempdir(), "peshkin-service", "results.sqlite3")
+    control_socket: str = ""
 
     @classmethod
     def from_env(cls, environ: Mapping[str, str] | None = None) -> Settings:
@@ -129,6 +134,7 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "host": lambda name, text: text,
     "port": _integer(1, 65535),
     "log_level": _log_level,
+    "control_socket": lambda name, text: text,
     "web_workers": _integer(1, 256),
     "solver_workers": _integer(0, 1024, auto=True),
     "solver_queue": _integer(0, 100_000),
