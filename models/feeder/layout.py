@@ -31,8 +31,10 @@ from models.core.errors import InvalidInput
 
 @dataclass(frozen=True)
 class PlacedFence:
-    """One fence on the belt: its angle and side, root and free end (world), length, and
-    the reach beyond the part's first contact (0 when the part may arrive past its end)."""
+    """One fence on the belt: its angle and side, root and free end (world), length, the
+    reach beyond the part's least favourable first contact (0 when the part may arrive past
+    its end), and, when a design placed it, the reach its arriving orientations need (part
+    units; None otherwise)."""
 
     angle: float
     side: str
@@ -40,6 +42,7 @@ class PlacedFence:
     end: np.ndarray
     length: float
     reach: float
+    reach_needed: float | None = None
 
 
 @dataclass(frozen=True)
@@ -60,7 +63,7 @@ class BeltLayout:
         return float(self.fences[0].root[1] - self.fences[-1].end[1])
 
 
-def _reach(angle: float, end_x: float, x_lo: float, x_hi: float) -> float:
+def reach_from(angle: float, end_x: float, x_lo: float, x_hi: float) -> float:
     """Distance along a fence at ``angle`` with free end at x = end_x from the least
     favourable first contact at x in [x_lo, x_hi] to the end (0 if it may lie past it)."""
     sign = 1.0 if angle > 0.0 else -1.0
@@ -110,7 +113,7 @@ def lay_out(angles: Sequence[float], part_radius: float, belt_width: float, clea
         else:
             x_lo, x_hi = prev_end_x - 2.0 * a, prev_end_x + 2.0 * a
         placed.append(PlacedFence(float(gamma), "right" if sign > 0 else "left", root, end,
-                                  across / math.cos(gamma), _reach(float(gamma), float(end[0]), x_lo, x_hi)))
+                                  across / math.cos(gamma), reach_from(float(gamma), float(end[0]), x_lo, x_hi)))
         prev_end_x = float(end[0])
         y = float(end[1]) - spacing
     return BeltLayout(w, gap, tuple(placed), lane)

@@ -24,26 +24,12 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
+from models.feeder.layout import PlacedFence, reach_from
 from models.feeder.placed import Belt
 from solver.core.errors import NotConverged
 
 DUAL_ACTIVE = 1e-7
 """A constraint whose dual (per unit of objective) exceeds this is binding."""
-
-
-@dataclass(frozen=True)
-class PlacedFence:
-    """One fence on the belt (world frame): its angle, side, root and free end, length, the
-    reach it has beyond the least favourable first contact and the reach its arriving
-    orientations need (part units)."""
-
-    angle: float
-    side: str
-    root: np.ndarray
-    end: np.ndarray
-    length: float
-    reach: float
-    reach_needed: float
 
 
 @dataclass(frozen=True)
@@ -93,9 +79,9 @@ def place(belt: Belt, angles: list[float], reaches: list[float], gate: bool = Fa
         span = half - sides[i] * xs[i]
         end = np.array([xs[i], y - span * tans[i]])
         lo, hi, h = belt.arrival(None if i == 0 else (xs[i - 1], xs[i - 1]))
-        has = (sides[i] * (lo - xs[i]) - h) / math.cos(angles[i])
+        has = reach_from(float(angles[i]), float(xs[i]), lo - h, hi + h)
         fences.append(PlacedFence(float(angles[i]), "right" if sides[i] > 0 else "left", root, end,
-                                  span / math.cos(angles[i]), float(has), float(reaches[i])))
+                                  span / math.cos(angles[i]), has, float(reaches[i])))
         tight = []
         if float(np.asarray(reach[i].dual_value)) > DUAL_ACTIVE:
             tight.append("reach")
