@@ -289,11 +289,13 @@ _ANSWERS: tuple[tuple[type[Exception], Callable[[Any, str], JSONResponse]], ...]
 BUSY = 503
 
 
-def busy_response(gate: str, retry_after_s: int) -> JSONResponse:
-    """The 503 of a full admission gate (service.runtime): nothing was computed."""
+def busy_response(gate: str, retry_after_s: int, reason: str = "") -> JSONResponse:
+    """The 503 of a request refused by an admission gate (service.runtime): nothing was
+    computed. ``reason``: why, when more is known than a full gate."""
+    why = f" ({reason})" if reason else ""
     return JSONResponse(
         status_code=BUSY,
-        content=error_body([], f"the service is busy with {gate} work; retry after {retry_after_s} s", "busy"),
+        content=error_body([], f"the service is busy with {gate} work{why}; retry after {retry_after_s} s", "busy"),
         headers={"Retry-After": str(retry_after_s)},
     )
 

@@ -1,5 +1,7 @@
 """The server: gunicorn supervises ``web_workers`` uvicorn processes (a web process that
-dies is replaced), each running the app with its own solver workers (service.runtime).
+dies is replaced), each running the app with its own solver workers; the server's slots
+of expensive work are shared by them all (service.runtime.slots), so expensive requests
+use every CPU whichever web process took them.
 
 What a hostile or broken client cannot do here:
 
@@ -19,12 +21,15 @@ from __future__ import annotations
 import asyncio
 import logging
 import math
+import os
+import shutil
 from typing import Any, ClassVar
 
 from gunicorn.app.base import BaseApplication
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 from uvicorn_worker import UvicornWorker
 
+from service.runtime.slots import SLOT_DIR_ENV, make_slot_directory
 from service.settings import Settings
 
 log = logging.getLogger("service")
@@ -129,6 +134,11 @@ class Server(BaseApplication):  # type: ignore[misc]
             options["control_socket"] = s.control_socket
         else:
             options["control_socket_disable"] = True
+        # the slots of expensive work, shared by the web processes (service.runtime.slots):
+        # a directory of this instance's own, made before they are forked, removed at exit
+        slot_dir = make_slot_directory()
+        os.environ[SLOT_DIR_ENV] = slot_dir
+        options["on_exit"] = lambda arbiter: shutil.rmtree(slot_dir, ignore_errors=True)
         for key, value in options.items():
             self.cfg.set(key, value)
 

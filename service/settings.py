@@ -7,11 +7,14 @@ variable                        default     meaning
 ``PESHKIN_PORT``                8000        TCP port
 ``PESHKIN_LOG_LEVEL``           info        server and ``service`` logger level
 ``PESHKIN_WEB_WORKERS``         2           web processes under the supervisor (``python -m service``)
-``PESHKIN_SOLVER_WORKERS``      auto        solver worker processes per web process; 0 runs
-                                            expensive work in the web process's threads (tests);
-                                            auto: the CPUs divided among the web processes, >= 1
-``PESHKIN_SOLVER_QUEUE``        16          expensive requests that may wait for a solver worker,
-                                            per web process; beyond, 503 at once
+``PESHKIN_SOLVER_WORKERS``      auto        expensive jobs running at once in the whole server (its
+                                            slots, shared by the web processes: each has a solver
+                                            worker per slot); 0 runs expensive work in the web
+                                            process's threads (tests); auto: the CPUs the process
+                                            may use (affinity, cgroup quota)
+``PESHKIN_SOLVER_QUEUE``        16          expensive requests that may wait for a slot, per web
+                                            process; beyond, or when one is predicted not to start
+                                            in time, 503 at once with ``Retry-After``
 ``PESHKIN_MAX_REQUESTS_IN_FLIGHT`` 512     requests in flight per web process (cheap ones are
                                             computed at once, expensive ones wait in their
                                             gate); beyond, 503 at once
@@ -47,6 +50,8 @@ import tempfile
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields
 from typing import Any
+
+from service.runtime.slots import usable_cpus
 
 LOG_LEVELS = ("critical", "error", "warning", "info", "debug", "trace")
 AUTO = -1
@@ -87,12 +92,12 @@ class Settings:
         return cls(**values)
 
     def solver_processes(self, cpus: int | None = None) -> int:
-        """Solver workers per web process: the setting, or (auto) the CPUs shared among the
-        web processes, at least one."""
+        """Slots of the server (expensive jobs running at once, whichever web process took
+        them), and so solver workers per web process: the setting, or (auto) the CPUs the
+        process may use (affinity and a container's CPU quota, not the host's count)."""
         if self.solver_workers != AUTO:
             return self.solver_workers
-        n = cpus if cpus is not None else (os.cpu_count() or 1)
-        return max(1, n // max(1, self.web_workers))
+        return max(1, cpus if cpus is not None else usable_cpus())
 
 
 def _integer(low: int, high: int, auto: bool = False) -> Callable[[str, str], int]:

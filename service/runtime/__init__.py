@@ -4,9 +4,11 @@
   solving, converting and rendering all count), and the part of it a solver may use;
 * :mod:`~service.runtime.intake`: every request's arrival is noted, and it is admitted
   through the gate of requests in flight (or refused 503 at once with ``Retry-After``);
-* :mod:`~service.runtime.admission`: bounded gates, one for requests in flight (cheap work
-  is computed in the web process, on its event loop) and one for expensive work (solver
-  workers and a bounded queue in front of them);
+* :mod:`~service.runtime.admission`: a bounded gate of requests in flight (cheap work is
+  computed in the web process, on its event loop) and the queue of expensive work, which
+  admits a request only when it is predicted to start in time;
+* :mod:`~service.runtime.slots`: the server's slots of expensive work (one per usable CPU),
+  shared by all its web processes;
 * :mod:`~service.runtime.pool`: the solver worker processes (Pebble's process pool on a
   forkserver), each with its own solver caches; a worker that dies or overruns is replaced;
 * :mod:`~service.runtime.jobs`: runs a route's job (a top-level function: request in,

@@ -18,7 +18,10 @@ from __future__ import annotations
 
 import asyncio
 import concurrent.futures
+import contextlib
 import logging
+import math
+import signal
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -29,10 +32,11 @@ from pydantic import BaseModel
 from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 
-from service.errors import GATEWAY_TIMEOUT, busy_response, error_body, response_for
-from service.runtime.admission import Gate
+from service.errors import BUSY, GATEWAY_TIMEOUT, busy_response, error_body, response_for
+from service.runtime.admission import Gate, Refused, RunQueue
 from service.runtime.deadline import Deadline, arrival
 from service.runtime.pool import SolverPool
+from service.runtime.slots import Slots
 from service.settings import Settings
 
 log = logging.getLogger("service")
@@ -93,9 +97,27 @@ def deadline_reply(deadline: Deadline, what: str) -> Reply:
     return reply_of(JSONResponse(body, status_code=GATEWAY_TIMEOUT))
 
 
-def crash_reply(exc: BaseException) -> Reply:
-    """The answer when the worker running the job died (a bug in a native library: the
-    worker is replaced, the service goes on)."""
+FAULT_SIGNALS = frozenset({signal.SIGSEGV, signal.SIGBUS, signal.SIGABRT, signal.SIGFPE, signal.SIGILL})
+"""Signals a process raises on itself when its code fails (a fault: a bug to report)."""
+
+
+def crash_reply(exc: BaseException, retry_after_s: int) -> Reply:
+    """The answer when the worker running the job died. A fault of its own (a segmentation
+    fault in a native library, an abort) is a bug: 500. A worker stopped from outside by a
+    signal (the out-of-memory killer, an operator's kill) lost the work but not through a
+    fault of the request: 503 with ``Retry-After``. The worker is replaced either way."""
+    code = getattr(exc, "exitcode", None)
+    if isinstance(code, int) and code < 0 and -code not in FAULT_SIGNALS:
+        try:
+            name = signal.Signals(-code).name
+        except ValueError:
+            name = f"signal {-code}"
+        return reply_of(JSONResponse(
+            error_body([], f"the solver worker running this request was stopped by {name} (the system's "
+                           f"out-of-memory killer or an operator); nothing was computed; retry after "
+                           f"{retry_after_s} s", "worker_lost"),
+            status_code=BUSY, headers={"Retry-After": str(retry_after_s)},
+        ))
     return reply_of(JSONResponse(
         error_body([], f"the solver worker running this request ended abnormally ({exc}); this is a bug",
                    "internal_error"),
@@ -113,11 +135,12 @@ async def client_gone(request: Request) -> None:
 
 @dataclass(frozen=True)
 class Runner:
-    """What a route needs to run a job: the gates, the pool (None: expensive jobs run in
-    the web process's threads, as in most tests), the limits."""
+    """What a route needs to run a job: the gate of requests in flight, and either the
+    queue of the server's slots with this web process's solver workers (``pool``), or (no
+    pool, as in most tests) a gate for expensive jobs run in the web process's threads."""
 
     requests: Gate
-    expensive: Gate
+    expensive: Gate | RunQueue
     pool: SolverPool | None
     max_time_limit_s: float
     grace_s: float
@@ -126,12 +149,18 @@ class Runner:
     @classmethod
     def from_settings(cls, settings: Settings, preload: Sequence[str] = ()) -> Runner:
         """The runner of ``settings``; its solver workers import the modules ``preload``
-        names (the routes, whose jobs they run) once, before they are forked."""
+        names (the routes, whose jobs they run) once, before they are forked. Every web
+        process has a worker per slot of the server, so that it can use them all."""
         workers = settings.solver_processes()
-        pool = SolverPool(workers, settings.worker_max_tasks, preload) if workers > 0 else None
+        expensive: Gate | RunQueue
+        if workers > 0:
+            pool: SolverPool | None = SolverPool(workers, settings.worker_max_tasks, preload)
+            expensive = RunQueue(Slots.of_server(workers), settings.solver_queue)
+        else:
+            pool, expensive = None, Gate("expensive", 1 + settings.solver_queue)
         return cls(
             requests=Gate("requests", settings.max_requests_in_flight),
-            expensive=Gate("expensive", max(workers, 1) + settings.solver_queue),
+            expensive=expensive,
             pool=pool,
             max_time_limit_s=settings.max_time_limit_s,
             grace_s=settings.deadline_grace_s,
@@ -146,6 +175,8 @@ class Runner:
     def close(self) -> None:
         if self.pool is not None:
             self.pool.close()
+        if isinstance(self.expensive, RunQueue):
+            self.expensive.slots.close()
 
     def deadline(self, request: Request, time_limit_s: float | None) -> Deadline:
         limit = self.max_time_limit_s if time_limit_s is None else min(float(time_limit_s), self.max_time_limit_s)
@@ -156,17 +187,41 @@ class Runner:
         return execute(job, args, self.deadline(request, time_limit_s), where(request)).response()
 
     async def expensive_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
-        """Run an expensive job in a solver worker, under the deadline."""
+        """Run an expensive job in a solver worker (or a thread), under the deadline."""
         deadline = self.deadline(request, time_limit_s)
-        if not self.expensive.try_enter():
-            return busy_response(self.expensive.name, self.retry_after_s)
-        try:
-            if self.pool is None:
+        queue = self.expensive
+        if isinstance(queue, Gate):
+            if not queue.try_enter():
+                return busy_response(queue.name, self.retry_after_s)
+            try:
                 reply = await anyio.to_thread.run_sync(execute, job, args, deadline, where(request))
-            else:
-                reply = await self.in_worker(request, job, args, deadline)
+            finally:
+                queue.leave()
+            return reply.response()
+        entering = asyncio.ensure_future(queue.enter(where(request), deadline))
+        gone = asyncio.ensure_future(client_gone(request))
+        try:
+            await asyncio.wait({entering, gone}, return_when=asyncio.FIRST_COMPLETED)
         finally:
-            self.expensive.leave()
+            gone.cancel()
+        if not entering.done():  # the client went away while its request was queued
+            entering.cancel()
+            with contextlib.suppress(asyncio.CancelledError, Refused):
+                await entering
+            if entering.cancelled() or entering.exception() is not None:
+                log.info("client gone on %s after %.3g s in the queue", where(request), deadline.elapsed())
+                return Reply(CLIENT_GONE, None, b"").response()
+        try:
+            ticket = entering.result()
+        except Refused as refused:
+            retry = max(self.retry_after_s, math.ceil(refused.retry_after_s))
+            log.info("refused %s: %s", where(request), refused.reason)
+            return busy_response(queue.name, retry, refused.reason)
+        reply = Reply(CLIENT_GONE, None, b"")
+        try:
+            reply = await self.in_worker(request, job, args, deadline)
+        finally:
+            queue.leave(ticket, measured=reply.status != CLIENT_GONE)
         return reply.response()
 
     async def in_worker(self, request: Request, job: Job, args: tuple[Any, ...], deadline: Deadline) -> Reply:
@@ -185,7 +240,7 @@ class Runner:
                 return reply
             except ProcessExpired as exc:
                 log.error("solver worker died on %s: %s", where(request), exc)
-                return crash_reply(exc)
+                return crash_reply(exc, self.retry_after_s)
             except (TimeoutError, concurrent.futures.TimeoutError):
                 return deadline_reply(deadline, "the solver worker was stopped at the deadline")
         future.cancel()  # a running task's worker is ended and replaced

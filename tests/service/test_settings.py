@@ -26,8 +26,10 @@ def test_runtime_settings_are_read_and_checked():
             Settings.from_env(bad)
 
 
-def test_solver_workers_auto_share_the_cpus_among_the_web_processes():
+def test_solver_workers_auto_are_the_usable_cpus_for_the_whole_server():
+    """One slot per CPU the process may use, shared by the web processes (so not divided
+    among them: service/runtime/slots.py)."""
     auto = Settings.from_env({"PESHKIN_SOLVER_WORKERS": "auto", "PESHKIN_WEB_WORKERS": "2"})
-    assert auto.solver_processes(cpus=2) == 1 and auto.solver_processes(cpus=8) == 4
-    assert auto.solver_processes(cpus=1) == 1  # at least one
+    assert auto.solver_processes(cpus=2) == 2 and auto.solver_processes(cpus=8) == 8
+    assert auto.solver_processes(cpus=0) == 1  # at least one
     assert Settings(solver_workers=3).solver_processes(cpus=64) == 3

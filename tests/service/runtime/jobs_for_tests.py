@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ctypes
 import os
+import signal
 import time
 
 from starlette.responses import JSONResponse
@@ -50,4 +51,10 @@ def bug_job(deadline: Deadline) -> JSONResponse:
 def crash_job(deadline: Deadline) -> JSONResponse:
     """Dies as a native library would: a segmentation fault."""
     ctypes.string_at(0)
+    return JSONResponse({})
+
+
+def killed_job(deadline: Deadline) -> JSONResponse:
+    """Is stopped from outside, as by the out-of-memory killer: SIGKILL."""
+    os.kill(os.getpid(), signal.SIGKILL)
     return JSONResponse({})

@@ -1,13 +1,21 @@
-"""Admission gates (service/runtime/admission.py): bounded, never blocking, counted, and
-safe from many threads."""
+"""Admission (service/runtime/admission.py, slots.py): gates bounded, never blocking,
+counted, and safe from many threads; the queue of expensive work admits only what is
+predicted to start in time, by the measured cost, and shares the server's slots with the
+other web processes."""
 
 from __future__ import annotations
 
+import asyncio
+import subprocess
+import sys
 import threading
+import time
 
 import pytest
 
-from service.runtime.admission import Gate
+from service.runtime.admission import Gate, Refused, RunQueue
+from service.runtime.deadline import Deadline
+from service.runtime.slots import Slots
 
 
 def test_a_full_gate_refuses_at_once_and_counts():
@@ -53,3 +61,100 @@ def test_many_threads_never_exceed_the_capacity():
         t.join()
     s = g.state()
     assert max(peak) <= 3 and s.in_use == 0 and s.admitted + s.refused == 16000
+
+
+# --- the queue of expensive work and the server's slots ---------------------------------
+
+def _deadline(limit_s: float) -> Deadline:
+    return Deadline.starting(time.monotonic(), limit_s)
+
+
+def test_slots_are_shared_by_every_holder_of_the_directory_and_freed_when_a_holder_closes():
+    one = Slots(2)
+    other = Slots(2, one.directory)  # as a second web process would see them
+    try:
+        assert one.try_take() is not None and other.try_take() is not None
+        assert one.try_take() is None and other.try_take() is None
+        assert one.held_elsewhere() == 1 and other.held_elsewhere() == 1
+        other.close()  # a web process that ends (or dies) frees what it held
+        assert one.held_elsewhere() == 0 and one.try_take() is not None
+    finally:
+        one.close()
+
+
+def test_the_cpu_count_follows_the_affinity_not_the_machine():
+    code = ("import os; os.sched_setaffinity(0, {min(os.sched_getaffinity(0))}); "
+            "from service.settings import Settings; print(Settings().solver_processes())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "1"
+
+
+def test_a_request_waits_for_a_slot_freed_by_another_web_process():
+    async def scenario() -> tuple[float, int]:
+        here = RunQueue(Slots(1), capacity=4)
+        there = RunQueue(Slots(1, here.slots.directory), capacity=4)
+        try:
+            there.cost_s["POST /x"] = 0.2
+            held = await there.enter("POST /x", _deadline(10.0))
+            waiting = asyncio.ensure_future(here.enter("POST /x", _deadline(10.0)))
+            await asyncio.sleep(0.1)
+            assert not waiting.done() and here.state().in_use == 1
+            freed = time.monotonic()
+            there.leave(held)
+            ticket = await waiting
+            got = time.monotonic() - freed
+            here.leave(ticket)
+            return got, here.admitted
+        finally:
+            here.slots.close()
+            there.slots.close()
+
+    got, admitted = asyncio.run(scenario())
+    assert got < 0.5 and admitted == 1  # the head polls every 5 ms
+
+
+def test_the_predicted_wait_uses_the_measured_cost_and_refuses_what_would_start_too_late():
+    async def scenario() -> None:
+        queue = RunQueue(Slots(1), capacity=4)
+        try:
+            queue.cost_s["POST /x"] = 5.0
+            running = await queue.enter("POST /x", _deadline(30.0))
+            assert 4.9 < queue.predicted_wait() <= 5.0
+            with pytest.raises(Refused) as refused:  # 5 s of wait and 5 s of work do not fit in 8 s
+                await queue.enter("POST /x", _deadline(8.0))
+            assert 4.9 < refused.value.retry_after_s <= 5.0
+            queued = asyncio.ensure_future(queue.enter("POST /x", _deadline(30.0)))
+            await asyncio.sleep(0.05)
+            assert 9.8 < queue.predicted_wait() <= 10.0  # behind the running job and the queued one
+            queue.cost_s["POST /y"] = 0.1
+            for _ in range(3):  # the queue holds at most `capacity`
+                asyncio.ensure_future(queue.enter("POST /y", _deadline(1000.0)))
+            await asyncio.sleep(0.05)
+            with pytest.raises(Refused, match="places in the queue"):
+                await queue.enter("POST /y", _deadline(1000.0))
+            assert queue.refused == 2
+            queue.leave(running)
+            queue.leave(await queued)
+            assert queue.cost_s["POST /x"] < 5.0  # the measured run times pull the mean down
+        finally:
+            queue.slots.close()
+
+    asyncio.run(scenario())
+
+
+def test_a_queued_request_that_can_no_longer_start_in_time_leaves_with_a_refusal():
+    async def scenario() -> float:
+        queue = RunQueue(Slots(1), capacity=4)
+        try:
+            queue.cost_s["POST /x"] = 0.0  # predicted to start at once: admitted
+            running = await queue.enter("POST /x", _deadline(30.0))
+            t0 = time.monotonic()
+            with pytest.raises(Refused, match="waited too long"):
+                await queue.enter("POST /x", _deadline(0.4))
+            queue.leave(running)
+            return time.monotonic() - t0
+        finally:
+            queue.slots.close()
+
+    took = asyncio.run(scenario())
+    assert took < 0.4  # it left when a quarter of its limit (and the reserve) remained
