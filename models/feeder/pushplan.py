@@ -91,7 +91,8 @@ class PushPlan:
     """``alphas``: the turns of the push direction between pushes (the first push from any
     direction); ``final``: the stable directions left; ``tolerance``: the smallest half
     width of an alpha's class (how far each turn may err); ``depth_proven``: no plan with
-    fewer pushes; None alphas when no plan was found up to ``max_pushes``."""
+    fewer pushes; None alphas when no plan was found up to ``max_pushes``, or (``complete``
+    False) when the search was stopped first."""
 
     alphas: tuple[float, ...] | None
     final: frozenset[int]
@@ -99,6 +100,7 @@ class PushPlan:
     depth_proven: int
     states: int
     solve_time_s: float
+    complete: bool = True
 
 
 def _classes(pf: PushFunction, state: frozenset[int]) -> list[tuple[float, float]]:
@@ -112,9 +114,10 @@ def _classes(pf: PushFunction, state: frozenset[int]) -> list[tuple[float, float
 
 
 def plan_pushes(part: Footprint, max_pushes: int = 20, tol: DesignTolerances = DESIGN_DEFAULT,
-                checkpoint: Callable[[str], None] | None = None) -> PushPlan:
+                expired: Callable[[], bool] | None = None) -> PushPlan:
     """The shortest push plan (module docstring), breadth first; among the shortest the one
-    whose least tolerance is largest."""
+    whose least tolerance is largest. ``expired`` is asked before every state expanded:
+    once it answers True the search stops with what it proved (``complete`` False)."""
     t0 = time.perf_counter()
     pf = PushFunction.of(part)
     k = rotational_symmetry(part, tol)
@@ -128,11 +131,11 @@ def plan_pushes(part: Footprint, max_pushes: int = 20, tol: DesignTolerances = D
     frontier: dict[frozenset[int], tuple[tuple[float, ...], float]] = {start: ((), math.inf)}
     seen = {start}
     for depth in range(1, max_pushes):
-        if checkpoint is not None:
-            checkpoint(f"push {depth + 1} of the push plan")
         nxt: dict[frozenset[int], tuple[tuple[float, ...], float]] = {}
         for state, (alphas, tolerance) in frontier.items():
             for alpha, half in _classes(pf, state):
+                if expired is not None and expired():  # a state of a many-sided part has thousands of classes
+                    return PushPlan(None, frozenset(), 0.0, depth - 1, len(seen), time.perf_counter() - t0, False)
                 image = frozenset(pf.index_of(float(pf.stable[s]) + alpha) for s in state)
                 t = min(tolerance, half)
                 if image in seen and image not in nxt:

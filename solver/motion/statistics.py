@@ -21,6 +21,10 @@ from solver.core.budget import UNLIMITED, Budget
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.motion.forward import BatchResult, ForwardResult, solve_forward, solve_forward_batch
 
+HISTOGRAM_ULPS_PER_BIN = 64
+"""The narrowest histogram bin, in units in the last place of the range's largest |edge|:
+numpy refuses bins its floating point cannot tell apart."""
+
 
 @dataclass(frozen=True)
 class TripodSample:
@@ -101,6 +105,29 @@ class StickingHistogram:
                 f"{self.outside_range} sticking CORs outside the range; {self.n_converged} converged")
 
 
+def histogram_range(pos: np.ndarray, bins: int, disk_radius: float,
+                    span: tuple[float, float] | None = None) -> tuple[float, float]:
+    """The range of the sticking-line histogram: ``span``, or the 1st to 99th percentile of
+    ``pos`` (one disk radius when they coincide). A range floating point cannot split into
+    ``bins`` distinct bins (at a small scale far from 0: a 1e-12 disk, positions equal to 15
+    digits) is widened about its middle, or refused when it is the caller's span."""
+    if span is None:
+        lo, hi = (float(v) for v in np.percentile(pos, [1, 99])) if pos.size else (-disk_radius, disk_radius)
+    else:
+        lo, hi = (float(v) for v in span)
+        if not hi > lo:
+            raise InvalidInput("span", "must be an increasing pair")
+    scale = max(abs(lo), abs(hi))
+    least = bins * HISTOGRAM_ULPS_PER_BIN * np.spacing(scale)
+    if hi - lo >= least:
+        return lo, hi
+    if span is not None:
+        raise InvalidInput("span", f"is too narrow at its position for {bins} bins: floating point cannot tell their "
+                                   f"edges apart (at least {least:.3g} wide)")
+    mid, half = 0.5 * (lo + hi), 0.5 * max(disk_radius, least)
+    return mid - half, mid + half
+
+
 def sticking_line_histogram(
     scene: PushScene,
     n: int,
@@ -119,14 +146,7 @@ def sticking_line_histogram(
     b = sample.batch
     stick = (b.mode == 1) & np.all(np.isfinite(b.cor), axis=1)
     pos = (b.cor[stick] - scene.contact_point) @ perp(scene.push_hat)
-    if span is None:
-        lo, hi = (np.percentile(pos, [1, 99]) if pos.size else (-1.0, 1.0))
-        if hi <= lo:
-            hi = lo + scene.disk_radius
-    else:
-        lo, hi = span
-        if not hi > lo:
-            raise InvalidInput("span", "must be an increasing pair")
+    lo, hi = histogram_range(pos, bins, scene.disk_radius, span)
     counts, edges = np.histogram(pos, bins=bins, range=(lo, hi))
     outside = int(np.sum((pos < lo) | (pos > hi)))
     return StickingHistogram(

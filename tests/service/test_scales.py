@@ -17,11 +17,11 @@ CASES = [(u, b) for u, b in EXAMPLES
          if '"disk_radius"' in b and "footprint" not in b and "workpiece" not in b and "format=svg" not in u]
 
 
-def _scaled(value, k, scale):
-    if k in LENGTH_KEYS:
+def _scaled(value, k, scale, keys=LENGTH_KEYS):
+    if k in keys:
         return json.loads(json.dumps(value), parse_float=lambda x: float(x) * scale, parse_int=lambda x: int(x) * scale)
     if isinstance(value, dict):
-        return {kk: _scaled(v, kk, scale) for kk, v in value.items()}
+        return {kk: _scaled(v, kk, scale, keys) for kk, v in value.items()}
     return value
 
 
@@ -38,3 +38,23 @@ def test_no_scale_is_a_server_error(client, url, body, scale):
     if r.status_code == 422:
         loc = r.json()["detail"][0]["loc"]
         assert loc[0] == "body" and (len(loc) == 1 or loc[1] in request), loc
+
+
+EVERY_LENGTH_KEY = LENGTH_KEYS | {"footprint", "workpiece", "v_x", "mg", "speed", "g"}
+"""Every length (and the quantities with a length in their unit: speeds, weights, g)."""
+EVERY_CASE = [(u, b) for u, b in EXAMPLES if b]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scale", [1e-12, 1e12])
+@pytest.mark.parametrize("url, body", EVERY_CASE, ids=[f"{i}:{u}" for i, (u, _) in enumerate(EVERY_CASE)])
+def test_every_documented_example_at_scales_1e_12_and_1e12_is_never_a_server_error(client, url, body, scale):
+    """Issue 25: every documented example, footprints and pictures included, with every
+    length scaled (the tripod statistics' histogram once answered 500 at 1e-12)."""
+    request = _scaled(json.loads(body), "", scale, EVERY_LENGTH_KEY)
+    assert request != json.loads(body)
+    if "time_limit_s" in request or "/spiral/" in url or "/push/" in url or "/sketch" in url:
+        request["time_limit_s"] = 2.0
+    path, params = split(url)
+    r = client.post(path, json=request, params=params)
+    assert r.status_code in (200, 422, 504), r.text[:300]

@@ -336,7 +336,7 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
         base = FeederPushPlanOut(pushes=None if b.alphas is None else 1 + len(b.alphas),
                                  alphas=None if b.alphas is None else list(b.alphas),
                                  tolerance=b.tolerance if math.isfinite(b.tolerance) and b.alphas else None,
-                                 solve_time_ms=b.solve_time_s * 1e3)
+                                 solve_time_ms=b.solve_time_s * 1e3, complete=b.complete)
     search = res.search if res.placed_search is None else res.placed_search
     progress = res.progress
     return FeederDesignResponse(

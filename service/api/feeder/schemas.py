@@ -464,6 +464,9 @@ class FeederPushPlanOut(Out):
     alphas: list[float] | None = Field(description="Turns of the push direction between pushes, radians.")
     tolerance: float | None = Field(description="How far each turn may err, radians (null: no turn needed).")
     solve_time_ms: float
+    complete: bool = Field(description="False: the baseline was cut at its share of the time limit (a tenth of "
+                                        "what remained), before it found a plan or proved none exists up to "
+                                        "max_depth; `pushes` is then null and says nothing.")
 
 
 class FeederDesignResponse(Out):

@@ -83,3 +83,24 @@ def test_known_plans_a_square_needs_one_push_a_rectangle_two():
     assert abs(math.remainder(rect.alphas[0], math.pi / 2)) == pytest.approx(math.pi / 4, abs=rect.tolerance)
     tri = feeder_part([[0, 0], [1, 0], [0.5, math.sqrt(3) / 2]], [0.5, math.sqrt(3) / 6])
     assert plan_pushes(tri).alphas == ()  # an equilateral triangle: symmetry of order 3
+
+
+def regular_64_gon_off_centre():
+    """Issue 25: a regular 64-gon with its centre of mass at (0.01, 0); its third push takes
+    over a minute to search (each state has thousands of classes of turns)."""
+    return feeder_part([(math.cos(2 * math.pi * i / 64), math.sin(2 * math.pi * i / 64)) for i in range(64)],
+                       (0.01, 0.0))
+
+
+def test_the_search_stops_within_a_class_of_turns_once_told_and_says_it_was_cut():
+    asked = 0
+
+    def expired() -> bool:  # a work limit, not a clock: the 50th question ends the search
+        nonlocal asked
+        asked += 1
+        return asked >= 50
+
+    plan = plan_pushes(regular_64_gon_off_centre(), max_pushes=8, expired=expired)
+    assert asked == 50 and not plan.complete and plan.alphas is None and plan.depth_proven <= 1
+    square = plan_pushes(part("square"), expired=lambda: False)
+    assert square.complete and square.alphas == ()

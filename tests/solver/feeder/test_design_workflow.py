@@ -10,6 +10,7 @@ import pytest
 from models.feeder.fence import feeder_part
 from models.feeder.gate import GateSpec
 from models.feeder.placed import PlacedDesign
+from models.feeder.pushplan import plan_pushes
 from solver import Budget, FeederDesignProblem, feeder_design
 from solver.feeder.design import BeltSpec
 from tests.feeder_cases import PARTS, Clock, CountingClock
@@ -78,8 +79,11 @@ def test_an_expired_budget_answers_what_was_established():
     res = feeder_design(problem("pentagon"), budget)
     assert res.status == "time_limit" and not res.complete and res.maps == () and res.search is None
     assert res.design is None and "stopped after 0 candidate maps" in res.message
-    # a budget that runs out during the maps keeps the maps made
-    res = feeder_design(problem("pentagon"), Budget.of(5.0, clock=CountingClock(20)))
+    # a budget that runs out during the maps keeps the maps made (the push-plan baseline
+    # before them reads the clock once for its share and once per class of turns)
+    baseline = Tally()
+    plan_pushes(problem("pentagon").part, problem("pentagon").max_depth, expired=lambda: baseline() > 0.0)
+    res = feeder_design(problem("pentagon"), Budget.of(5.0, clock=CountingClock(1 + baseline.calls + 20)))
     assert res.status == "time_limit" and 0 < len(res.maps) < 12 and res.search is None
 
 
@@ -109,3 +113,29 @@ def test_a_placed_search_cut_by_its_time_limit_answers_what_it_established():
     assert len(res.maps) == len(full.maps) and "reach_profiles" in res.timings
     assert res.progress is not None and res.progress.nodes > 0 and res.progress.depth_proven >= 1
     assert "no design shorter than" in res.message
+
+
+class Ticking:
+    """A clock that moves 1 ms forward at every reading: a work limit the machine's speed
+    cannot change."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        self.now += 1e-3
+        return self.now
+
+
+def test_the_push_plan_baseline_is_cut_first_and_never_sinks_the_design():
+    """Issue 25: the regular 64-gon with its centre of mass at (0.01, 0), whose push plan
+    needs over a minute: the baseline stops at its tenth of the budget, says it was cut,
+    and the design goes on to its answer."""
+    part = feeder_part([(math.cos(2 * math.pi * i / 64), math.sin(2 * math.pi * i / 64)) for i in range(64)],
+                       (0.01, 0.0))
+    prob = FeederDesignProblem(part, math.radians(20), math.radians(70), math.radians(10), (0.25, 0.25), max_depth=8)
+    clock = Ticking()
+    res = feeder_design(prob, Budget.of(30.0, clock=clock))
+    assert res.baseline is not None and not res.baseline.complete and res.baseline.alphas is None
+    assert res.status == "ok" and res.complete and len(res.maps) == 12
+    assert clock.now < 30.0

@@ -15,6 +15,7 @@ from solver.core.tolerances import SolverTolerances
 from solver.motion.statistics import (
     HistogramQuery,
     TripodStatisticsProblem,
+    histogram_range,
     sticking_line_histogram,
     tripod_sample,
     tripod_statistics,
@@ -104,3 +105,20 @@ def test_tripod_statistics_in_one_call_figures_3_5_and_7_2():
     assert np.array_equal(res.histogram.counts, h.counts) and np.array_equal(res.histogram.edges, h.edges)
     assert isinstance(res, Outcome) and res.complete and res.status == "optimal"
     assert tripod_statistics(TripodStatisticsProblem(sc, 10, SEED)).histogram is None
+
+
+def test_a_histogram_range_floating_point_cannot_split_is_widened_or_refused_7_7():
+    """Issue 25: at a small scale far from 0 the percentiles of the sticking positions can
+    coincide to 15 digits; numpy then cannot make the bins (a 500 before). Figure 7-2's
+    histogram widens such a range about its middle to a disk radius, and refuses such a
+    span given by the caller (422 at span)."""
+    a = 1e-12
+    pos = np.array([1.0, 1.0 + 4e-16, 1.0 + 8e-16]) * 1e3 * a
+    lo, hi = histogram_range(pos, 50, a)
+    assert lo < pos.min() and hi > pos.max() and math.isclose(hi - lo, a, rel_tol=1e-3)
+    counts, _ = np.histogram(pos, bins=50, range=(lo, hi))
+    assert counts.sum() == 3
+    with pytest.raises(InvalidInput) as err:
+        histogram_range(pos, 50, a, span=(float(pos[0]), float(pos[2])))
+    assert err.value.field == "span"
+    assert histogram_range(pos, 50, a, span=(0.0, 2e-9)) == (0.0, 2e-9)  # a range numpy can split is kept
