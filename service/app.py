@@ -48,9 +48,11 @@ OPERATION_ORDER = (
 who diff it): the order in which they were published, not the resources' order."""
 
 
-def _in_published_order(app: FastAPI) -> None:
+def _published(app: FastAPI, time_limit_cap_s: float) -> None:
     """Make ``app.openapi()`` list the paths in :data:`OPERATION_ORDER` (FastAPI lists them
-    by router; FastAPI's documented way to adjust the document is to wrap ``app.openapi``)."""
+    by router) and state the deployment's cap as the ``maximum`` of every ``time_limit_s``
+    (the schemas take up to the hard maximum; the runner refuses past the cap). FastAPI's
+    documented way to adjust the document is to wrap ``app.openapi``."""
     generate = app.openapi
 
     def openapi() -> dict:
@@ -61,6 +63,11 @@ def _in_published_order(app: FastAPI) -> None:
             return min(OPERATION_ORDER.index(op["operationId"]) for op in paths[path].values())
 
         schema["paths"] = {path: paths[path] for path in sorted(paths, key=published)}
+        for component in schema.get("components", {}).get("schemas", {}).values():
+            limit = component.get("properties", {}).get("time_limit_s")
+            for branch in [] if limit is None else [limit, *limit.get("anyOf", [])]:
+                if "maximum" in branch:
+                    branch["maximum"] = time_limit_cap_s
         return schema
 
     app.openapi = openapi  # type: ignore[method-assign]
@@ -95,7 +102,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                        max_body_bytes=settings.max_body_bytes)
     for module in ROUTE_MODULES:
         app.include_router(importlib.import_module(module).router)
-    _in_published_order(app)
+    _published(app, settings.max_time_limit_s)
     return app
 
 

@@ -68,11 +68,12 @@ class FieldError(Exception):
     """An input problem at a nested place of the request: ``loc`` is the path below
     ``where`` ("body" or "query"), e.g. ("supports", 2, "weights"); ``reason`` what is wrong."""
 
-    def __init__(self, loc: tuple[str | int, ...], reason: str, where: str = "body") -> None:
+    def __init__(self, loc: tuple[str | int, ...], reason: str, where: str = "body", kind: str = "value_error") -> None:
         super().__init__(f"{'.'.join(map(str, loc))}: {reason}")
         self.loc = tuple(loc)
         self.reason = reason
         self.where = where
+        self.kind = kind
 
 
 class BodyTooLarge(Exception):
@@ -193,7 +194,7 @@ def _invalid_input(exc: InvalidInput, where: str) -> JSONResponse:
 def _field_error(exc: FieldError, where: str) -> JSONResponse:
     return JSONResponse(
         status_code=UNPROCESSABLE,
-        content=error_body([exc.where, *exc.loc], exc.reason, "value_error"),
+        content=error_body([exc.where, *exc.loc], exc.reason, exc.kind),
     )
 
 

@@ -91,9 +91,17 @@ SKETCH_DEFAULT_RAYS = 32
 the exact sticking locus, measured on rectangles)."""
 
 DEFAULT_TIME_LIMIT_S = 10.0
+"""time_limit_s of certificate searches (membership, certified loci) by default."""
 MAX_TIME_LIMIT_S = 30.0
-"""time_limit_s of certificate searches (membership, certified loci): default and cap.
-The solvers check it between rounds, so an answer may take a little longer."""
+"""The default cap of every time limit (PESHKIN_MAX_TIME_LIMIT_S): a deployment sets its
+own, up to TIME_LIMIT_HARD_MAX_S; the request schemas accept up to that, the runner refuses
+(422 at time_limit_s) what exceeds the deployment's cap, and the OpenAPI document the
+service serves states its cap as the maximum."""
+TIME_LIMIT_HARD_MAX_S = 3600.0
+"""The largest cap a deployment may set."""
+TIME_LIMIT_CAP_TEXT = (f"at most the deployment's cap, PESHKIN_MAX_TIME_LIMIT_S ({MAX_TIME_LIMIT_S:g} s unless "
+                       "raised; the `maximum` of this field in the service's /openapi.json)")
+"""How every time_limit_s field describes its cap."""
 
 PARTICLE_MIN_MAGNITUDE = 1e-6
 PARTICLE_MAX_MAGNITUDE = 1e6
@@ -273,9 +281,8 @@ FEEDER_MAX_PART_CONTACTS = 33
 FEEDER_MAX_RAYS_PER_AIM = 40
 """Certified rays of one climb of the part's own bound (each a few tenths of a second)."""
 FEEDER_PART_DEFAULT_TIME_LIMIT_S = 120.0
-FEEDER_PART_MAX_TIME_LIMIT_S = 300.0
-"""time_limit_s of a feeder map bounded by the part's own loci (a fence takes seconds to
-minutes: docs/benchmarks.md): default and cap."""
+"""time_limit_s of a feeder map bounded by the part's own loci by default (a fence takes
+seconds to minutes: docs/benchmarks.md), within the deployment's cap."""
 FEEDER_MAX_CANDIDATES = 180
 """Candidate fences of one design (both sides together: a map each)."""
 FEEDER_MAX_DESIGN_DEPTH = 20

@@ -19,7 +19,8 @@ variable                        default     meaning
                                             computed at once, expensive ones wait in their
                                             gate); beyond, 503 at once
 ``PESHKIN_MAX_TIME_LIMIT_S``    30          the deadline of a request without its own time limit,
-                                            and the cap of every time limit
+                                            and the cap of every time limit (up to 3600): past
+                                            it 422; /openapi.json states it as the maximum
 ``PESHKIN_DEADLINE_GRACE_S``    0.25        how long past its deadline a worker's answer is awaited
                                             before the worker is stopped and the answer is a 504
 ``PESHKIN_RETRY_AFTER_S``       1           ``Retry-After`` of a 503 (seconds)
@@ -51,6 +52,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields
 from typing import Any
 
+from service.limits import MAX_TIME_LIMIT_S, TIME_LIMIT_HARD_MAX_S
 from service.runtime.slots import usable_cpus
 
 LOG_LEVELS = ("critical", "error", "warning", "info", "debug", "trace")
@@ -67,7 +69,7 @@ class Settings:
     solver_workers: int = AUTO
     solver_queue: int = 16
     max_requests_in_flight: int = 512
-    max_time_limit_s: float = 30.0
+    max_time_limit_s: float = MAX_TIME_LIMIT_S
     deadline_grace_s: float = 0.25
     retry_after_s: int = 1
     max_body_bytes: int = 16 * 1024 * 1024
@@ -144,7 +146,7 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "solver_workers": _integer(0, 1024, auto=True),
     "solver_queue": _integer(0, 100_000),
     "max_requests_in_flight": _integer(1, 100_000),
-    "max_time_limit_s": _seconds(0.0, 3600.0),
+    "max_time_limit_s": _seconds(0.0, TIME_LIMIT_HARD_MAX_S),
     "deadline_grace_s": _seconds(0.0, 60.0),
     "retry_after_s": _integer(1, 3600),
     "max_body_bytes": _integer(1024, 1 << 31),

@@ -22,9 +22,9 @@ from service.limits import (
     MAX_MU_C,
     MAX_N_POINTS,
     MAX_POLYGON_VERTICES,
-    MAX_TIME_LIMIT_S,
     MIN_N_POINTS,
     MIN_POLYGON_VERTICES,
+    TIME_LIMIT_HARD_MAX_S,
 )
 
 
@@ -65,7 +65,9 @@ MuCPositive = Annotated[
     Field(strict=True, allow_inf_nan=False, le=MAX_MU_C, json_schema_extra={"exclusiveMinimum": 0}),
 ]
 """mu_c > 0 (pushes with a friction cone); the route's validator gives the reason."""
-TimeLimit = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_TIME_LIMIT_S)]
+TimeLimit = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=TIME_LIMIT_HARD_MAX_S)]
+"""A time limit in seconds: the schema takes up to the hard maximum; the runner refuses what
+exceeds the deployment's cap (service.runtime.jobs.Runner.deadline)."""
 Vec2 = Annotated[list[float], Field(min_length=2, max_length=2)]
 """A point or vector [x, y] of a response."""
 

@@ -32,7 +32,7 @@ from pydantic import BaseModel
 from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 
-from service.errors import BUSY, GATEWAY_TIMEOUT, busy_response, error_body, response_for
+from service.errors import BUSY, GATEWAY_TIMEOUT, FieldError, busy_response, error_body, response_for
 from service.runtime.admission import Gate, Refused, RunQueue
 from service.runtime.deadline import Deadline, arrival
 from service.runtime.pool import SolverPool
@@ -178,17 +178,31 @@ class Runner:
         if isinstance(self.expensive, RunQueue):
             self.expensive.slots.close()
 
-    def deadline(self, request: Request, time_limit_s: float | None) -> Deadline:
-        limit = self.max_time_limit_s if time_limit_s is None else min(float(time_limit_s), self.max_time_limit_s)
+    def deadline(self, request: Request, time_limit_s: float | None, asked: bool = True) -> Deadline:
+        """The request's deadline: ``time_limit_s`` after its arrival (None: the cap). A
+        limit past the deployment's cap is refused (422 at time_limit_s) when the client
+        ``asked`` for it, and lowered to the cap when it is a route's default."""
+        cap = self.max_time_limit_s
+        if time_limit_s is not None and time_limit_s > cap and asked:
+            raise FieldError(("time_limit_s",), f"must be at most {cap:g} s, this deployment's cap "
+                             "(PESHKIN_MAX_TIME_LIMIT_S)", kind="less_than_equal")
+        limit = cap if time_limit_s is None else min(float(time_limit_s), cap)
         return Deadline.starting(arrival(request.scope), limit)
+
+    def request_deadline(self, request: Request, args: tuple[Any, ...], time_limit_s: float | None) -> Deadline:
+        """:meth:`deadline` of a job whose first argument is the request's model (a limit
+        the client left out is the route's default)."""
+        model = args[0] if args else None
+        asked = not isinstance(model, BaseModel) or "time_limit_s" in model.model_fields_set
+        return self.deadline(request, time_limit_s, asked)
 
     async def cheap_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
         """Run a cheap job at once, on the event loop."""
-        return execute(job, args, self.deadline(request, time_limit_s), where(request)).response()
+        return execute(job, args, self.request_deadline(request, args, time_limit_s), where(request)).response()
 
     async def expensive_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
         """Run an expensive job in a solver worker (or a thread), under the deadline."""
-        deadline = self.deadline(request, time_limit_s)
+        deadline = self.request_deadline(request, args, time_limit_s)
         queue = self.expensive
         if isinstance(queue, Gate):
             if not queue.try_enter():

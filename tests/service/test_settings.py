@@ -2,9 +2,16 @@
 
 from __future__ import annotations
 
+import warnings
+
 import pytest
 
+from service.app import create_app
 from service.settings import Settings
+
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore")
+    from fastapi.testclient import TestClient
 
 
 def test_settings_defaults_and_env():
@@ -33,3 +40,31 @@ def test_solver_workers_auto_are_the_usable_cpus_for_the_whole_server():
     assert auto.solver_processes(cpus=2) == 2 and auto.solver_processes(cpus=8) == 8
     assert auto.solver_processes(cpus=0) == 1  # at least one
     assert Settings(solver_workers=3).solver_processes(cpus=64) == 3
+
+
+MEMBERSHIP = {"disk_radius": 1, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966, "cor": [0, 3]}
+
+
+@pytest.mark.parametrize("cap", [30.0, 300.0])
+def test_one_cap_of_time_limits_from_the_settings_in_the_schema_and_the_deadline(cap):
+    """Issue 25: an operator who raises PESHKIN_MAX_TIME_LIMIT_S gets the limits they set
+    (the schemas no longer cap at a constant 30 s): 120 s is served under a cap of 300 s and
+    refused, 422 at time_limit_s naming the cap, under the default 30 s; the service's
+    OpenAPI document states the cap as every time limit's maximum, the part-bound map's
+    too."""
+    with TestClient(create_app(Settings(solver_workers=0, max_time_limit_s=cap)), raise_server_exceptions=False) as c:
+        r = c.post("/v1/cor/membership", json={**MEMBERSHIP, "time_limit_s": 120})
+        if cap < 120:
+            assert r.status_code == 422
+            detail = r.json()["detail"][0]
+            assert detail["loc"] == ["body", "time_limit_s"] and detail["type"] == "less_than_equal"
+            assert f"at most {cap:g} s" in detail["msg"] and "PESHKIN_MAX_TIME_LIMIT_S" in detail["msg"]
+        else:
+            assert r.status_code == 200, r.text
+        schemas = c.get("/openapi.json").json()["components"]["schemas"]
+    maxima = set()
+    for name, schema in schemas.items():
+        limit = schema.get("properties", {}).get("time_limit_s")
+        if limit is not None and name.endswith("Request"):
+            maxima |= {b["maximum"] for b in [limit, *limit.get("anyOf", [])] if "maximum" in b}
+    assert maxima == {cap}

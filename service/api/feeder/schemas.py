@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import ConfigDict, Field, ValidationInfo, field_validator
+from pydantic import ConfigDict, Field
 
 from service.common.fields import Angle, MuC, Point, Strict, TimeLimit
 from service.common.responses import Out
@@ -27,10 +27,9 @@ from service.limits import (
     FEEDER_MAX_VERTICES,
     FEEDER_MAX_WORLD_RADII,
     FEEDER_PART_DEFAULT_TIME_LIMIT_S,
-    FEEDER_PART_MAX_TIME_LIMIT_S,
-    MAX_TIME_LIMIT_S,
     MAX_WEIGHT,
     MIN_POLYGON_VERTICES,
+    TIME_LIMIT_CAP_TEXT,
 )
 
 Arc = Annotated[list[float], Field(min_length=2, max_length=2, description="[start, width], radians.")]
@@ -90,18 +89,10 @@ class FeederMapRequest(Strict):
     part_bound: FeederPartBoundIn | None = Field(
         default=None, description="How finely the part's own loci are searched with `bound` `part` (null: 5 contacts, "
                                   "climbs of at most 8 rays).")
-    time_limit_s: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=FEEDER_PART_MAX_TIME_LIMIT_S)] | None = Field(
-        default=None, description=f"Seconds, at most {MAX_TIME_LIMIT_S:g} with `bound` `disk`; with `part` at most "
-                                  f"{FEEDER_PART_MAX_TIME_LIMIT_S:g} (default {FEEDER_PART_DEFAULT_TIME_LIMIT_S:g}): a "
-                                  "fence takes seconds to a minute. The deployment's PESHKIN_MAX_TIME_LIMIT_S (30 s "
-                                  "unless raised) caps every deadline and is the default without one.")
-
-    @field_validator("time_limit_s")
-    @classmethod
-    def _disk_maps_keep_the_common_cap(cls, value: float | None, info: ValidationInfo) -> float | None:
-        if value is not None and info.data.get("bound", "disk") != "part" and value > MAX_TIME_LIMIT_S:
-            raise ValueError(f"must be at most {MAX_TIME_LIMIT_S:g} s unless bound is \"part\"")
-        return value
+    time_limit_s: TimeLimit | None = Field(
+        default=None, description=f"Seconds, {TIME_LIMIT_CAP_TEXT}. Without one: the cap with `bound` `disk`; with "
+                                  f"`part` {FEEDER_PART_DEFAULT_TIME_LIMIT_S:g} s, or the cap if lower (a fence takes "
+                                  "seconds to a minute).")
 
     @property
     def deadline_s(self) -> float | None:

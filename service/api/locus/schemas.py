@@ -38,10 +38,10 @@ from service.limits import (
     MAX_DISK_RADIUS,
     MAX_N_POINTS,
     MAX_POLYGON_VERTICES,
-    MAX_TIME_LIMIT_S,
     MIN_CERTIFIED_POINTS,
     MIN_N_POINTS,
     MIN_POLYGON_VERTICES,
+    TIME_LIMIT_CAP_TEXT,
 )
 
 OutputName = Literal["tip", "tip_line", "r_min", "curvatures", "disk_crossings", "boundary"]
@@ -132,7 +132,7 @@ class CorLocusRequest(Strict):
     )
     time_limit_s: TimeLimit = Field(
         default=DEFAULT_TIME_LIMIT_S,
-        description=f"Method 'certified': time budget in seconds, (0, {MAX_TIME_LIMIT_S:g}]. Points "
+        description=f"Method 'certified': time budget in seconds, {TIME_LIMIT_CAP_TEXT}. Points "
         "or rays not reached in time are reported as not done.",
     )
 
@@ -331,7 +331,7 @@ class MembershipRequest(PushIn):
     cor: Point = Field(description="The candidate centre of rotation r, [x, y].")
     time_limit_s: TimeLimit = Field(
         default=DEFAULT_TIME_LIMIT_S,
-        description=f"Time budget of the search, seconds, in (0, {MAX_TIME_LIMIT_S:g}]. When it "
+        description=f"Time budget of the search, seconds, {TIME_LIMIT_CAP_TEXT}. When it "
         "runs out the answer is 'undecided'.",
     )
 

@@ -41,7 +41,6 @@ from service.limits import (
     GROSS_MIN_N_NODES,
     MAX_DISK_RADIUS,
     MAX_MU_C,
-    MAX_TIME_LIMIT_S,
     MIN_N_POINTS,
     QS_MAX_ANGULAR_ERROR,
     QS_MAX_GRAVITY,
@@ -51,6 +50,7 @@ from service.limits import (
     QS_MIN_LENGTH,
     QS_MIN_MU_S,
     SKETCH_MAX_N_POINTS,
+    TIME_LIMIT_CAP_TEXT,
 )
 from solver import ENCOUNTER_SKETCH_COST, SKETCH_COST
 
@@ -213,7 +213,7 @@ N_POINTS_DESCRIPTION = (
     f"Boundary points of each elementary locus of the exact sketches, {MIN_N_POINTS}..{SKETCH_MAX_N_POINTS}."
 )
 TIME_LIMIT_DESCRIPTION = (
-    f"Time budget in seconds, (0, {MAX_TIME_LIMIT_S:g}]. A request whose exact bounds are predicted to "
+    f"Time budget in seconds, {TIME_LIMIT_CAP_TEXT}. A request whose exact bounds are predicted to "
     f"take longer ({SKETCH_COST.fixed_s:g} s + {SKETCH_COST.per_point_s:g} s x n_points per sketch for an "
     f"alignment, {ENCOUNTER_SKETCH_COST.fixed_s:g} s + {ENCOUNTER_SKETCH_COST.per_point_s:g} s x n_points for a "
     "disk encounter) "

@@ -37,13 +37,13 @@ from service.limits import (
     MAX_CERTIFIED_POINTS,
     MAX_DISK_RADIUS,
     MAX_MU_C,
-    MAX_TIME_LIMIT_S,
     MIN_CERTIFIED_POINTS,
     MIN_N_POINTS,
     SKETCH_DEFAULT_N_POINTS,
     SKETCH_DEFAULT_RAYS,
     SKETCH_MAX_N_POINTS,
     SKETCH_MIN_LENGTH,
+    TIME_LIMIT_CAP_TEXT,
 )
 
 FRICTIONLESS_HINT = (
@@ -127,7 +127,7 @@ class CorSketchRequest(Strict):
     )
     time_limit_s: TimeLimit = Field(
         default=DEFAULT_TIME_LIMIT_S,
-        description=f"Method 'certified': time budget in seconds, (0, {MAX_TIME_LIMIT_S:g}]. What is not "
+        description=f"Method 'certified': time budget in seconds, {TIME_LIMIT_CAP_TEXT}. What is not "
         "reached in time is left out and `certification` says so (`complete` false).",
     )
 

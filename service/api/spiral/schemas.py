@@ -21,7 +21,6 @@ from service.common.responses import Out
 from service.limits import (
     MAX_DISK_RADIUS,
     MAX_MU_C,
-    MAX_TIME_LIMIT_S,
     SPIRAL_DEFAULT_POINTS_PER_REVOLUTION,
     SPIRAL_DEFAULT_RESOLUTION,
     SPIRAL_DEFAULT_TIME_LIMIT_S,
@@ -35,6 +34,7 @@ from service.limits import (
     SPIRAL_MIN_POINTS_PER_REVOLUTION,
     SPIRAL_MIN_RESOLUTION,
     SPIRAL_SWEEP_MARGIN_REL,
+    TIME_LIMIT_CAP_TEXT,
 )
 
 SpiralMethod = Literal["exact", "sweep", "tip_line"]
@@ -91,7 +91,7 @@ class SpiralCriticalRadiusRequest(BaseModel):
     method: SpiralMethod = Field(default="sweep", description=METHOD_DESCRIPTION)
     time_limit_s: TimeLimit = Field(
         default=SPIRAL_DEFAULT_TIME_LIMIT_S,
-        description=f"Time budget, (0, {MAX_TIME_LIMIT_S:g}] s. The table is built from grazing downwards, so a "
+        description=f"Time budget, seconds, {TIME_LIMIT_CAP_TEXT}. The table is built from grazing downwards, so a "
         "cut table covers beta >= `stopped_at_beta` (the radii below some size) and says so.",
     )
 
@@ -246,7 +246,7 @@ class SpiralScheduleRequest(BaseModel):
     simulate: SimulationIn | None = Field(default=None, description="Optional simulation check of the schedule.")
     time_limit_s: TimeLimit = Field(
         default=SPIRAL_DEFAULT_TIME_LIMIT_S,
-        description=f"Time budget, (0, {MAX_TIME_LIMIT_S:g}] s, shared by the table, the schedule and the simulation.",
+        description=f"Time budget, seconds, {TIME_LIMIT_CAP_TEXT}, shared by the table, the schedule and the simulation.",
     )
 
 

@@ -9,7 +9,7 @@ import pytest
 from pydantic import ValidationError
 
 from service.common.fields import Angle, Point, PushIn, Strict, TimeLimit
-from service.limits import MAX_ABS_ANGLE, MAX_ABS_COORDINATE, MAX_TIME_LIMIT_S
+from service.limits import MAX_ABS_ANGLE, MAX_ABS_COORDINATE, TIME_LIMIT_HARD_MAX_S
 
 
 class Probe(Strict):
@@ -33,7 +33,7 @@ def test_strict_finite_numbers_within_the_limits():
     assert errors(p=[0.0, 2 * MAX_ABS_COORDINATE]) == [(("p", 1), "less_than_equal")]
     assert errors(p=[0.0]) == [(("p",), "too_short")]
     assert errors(limit=0.0) == [(("limit",), "greater_than")]
-    assert errors(limit=MAX_TIME_LIMIT_S + 1) == [(("limit",), "less_than_equal")]
+    assert errors(limit=TIME_LIMIT_HARD_MAX_S + 1) == [(("limit",), "less_than_equal")]
     assert errors(extra=1) == [(("extra",), "extra_forbidden")]
 
 

@@ -94,7 +94,7 @@ def test_a_request_waits_for_a_slot_freed_by_another_web_process():
         here = RunQueue(Slots(1), capacity=4)
         there = RunQueue(Slots(1, here.slots.directory), capacity=4)
         try:
-            there.cost_s["POST /x"] = 0.2
+            here.cost_s["POST /x"] = there.cost_s["POST /x"] = 0.2
             held = await there.enter("POST /x", _deadline(10.0))
             waiting = asyncio.ensure_future(here.enter("POST /x", _deadline(10.0)))
             await asyncio.sleep(0.1)

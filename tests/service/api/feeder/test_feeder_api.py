@@ -200,7 +200,7 @@ def test_a_map_with_the_parts_own_bound_is_narrower_than_the_disks_and_says_what
     reported per fence; a time limit it cannot miss (the work is a few seconds)."""
     triangle = {"vertices": [[0, 0], [2, 0], [0, 3]], "center_of_mass": [2 / 3, 1]}
     body = {"part": triangle, "fences": [{"angle": 0.7, "mu_c": 0.25}], "bound": "part",
-            "part_bound": {"contacts": 3, "max_rays_per_aim": 3}, "time_limit_s": 300}
+            "part_bound": {"contacts": 3, "max_rays_per_aim": 3}, "time_limit_s": 30}
     r = client.post("/v1/feeder/map", json=body)
     assert r.status_code == 200, r.text
     out = r.json()
