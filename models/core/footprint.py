@@ -104,9 +104,10 @@ def inside_polygon(vertices: np.ndarray, points: ArrayLike) -> np.ndarray:
     return np.asarray(np.sum(cond & (x < xc), axis=1) % 2 == 1)
 
 
-def _segments_cross(vertices: np.ndarray, rel: float) -> bool:
-    """True when two non-adjacent edges of the closed polygon touch or cross (O(n^2),
-    vectorised); ``rel`` is the relative slack of "touch"."""
+def _segments_cross(vertices: np.ndarray, rel: float) -> tuple[int, int, bool] | None:
+    """The first two non-adjacent edges (i, j: from vertex i to i + 1) of the closed polygon
+    that cross (True) or touch (False), or None (O(n^2), vectorised); ``rel`` is the
+    relative slack of "touch"."""
     n = len(vertices)
     p = vertices
     q = np.roll(vertices, -1, axis=0)
@@ -114,7 +115,7 @@ def _segments_cross(vertices: np.ndarray, rel: float) -> bool:
     keep = ~((i == 0) & (j == n - 1))  # first and last edges are adjacent
     i, j = i[keep], j[keep]
     if i.size == 0:
-        return False
+        return None
     d1 = _cross(q[i] - p[i], p[j] - p[i])
     d2 = _cross(q[i] - p[i], q[j] - p[i])
     d3 = _cross(q[j] - p[j], p[i] - p[j])
@@ -129,7 +130,11 @@ def _segments_cross(vertices: np.ndarray, rel: float) -> bool:
     # An end point of one edge lying on the other edge: the polygon touches itself.
     touch1 = (np.abs(d1) <= flat) & within(p[i], q[i], p[j])
     touch2 = (np.abs(d2) <= flat) & within(p[i], q[i], q[j])
-    return bool(np.any(proper | touch1 | touch2))
+    hit = np.flatnonzero(proper | touch1 | touch2)
+    if hit.size == 0:
+        return None
+    k = int(hit[0])
+    return int(i[k]), int(j[k]), bool(proper[k])
 
 
 def convex_hull_indices(points: ArrayLike, collinear_rel: float = DEFAULT.polygon_area_rel) -> list[int]:
@@ -167,6 +172,18 @@ def edge_feet(vertices: np.ndarray, point: ArrayLike) -> tuple[np.ndarray, np.nd
     return feet, np.hypot(feet[:, 0] - p[0], feet[:, 1] - p[1])
 
 
+@dataclass(frozen=True)
+class SquareRange:
+    """Lengths whose squares are normal floating-point numbers (areas, squared distances):
+    below ``low`` they underflow (a 1e-300 square has an area of 0), above ``high`` overflow."""
+
+    low: float = float(np.sqrt(np.finfo(float).tiny)) * 4.0
+    high: float = float(np.sqrt(np.finfo(float).max)) / 4.0
+
+
+FLOAT_SQUARES = SquareRange()
+
+
 def _check_outline(v: np.ndarray, tolerances: Tolerances) -> None:
     """The outline's own checks, each with its true reason (field "workpiece")."""
     if v.ndim != 2 or v.shape[1] != 2:
@@ -175,8 +192,17 @@ def _check_outline(v: np.ndarray, tolerances: Tolerances) -> None:
         raise InvalidInput("workpiece", "needs at least 3 vertices")
     if not np.all(np.isfinite(v)):
         raise InvalidInput("workpiece", "vertices must be finite numbers")
-    if np.any(np.all(v == np.roll(v, -1, axis=0), axis=1)):
-        raise InvalidInput("workpiece", "has repeated consecutive vertices")
+    _, first, counts = np.unique(v + 0.0, axis=0, return_index=True, return_counts=True)  # -0.0 is 0.0
+    if np.any(counts > 1):
+        i = int(first[np.argmax(counts > 1)])
+        j = int(np.flatnonzero(np.all(v == v[i], axis=1))[1])
+        raise InvalidInput("workpiece", f"repeats a vertex: vertices {i} and {j} are the same point {v[i].tolist()} "
+                                        "(a simple polygon visits each point once)")
+    span = float(np.max(np.ptp(v, axis=0)))
+    if not FLOAT_SQUARES.low <= span <= FLOAT_SQUARES.high:
+        raise InvalidInput("workpiece", f"spans {span:.3g}: outside [{FLOAT_SQUARES.low:.3g}, {FLOAT_SQUARES.high:.3g}], "
+                                        "where its squared lengths and area would underflow or overflow in floating "
+                                        "point; give it in another unit")
 
 
 def _checked_center_of_mass(v: np.ndarray, normalised: tuple[np.ndarray, np.ndarray, float],
@@ -232,8 +258,17 @@ class Footprint:
             area = -area
         # crossing before area: a symmetric bow-tie has no net area, yet is not "collinear"
         normalised = _normalised(v)  # crossing and hull tests in span units: no over/underflow
-        if _segments_cross(normalised[0], tolerances.polygon_area_rel):
-            raise InvalidInput("workpiece", "is not a simple polygon: two edges cross or touch")
+        crossing = _segments_cross(normalised[0], tolerances.polygon_area_rel)
+        if crossing is not None:
+            n = len(v)
+
+            def edge(k: int) -> str:  # in the input's numbering
+                a, b = (n - 1 - k, (n - 2 - k) % n) if reversed_ else (k, (k + 1) % n)
+                return f"{min(a, b)}-{max(a, b)}" if {a, b} != {0, n - 1} else f"{n - 1}-0"
+
+            i, j, proper = crossing
+            raise InvalidInput("workpiece", f"is self-intersecting, not a simple polygon: its edges {edge(i)} and "
+                                            f"{edge(j)} (between those vertices) {'cross' if proper else 'touch'}")
         if area <= tolerances.polygon_area_rel * span * span:
             raise InvalidInput("workpiece", "is degenerate: its vertices are (nearly) collinear")
         cm = _checked_center_of_mass(v, normalised, center_of_mass, tolerances)

@@ -55,9 +55,15 @@ DiskRadius = Annotated[
     Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_DISK_RADIUS),
 ]
 NPoints = Annotated[int, Field(strict=True, ge=MIN_N_POINTS, le=MAX_N_POINTS)]
+OUTLINE_RULES = ("a simple polygon: no vertex repeated (uniqueItems), no two edges crossing or touching, not all "
+                 "collinear, and its extent within about 1e-154..1e154 (its squared lengths must not underflow); "
+                 "either orientation")
+"""What every outline of a request must be (models.core.footprint.Footprint.create checks it,
+with the true reason in a 422, the same for every route)."""
+UNIQUE = {"uniqueItems": True}
 Polygon = Annotated[
     list[Point],
-    Field(min_length=MIN_POLYGON_VERTICES, max_length=MAX_POLYGON_VERTICES),
+    Field(min_length=MIN_POLYGON_VERTICES, max_length=MAX_POLYGON_VERTICES, json_schema_extra=UNIQUE),
 ]
 MuC = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=MAX_MU_C)]
 MuCPositive = Annotated[

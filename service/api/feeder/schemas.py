@@ -11,7 +11,7 @@ from typing import Annotated, Literal
 
 from pydantic import ConfigDict, Field
 
-from service.common.fields import Angle, MuC, Point, Strict, TimeLimit
+from service.common.fields import OUTLINE_RULES, UNIQUE, Angle, MuC, Point, Strict, TimeLimit
 from service.common.responses import Out
 from service.limits import (
     FEEDER_MAX_DESIGN_DEPTH,
@@ -36,8 +36,10 @@ Arc = Annotated[list[float], Field(min_length=2, max_length=2, description="[sta
 
 
 class FeederPartIn(Strict):
-    vertices: Annotated[list[Point], Field(min_length=MIN_POLYGON_VERTICES, max_length=FEEDER_MAX_VERTICES)] = Field(
-        description="The part's outline [[x, y], ...] in its own frame (only its convex hull meets a fence).")
+    vertices: Annotated[list[Point], Field(min_length=MIN_POLYGON_VERTICES, max_length=FEEDER_MAX_VERTICES,
+                                           json_schema_extra=UNIQUE)] = Field(
+        description=f"The part's outline [[x, y], ...] in its own frame (only its convex hull meets a fence): "
+                    f"{OUTLINE_RULES}.")
     center_of_mass: Point = Field(description="The centre of mass [x, y] in the same frame, inside the hull.")
 
 
