@@ -25,7 +25,7 @@ help:
 	@echo "make load              load test on loopback with wrk (scripts/load/run.py)"
 	@echo "make docker-local-base debootstrap a Debian base image into podman ($(LOCAL_BASE))"
 	@echo "make docker-local      podman build $(IMAGE) on that base"
-	@echo "make docker-run-local  podman run $(IMAGE) on port $(PORT)"
+	@echo "make docker-run-local  podman run --stop-timeout 40 $(IMAGE) on port $(PORT)"
 
 serve:
 	bash scripts/serve.sh
@@ -58,5 +58,5 @@ docker-local:
 		--build-arg BASE_IMAGE=$(LOCAL_BASE) -t $(IMAGE) .
 
 docker-run-local:
-	$(PODMAN) run --rm --runtime runc --ulimit nofile=1024:1024 --ulimit nproc=4096:4096 \
+	$(PODMAN) run --rm --runtime runc --stop-timeout 40 --ulimit nofile=1024:1024 --ulimit nproc=4096:4096 \
 		-p $(PORT):8000 $(IMAGE)

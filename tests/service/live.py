@@ -34,6 +34,13 @@ def server_command() -> list[str]:
 def live_server(**settings: str) -> Iterator[str]:
     """The base URL of a running server; ``settings`` are PESHKIN_* variables (without the
     prefix, lower case), e.g. ``solver_workers="1"``. Stopped (SIGTERM) at the end."""
+    with live_server_process(**settings) as (url, _):
+        yield url
+
+
+@contextmanager
+def live_server_process(**settings: str) -> Iterator[tuple[str, subprocess.Popen]]:
+    """:func:`live_server`, with the server's process (to stop it in a test)."""
     port = free_port()
     env = {k: v for k, v in os.environ.items() if not k.startswith("PESHKIN_")}
     env.update({"PESHKIN_HOST": "127.0.0.1", "PESHKIN_PORT": str(port), "PESHKIN_LOG_LEVEL": "warning",
@@ -54,7 +61,7 @@ def live_server(**settings: str) -> Iterator[str]:
             if time.monotonic() > deadline:
                 raise RuntimeError("the server did not become ready")
             time.sleep(0.2)
-        yield url
+        yield url, proc
     finally:
         proc.terminate()
         try:

@@ -7,6 +7,7 @@ queued until its deadline and answered 200 with nothing done."""
 from __future__ import annotations
 
 import math
+import signal
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -14,7 +15,7 @@ from concurrent.futures import ThreadPoolExecutor
 import httpx
 import pytest
 
-from tests.service.live import live_server
+from tests.service.live import live_server, live_server_process
 from tests.service.runtime.test_live import SLOW_LOCUS
 
 pytestmark = pytest.mark.slow
@@ -63,3 +64,20 @@ def test_a_flood_of_designs_is_served_or_refused_at_once():
     for r, took in refused:
         assert took < REFUSED_WITHIN_S, f"refused after {took:.2f} s: {r.text}"
         assert int(r.headers["retry-after"]) >= 1
+
+
+def test_a_stop_lets_a_long_request_in_flight_finish():
+    """Issue 25: SIGTERM (what ``podman stop`` and ``docker stop`` send first) while an
+    8-second certified locus runs: the answer still arrives, whole, and the server then
+    exits by itself within its graceful timeout (the documented run lines give the engine
+    a stop timeout longer than that, docs/api.md)."""
+    with live_server_process(web_workers="1", solver_workers="1", graceful_timeout_s="20") as (url, proc):
+        with ThreadPoolExecutor(1) as ex:
+            long = ex.submit(_post, url, "/v1/cor/locus", {**SLOW_LOCUS, "time_limit_s": 8})
+            time.sleep(1.5)
+            proc.send_signal(signal.SIGTERM)
+            r, took = long.result()
+        assert r.status_code == 200, r.text[:300]
+        assert took > 5.0 and r.json()["certified"]["n_certified"] > 0
+        proc.wait(timeout=20)
+        assert proc.returncode == 0
