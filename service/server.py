@@ -23,6 +23,7 @@ import logging
 import math
 import os
 import shutil
+import socket
 from typing import Any, ClassVar
 
 from gunicorn.app.base import BaseApplication
@@ -102,6 +103,24 @@ class Worker(UvicornWorker):
     CONFIG_KWARGS: ClassVar[dict[str, Any]] = {"loop": "asyncio", "http": ReadTimeoutProtocol, "access_log": False}
 
 
+class PortInUse(SystemExit):
+    """Another program listens on the port: the server does not start."""
+
+
+def ensure_port_free(host: str, port: int) -> None:
+    """Refuse to start when anything listens on ``host:port``. With SO_REUSEPORT the web
+    processes would otherwise bind beside another server of the same user and share its
+    connections without a word; a plain bind (SO_REUSEADDR only, so connections of a
+    previous run in TIME_WAIT do not count) fails on any listener."""
+    family, kind, proto, _, address = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0]
+    with socket.socket(family, kind, proto) as probe:
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            probe.bind(address)
+        except OSError as exc:
+            raise PortInUse(f"cannot listen on {host}:{port}: {exc.strerror}; is another server running there?") from exc
+
+
 class Server(BaseApplication):  # type: ignore[misc]
     """gunicorn, configured from :class:`Settings`, serving ``service.app:app``."""
 
@@ -122,6 +141,11 @@ class Server(BaseApplication):  # type: ignore[misc]
             "graceful_timeout": math.ceil(s.graceful_timeout_s),
             "timeout": math.ceil(max(60.0, 2 * s.max_time_limit_s)),  # a web process silent this long is replaced
             "loglevel": s.log_level if s.log_level != "trace" else "debug",
+            # each web process listens on a socket of its own (SO_REUSEPORT) and the kernel
+            # spreads new connections over them: on one shared socket the first process to
+            # wake accepted every connection of a burst (at 128 connections, 2 runs of 3: one
+            # process did all the work, 970 requests/s against 1,920 spread)
+            "reuse_port": True,
             "limit_request_line": 8190,
             "limit_request_fields": 100,
             "limit_request_field_size": 8190,
@@ -141,6 +165,10 @@ class Server(BaseApplication):  # type: ignore[misc]
         options["on_exit"] = lambda arbiter: shutil.rmtree(slot_dir, ignore_errors=True)
         for key, value in options.items():
             self.cfg.set(key, value)
+
+    def run(self) -> None:
+        ensure_port_free(self.settings.host, self.settings.port)
+        super().run()
 
     def load(self) -> Any:
         from service.app import app

@@ -6,8 +6,12 @@ queued until its deadline and answered 200 with nothing done."""
 
 from __future__ import annotations
 
+import http.client
+import json
 import math
+import os
 import signal
+import subprocess
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -15,7 +19,7 @@ from concurrent.futures import ThreadPoolExecutor
 import httpx
 import pytest
 
-from tests.service.live import live_server, live_server_process
+from tests.service.live import REPO, live_server, live_server_process, server_command
 from tests.service.runtime.test_live import SLOW_LOCUS
 
 pytestmark = pytest.mark.slow
@@ -81,3 +85,54 @@ def test_a_stop_lets_a_long_request_in_flight_finish():
         assert took > 5.0 and r.json()["certified"]["n_certified"] > 0
         proc.wait(timeout=20)
         assert proc.returncode == 0
+
+
+def test_a_second_server_on_the_same_port_does_not_start():
+    """The web processes listen with SO_REUSEPORT (the kernel spreads connections over
+    them); a second instance on the same port must still refuse to start, not share it."""
+    with live_server_process(web_workers="2") as (url, _):
+        port = url.rsplit(":", 1)[1]
+        env = {k: v for k, v in os.environ.items() if not k.startswith("PESHKIN_")}
+        env.update({"PESHKIN_HOST": "127.0.0.1", "PESHKIN_PORT": port})
+        second = subprocess.run(server_command(), cwd=REPO, env=env, capture_output=True, text=True, timeout=60)
+        assert second.returncode != 0 and "cannot listen on 127.0.0.1:" in second.stderr
+        assert httpx.get(f"{url}/healthz", timeout=5.0).status_code == 200
+
+
+def _cpu_s(pid: int) -> float:
+    fields = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def test_a_burst_of_connections_is_spread_over_both_web_processes():
+    """Issue 25: on one shared listening socket the first web process to wake accepted a
+    whole burst of connections (at 128, two runs of three: one process did all the work and
+    the throughput halved). 64 clients connecting at once and keeping their connections:
+    each web process does at least a fifth of the work (its CPU time)."""
+    locus = {"disk_radius": 1, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966}
+    with live_server_process(web_workers="2") as (url, proc):
+        web = [int(p) for p in subprocess.run(["pgrep", "-P", str(proc.pid)], capture_output=True, text=True,
+                                              check=True).stdout.split()]
+        assert len(web) == 2
+        host, port = url.removeprefix("http://").split(":")
+        connections = [http.client.HTTPConnection(host, int(port), timeout=30.0) for _ in range(64)]
+        before = {pid: _cpu_s(pid) for pid in web}
+        for conn in connections:  # the burst: 64 handshakes done before any request
+            conn.connect()
+        body, headers = json.dumps(locus), {"content-type": "application/json"}
+
+        def client(conn: http.client.HTTPConnection) -> int:
+            ok = 0
+            for _ in range(25):
+                conn.request("POST", "/v1/cor/locus", body, headers)
+                response = conn.getresponse()
+                response.read()
+                ok += response.status == 200
+            conn.close()
+            return ok
+
+        with ThreadPoolExecutor(64) as ex:
+            served = sum(ex.map(client, connections))
+        used = {pid: _cpu_s(pid) - before[pid] for pid in web}
+    assert served == 64 * 25
+    assert min(used.values()) > 0.2 * sum(used.values()), used
