@@ -1,8 +1,10 @@
-"""Load test on loopback (issue 11): the analytic COR locus (cheap, in the web processes)
-under wrk at concurrency 1, 8, 32 and 128, then at 32 again with eight expensive
-requests (certified loci in the solver workers) running beside it. Starts the server as
-``python -m service`` with its defaults (2 web processes) on a free port, and writes the
-figures into docs/benchmarks.md (section "Service under load").
+"""Load test on loopback (issues 11, 25): the analytic COR locus (cheap, in the web
+processes) under wrk at concurrency 1, 8, 32 and 128, then at 32 and 128 again with eight
+expensive clients (certified loci in the solver workers, each honouring ``Retry-After``)
+beside it, and a flood of 20 feeder designs at once (each must be served with what it
+computed, or refused at once). Starts the server as ``python -m service`` with its
+defaults on a free port, and writes the figures into docs/benchmarks.md (section "Service
+under load").
 
     .venv/bin/python scripts/load/run.py [--seconds 10]
 
@@ -20,9 +22,11 @@ import subprocess
 import sys
 import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import httpx
+import loky
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
@@ -35,6 +39,10 @@ EXPENSIVE = {
     "footprint": [[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]], "contact_point": [0, 0.5],
     "edge_angle": 1.5707963267948966, "method": "certified", "n_certified": 64, "time_limit_s": 5, "outputs": [],
 }
+PENTAGON = {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]}
+DESIGN = {"part": PENTAGON, "angles": {"min": 0.3490658503988659, "max": 1.2217304763960306,
+                                       "step": 0.17453292519943295},
+          "mu_c": 0.25, "alternate": False, "max_depth": 10, "validation_parts": 4, "time_limit_s": 20}
 CONCURRENCY = (1, 8, 32, 128)
 UNITS = {"us": 1e-3, "ms": 1.0, "s": 1e3}
 
@@ -55,17 +63,52 @@ def wrk(url: str, connections: int, seconds: float, body: dict) -> dict:
 
 
 def expensive_load(base: str, stop: threading.Event, n: int, counts: dict) -> list[threading.Thread]:
+    """``n`` clients sending certified loci one after another; a 503 waits its Retry-After."""
     def loop() -> None:
         with httpx.Client(timeout=60.0) as client:
             while not stop.is_set():
                 r = client.post(f"{base}/v1/cor/locus", json=EXPENSIVE)
                 key = str(r.status_code)
                 counts[key] = counts.get(key, 0) + 1
+                if r.status_code == 503:
+                    stop.wait(float(r.headers.get("retry-after", "1")))
 
     threads = [threading.Thread(target=loop, daemon=True) for _ in range(n)]
     for t in threads:
         t.start()
     return threads
+
+
+def beside_expensive(base: str, url: str, connections: int, seconds: float) -> dict:
+    stop, counts = threading.Event(), {}
+    threads = expensive_load(base, stop, 8, counts)
+    time.sleep(1.0)
+    row = wrk(url, connections, seconds, LOCUS)
+    stop.set()
+    for t in threads:
+        t.join()
+    row["expensive"] = counts
+    return row
+
+
+def flood(base: str, n: int = 20) -> dict:
+    """``n`` designs at once, after one that lets the service measure their cost."""
+    def one(_: int) -> tuple[int, float, dict]:
+        t0 = time.monotonic()
+        r = httpx.post(f"{base}/v1/feeder/design", json=DESIGN, timeout=120.0)
+        return r.status_code, time.monotonic() - t0, r.json()
+
+    first = one(0)
+    with ThreadPoolExecutor(n) as ex:
+        answers = list(ex.map(one, range(n)))
+    served = [(t, b) for code, t, b in answers if code == 200]
+    refused = [t for code, t, _ in answers if code == 503]
+    return {
+        "single_s": first[1], "served": len(served), "refused": len(refused),
+        "other": len(answers) - len(served) - len(refused),
+        "hollow": sum(1 for _, b in served if not (b["complete"] and b["design"] is not None)),
+        "served_max_s": max((t for t, _ in served), default=0.0), "refused_max_s": max(refused, default=0.0),
+    }
 
 
 def main() -> None:
@@ -74,45 +117,51 @@ def main() -> None:
     args = ap.parse_args()
     if shutil.which("wrk") is None:
         sys.exit("wrk is missing (Debian: apt-get install wrk)")
-    rows, beside = [], None
+    rows, beside = [], []
     with live_server() as base:
         url = f"{base}/v1/cor/locus"
         wrk(url, 8, 2.0, LOCUS)  # warm up
         for c in CONCURRENCY:
             rows.append(wrk(url, c, args.seconds, LOCUS))
             print(rows[-1], flush=True)
-        stop, counts = threading.Event(), {}
-        threads = expensive_load(base, stop, 8, counts)
-        time.sleep(1.0)
-        beside = wrk(url, 32, args.seconds, LOCUS)
-        stop.set()
-        for t in threads:
-            t.join()
-        beside["expensive"] = counts
-        print(beside, flush=True)
+        for c in (32, 128):
+            beside.append(beside_expensive(base, url, c, args.seconds))
+            print(beside[-1], flush=True)
+        flooded = flood(base)
+        print(flooded, flush=True)
+    table = ["| concurrency | requests/s | p50 (ms) | p99 (ms) | requests | errors |", "|---:|---:|---:|---:|---:|---:|"]
     lines = [
-        f"`scripts/load/run.py` ({platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}): "
-        f"`python -m service` with its defaults (2 web processes, solver workers = CPUs / 2), wrk on the same "
-        f"machine (it takes CPU too), {args.seconds:g} s per row. Cheap request: the analytic locus of the API "
+        f"`scripts/load/run.py` ({platform.machine()}, {loky.cpu_count()} usable CPUs, Python "
+        f"{platform.python_version()}, {time.strftime('%Y-%m-%d')}): `python -m service` with its defaults (2 web "
+        "processes on SO_REUSEPORT sockets, one slot of expensive work per usable CPU shared by both), wrk on the "
+        f"same machine (it takes CPU too), {args.seconds:g} s per row. Cheap request: the analytic locus of the API "
         "guide's first example (JSON, 256 boundary points), computed in the web processes.",
         "",
-        "| concurrency | requests/s | p50 (ms) | p99 (ms) | requests | errors |",
-        "|---:|---:|---:|---:|---:|---:|",
+        *table,
     ]
     for r in rows:
         lines.append(f"| {r['c']} | {r['rps']:.0f} | {r['p50']:.2f} | {r['p99']:.2f} | {r['requests']} | {r['errors']} |")
     lines += [
         "",
-        "The same at concurrency 32 with eight clients sending certified loci of an L-shaped footprint "
-        "(64 brackets, 5 s limit) without pause beside it (answers of those: "
-        + ", ".join(f"{k}: {v}" for k, v in sorted(beside["expensive"].items())) + "):",
+        "The same with eight clients sending certified loci of an L-shaped footprint (64 brackets, 5 s limit) one "
+        "after another beside it, each waiting out the `Retry-After` of a 503 (their answers in the last column):",
         "",
-        "| concurrency | requests/s | p50 (ms) | p99 (ms) | requests | errors |",
-        "|---:|---:|---:|---:|---:|---:|",
-        f"| 32 + 8 expensive | {beside['rps']:.0f} | {beside['p50']:.2f} | {beside['p99']:.2f} | "
-        f"{beside['requests']} | {beside['errors']} |",
+        "| concurrency | requests/s | p50 (ms) | p99 (ms) | requests | errors | expensive answers |",
+        "|---:|---:|---:|---:|---:|---:|---|",
     ]
-    write_section("Service under load (issue 11)", lines)
+    for r in beside:
+        answers = ", ".join(f"{k}: {v}" for k, v in sorted(r["expensive"].items()))
+        lines.append(f"| {r['c']} + 8 expensive | {r['rps']:.0f} | {r['p50']:.2f} | {r['p99']:.2f} | "
+                     f"{r['requests']} | {r['errors']} | {answers} |")
+    f = flooded
+    lines += [
+        "",
+        f"A flood of 20 feeder designs at once (the pentagon, 12 candidate fences, validated by 4 parts; one design "
+        f"alone took {f['single_s']:.2f} s just before): {f['served']} served, each with its design computed "
+        f"({f['hollow']} without), the last after {f['served_max_s']:.2f} s; {f['refused']} refused 503 with "
+        f"`Retry-After`, each within {f['refused_max_s']:.2f} s of sending; {f['other']} other answers.",
+    ]
+    write_section("Service under load (issues 11, 25)", lines)
 
 
 if __name__ == "__main__":

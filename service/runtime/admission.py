@@ -124,30 +124,47 @@ class RunQueue:
         self.waiting: deque[Ticket] = deque()
         self.running: list[Ticket] = []
         self.cost_s: dict[str, float] = {}
+        self.peer_cost_s: dict[str, float] = {}
+        self.peer_waiting_s = 0.0
         self.admitted = 0
         self.refused = 0
         self.last_wait_s = 0.0
 
     def estimate(self, route: str, limit_s: float) -> float:
-        """Predicted run time of a job of ``route`` with a time limit of ``limit_s``."""
-        return min(self.cost_s.get(route, self.policy.unknown_share * limit_s), limit_s)
+        """Predicted run time of a job of ``route`` with a time limit of ``limit_s``: as
+        measured here, or by another web process, or ``unknown_share`` of the limit."""
+        cost = self.cost_s.get(route, self.peer_cost_s.get(route))
+        return min(self.policy.unknown_share * limit_s if cost is None else cost, limit_s)
+
+    def _publish(self) -> None:
+        waiting = sum(self.estimate(t.route, t.deadline.limit_s) for t in self.waiting)
+        self.slots.publish({"waiting_s": waiting, "costs": self.cost_s})
+
+    def _read_peers(self) -> None:
+        peers = self.slots.peers()
+        self.peer_waiting_s = sum(float(p.get("waiting_s", 0.0)) for p in peers)
+        self.peer_cost_s = {}
+        for p in peers:
+            for route, cost in p.get("costs", {}).items():
+                self.peer_cost_s[route] = max(float(cost), self.peer_cost_s.get(route, 0.0))
 
     def predicted_wait(self, own_s: float = 0.0) -> float:
-        """Seconds until a request arriving now would get a slot, behind the queue. A slot
-        held by another web process is predicted to be held for the longest cost measured
-        here, or ``own_s`` (the newcomer's) if longer."""
+        """Seconds until a request arriving now would get a slot, behind the queue here and
+        the work waiting in the other web processes (spread over the slots). A slot held by
+        another web process is predicted to be held for the longest cost known, or
+        ``own_s`` (the newcomer's) if longer."""
         now = time.monotonic()
         ends = [min(max(t.started + self.estimate(t.route, t.deadline.limit_s), now), t.deadline.at)
                 for t in self.running]
         elsewhere = self.slots.held_elsewhere()
-        typical = max(self.cost_s.values(), default=own_s)
+        typical = max([*self.cost_s.values(), *self.peer_cost_s.values()], default=own_s)
         ends += [now + max(typical, own_s)] * elsewhere
         ends += [now] * max(self.slots.count - len(ends), 0)
         heapq.heapify(ends)
         for t in self.waiting:
             start = heapq.heappop(ends)
             heapq.heappush(ends, start + self.estimate(t.route, t.deadline.limit_s))
-        return max(ends[0] - now, 0.0)
+        return max(ends[0] - now, 0.0) + self.peer_waiting_s / self.slots.count
 
     def _refuse(self, reason: str, wait_s: float) -> Refused:
         self.refused += 1
@@ -156,11 +173,12 @@ class RunQueue:
     async def enter(self, route: str, deadline: Deadline) -> Ticket:
         """A slot for the request, or :class:`Refused`."""
         p = self.policy
-        own = self.estimate(route, deadline.limit_s)
-        needed = max(own, p.start_share * deadline.limit_s)
-        ticket = Ticket(route, deadline, needed)
+        ticket = Ticket(route, deadline, 0.0)
         if not self.waiting and self._start(ticket):
             return ticket
+        self._read_peers()
+        own = self.estimate(route, deadline.limit_s)
+        needed = ticket.needed_s = max(own, p.start_share * deadline.limit_s)
         wait = self.predicted_wait(own)
         if len(self.waiting) >= self.capacity:
             raise self._refuse(f"all {self.capacity} places in the queue are taken", wait)
@@ -169,15 +187,18 @@ class RunQueue:
                                f"{deadline.limit_s:g} s", wait)
         self.waiting.append(ticket)
         self.admitted += 1
+        self._publish()
         try:
             while True:
                 if self.waiting[0] is ticket and self._start(ticket):
                     self.waiting.popleft()
+                    self._publish()
                     if self.waiting:
                         self.waiting[0].wake.set()
                     return ticket
                 if deadline.solver_s() < needed:
                     self.waiting.remove(ticket)
+                    self._publish()
                     raise self._refuse("it waited too long for a solver worker to start in time",
                                        self.predicted_wait())
                 ticket.wake.clear()  # woken by a slot given back here, or after the poll
@@ -190,6 +211,7 @@ class RunQueue:
         except asyncio.CancelledError:
             if ticket in self.waiting:
                 self.waiting.remove(ticket)
+                self._publish()
             raise
 
     def _start(self, ticket: Ticket) -> bool:
@@ -214,6 +236,7 @@ class RunQueue:
             ran = time.monotonic() - ticket.started
             old = self.cost_s.get(ticket.route)
             self.cost_s[ticket.route] = ran if old is None else old + self.policy.weight * (ran - old)
+            self._publish()
         if self.waiting:
             self.waiting[0].wake.set()
 

@@ -3,7 +3,8 @@
 A server has as many slots as the CPUs its processes may use (:func:`usable_cpus`); a job
 runs in a solver worker only while it holds one, whichever web process took its request,
 so N concurrent expensive requests keep min(N, slots) workers busy however the kernel
-spread their connections. Slot i is an exclusive ``flock`` on file i of a directory the
+spread their connections. Each web process also publishes its queue there (the work
+waiting and the run times it measured), so that each admits by the whole server's backlog. Slot i is an exclusive ``flock`` on file i of a directory the
 web processes share: the kernel releases it when its holder dies, so a web process that
 crashes cannot leak a slot (a counter in shared memory would).
 
@@ -14,11 +15,14 @@ tests) makes one of its own.
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
+import json
 import os
 import shutil
 import tempfile
 import threading
+from typing import Any
 
 import loky
 
@@ -53,6 +57,7 @@ class Slots:
         self._fds = [os.open(os.path.join(self.directory, f"slot-{i}"), os.O_RDWR | os.O_CREAT, 0o600)
                      for i in range(count)]
         self._held: set[int] = set()
+        self._queue_file = f"queue-{os.getpid()}-{id(self):x}.json"
 
     @classmethod
     def of_server(cls, count: int) -> Slots:
@@ -92,7 +97,46 @@ class Slots:
                     busy += 1
             return busy
 
+    def publish(self, state: dict[str, Any]) -> None:
+        """Tell the other web processes this one's queue (``state``: JSON), in a file of
+        its own, replaced whole (a reader never sees half of it). Advisory: nothing is
+        published once the slots are closed, or when the directory is gone (the server
+        stopping)."""
+        if not self._fds:
+            return
+        path = os.path.join(self.directory, self._queue_file)
+        temporary = f"{path}.tmp"
+        with contextlib.suppress(OSError):
+            with open(temporary, "w") as f:
+                json.dump(state, f)
+            os.replace(temporary, path)
+
+    def peers(self) -> list[dict[str, Any]]:
+        """What the other live web processes published (a process that died is forgotten
+        and its file removed)."""
+        found: list[dict[str, Any]] = []
+        try:
+            names = os.listdir(self.directory)
+        except OSError:
+            return found
+        for name in names:
+            parts = name.split("-")
+            if name == self._queue_file or not (name.endswith(".json") and len(parts) == 3 and parts[1].isdigit()):
+                continue
+            pid = int(parts[1])
+            path = os.path.join(self.directory, name)
+            if not _alive(pid):
+                with contextlib.suppress(OSError):
+                    os.remove(path)
+                continue
+            with contextlib.suppress(OSError, ValueError):
+                with open(path) as f:
+                    found.append(json.load(f))
+        return found
+
     def close(self) -> None:
+        with contextlib.suppress(OSError):
+            os.remove(os.path.join(self.directory, self._queue_file))
         with self._lock:
             for fd in self._fds:
                 os.close(fd)  # releases what this process held
@@ -100,6 +144,16 @@ class Slots:
             self._held.clear()
         if self._owned:
             shutil.rmtree(self.directory, ignore_errors=True)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 def _lock(fd: int) -> bool:

@@ -158,3 +158,32 @@ def test_a_queued_request_that_can_no_longer_start_in_time_leaves_with_a_refusal
 
     took = asyncio.run(scenario())
     assert took < 0.4  # it left when a quarter of its limit (and the reserve) remained
+
+
+def test_a_web_process_admits_by_the_whole_servers_backlog_and_learns_costs_from_the_others():
+    """Queue A holds the only slot and has three requests waiting, 4 s each by its measured
+    cost; queue B (another web process) has measured nothing: it takes A's cost for the
+    route and adds A's waiting work to its predicted wait (4 s for the slot + 3 x 4 s), so
+    it refuses a request with a 20 s limit at once, with that wait as Retry-After."""
+    async def scenario() -> float:
+        a = RunQueue(Slots(1), capacity=8)
+        b = RunQueue(Slots(1, a.slots.directory), capacity=8)
+        try:
+            a.cost_s["POST /x"] = 4.0
+            held = await a.enter("POST /x", _deadline(1000.0))
+            waiting = [asyncio.ensure_future(a.enter("POST /x", _deadline(1000.0))) for _ in range(3)]
+            await asyncio.sleep(0.05)
+            with pytest.raises(Refused) as refused:
+                await b.enter("POST /x", _deadline(20.0))
+            assert b.estimate("POST /x", 20.0) == 4.0 and b.peer_waiting_s == 12.0
+            for w in waiting:
+                w.cancel()
+            await asyncio.gather(*waiting, return_exceptions=True)
+            a.leave(held)
+            return refused.value.retry_after_s
+        finally:
+            a.slots.close()
+            b.slots.close()
+
+    retry = asyncio.run(scenario())
+    assert 15.9 < retry <= 16.0
