@@ -125,6 +125,14 @@ def time_limited(
         raise TimeLimitAnswer(exc, partial, hint) from exc
 
 
+def nothing_computed(before: str, limit_s: float | None, elapsed_s: float,
+                     partial: dict[str, Any] | None = None) -> TimeLimitAnswer:
+    """The 504 of an answer its time limit cut before any of what was asked was computed
+    (``before``: what was about to start): such an answer is not a success (issue 25).
+    ``partial``: what there is besides (e.g. the analytic locus of a certified one)."""
+    return TimeLimitAnswer(TimeLimitReached(before, limit_s, elapsed_s, partial), partial, DEFAULT_TIME_LIMIT_HINT)
+
+
 def error_body(loc: list[str | int], msg: str, type_: str) -> dict[str, Any]:
     return {"detail": [{"loc": loc, "msg": msg, "type": type_}]}
 

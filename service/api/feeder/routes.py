@@ -32,6 +32,7 @@ from service.api.feeder.schemas import (
 from service.common.fields import ResponseFormat
 from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
+from service.errors import nothing_computed
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
 from solver import feeder_design, feeder_map, feeder_simulate
@@ -64,6 +65,8 @@ def map_job(req: FeederMapRequest, svg: bool, deadline: Deadline) -> FeederMapRe
     problem = map_problem(req)
     with located():
         result = feeder_map(problem, budget)
+    if not result.maps and not result.complete:
+        raise nothing_computed("the first fence map", budget.limit_s, budget.elapsed())
     if svg and result.maps:
         by = "the circumscribing disk" if result.bound == "disk" else "the part's own loci"
         title = (f"Configuration maps (5.1-5.2), bounded with {by}"
@@ -139,6 +142,8 @@ def design_job(req: FeederDesignRequest, svg: bool, deadline: Deadline) -> Feede
                          "belt.entry_spread": ("belt", "entry_spread"), "validation_parts": ("validation_parts",),
                          "min_yield": ("min_yield",)}):
         result = feeder_design(problem, budget)
+    if not result.maps and not result.complete:
+        raise nothing_computed("the first candidate fence's map", budget.limit_s, budget.elapsed())
     design = result.design
     if svg and design is not None:
         maps = [result.maps[f] for f in design.fences]

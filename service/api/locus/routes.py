@@ -33,7 +33,7 @@ from service.api.locus.schemas import (
 from service.common.fields import ResponseFormat
 from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
-from service.errors import FieldError
+from service.errors import FieldError, nothing_computed
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
 from service.store import result_store
@@ -95,6 +95,9 @@ def locus_job(req: CorLocusRequest, svg: bool, deadline: Deadline) -> CorLocusRe
     prep, problem = locus_problem(req, all_outputs=svg)
     result = locus_of(problem, budget)
     body = locus_response(prep, result, req.time_limit_s, budget.elapsed() * 1e3)  # also the NaN/inf guard
+    if body.certified is not None and body.certified.n_done == 0 and not body.certified.complete:
+        raise nothing_computed("the first certified point", budget.limit_s, budget.elapsed(),
+                               body.model_dump(mode="json"))
     if svg:
         return Response(content=render_locus_svg(prep, result.analytic), media_type=SVG_MEDIA_TYPE)
     if store is not None and body.certified is not None and body.certified.complete:

@@ -36,7 +36,7 @@ from service.api.spiral.schemas import (
 from service.common.fields import ResponseFormat
 from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
-from service.errors import time_limited
+from service.errors import nothing_computed, time_limited
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
 from service.store import result_store
@@ -74,6 +74,8 @@ def critical_radius_job(
     problem = replace(critical_radius_problem(req), store=result_store())
     with located():
         res = critical_radii(problem, budget)
+    if not np.any(np.isfinite(res.table.radii)):
+        raise nothing_computed("the first collision parameter of the r* table", budget.limit_s, budget.elapsed())
     body = critical_radius_response(req, res, budget.elapsed() * 1e3)
     if svg:
         tab = res.table
