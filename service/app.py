@@ -68,6 +68,8 @@ def _published(app: FastAPI, time_limit_cap_s: float) -> None:
             for branch in [] if limit is None else [limit, *limit.get("anyOf", [])]:
                 if "maximum" in branch:
                     branch["maximum"] = time_limit_cap_s
+            if isinstance(limit, dict) and isinstance(limit.get("default"), (int, float)):
+                limit["default"] = min(limit["default"], time_limit_cap_s)  # what the runner does
         return schema
 
     app.openapi = openapi  # type: ignore[method-assign]

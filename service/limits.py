@@ -99,8 +99,9 @@ own, up to TIME_LIMIT_HARD_MAX_S; the request schemas accept up to that, the run
 service serves states its cap as the maximum."""
 TIME_LIMIT_HARD_MAX_S = 3600.0
 """The largest cap a deployment may set."""
-TIME_LIMIT_CAP_TEXT = (f"at most the deployment's cap, PESHKIN_MAX_TIME_LIMIT_S ({MAX_TIME_LIMIT_S:g} s unless "
-                       "raised; the `maximum` of this field in the service's /openapi.json)")
+TIME_LIMIT_CAP_TEXT = (f"at most the deployment's cap, PESHKIN_MAX_TIME_LIMIT_S ({MAX_TIME_LIMIT_S:g} s by default; "
+                       "the `maximum` of this field in the service's /openapi.json); a default above the cap is "
+                       "lowered to it")
 """How every time_limit_s field describes its cap."""
 
 PARTICLE_MIN_MAGNITUDE = 1e-6

@@ -19,6 +19,7 @@ What a hostile or broken client cannot do here:
 from __future__ import annotations
 
 import asyncio
+import errno
 import logging
 import math
 import os
@@ -112,13 +113,27 @@ def ensure_port_free(host: str, port: int) -> None:
     processes would otherwise bind beside another server of the same user and share its
     connections without a word; a plain bind (SO_REUSEADDR only, so connections of a
     previous run in TIME_WAIT do not count) fails on any listener."""
-    family, kind, proto, _, address = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0]
-    with socket.socket(family, kind, proto) as probe:
-        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        try:
-            probe.bind(address)
-        except OSError as exc:
-            raise PortInUse(f"cannot listen on {host}:{port}: {exc.strerror}; is another server running there?") from exc
+    for family, kind, proto, _, address in socket.getaddrinfo(host, port, type=socket.SOCK_STREAM):
+        with socket.socket(family, kind, proto) as probe:
+            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+            try:
+                probe.bind(address)
+            except OSError as exc:
+                if exc.errno == errno.EADDRINUSE:
+                    raise PortInUse(f"cannot listen on {host}:{port}: {exc.strerror}; is another server running "
+                                    "there?") from exc
+
+
+def share_slots(arbiter: Any) -> None:
+    """gunicorn's ``on_starting``: the slot directory of this server, for its web processes."""
+    os.environ[SLOT_DIR_ENV] = make_slot_directory()
+
+
+def remove_slots(arbiter: Any) -> None:
+    """gunicorn's ``on_exit``."""
+    directory = os.environ.pop(SLOT_DIR_ENV, "")
+    if directory:
+        shutil.rmtree(directory, ignore_errors=True)
 
 
 class Server(BaseApplication):  # type: ignore[misc]
@@ -159,10 +174,10 @@ class Server(BaseApplication):  # type: ignore[misc]
         else:
             options["control_socket_disable"] = True
         # the slots of expensive work, shared by the web processes (service.runtime.slots):
-        # a directory of this instance's own, made before they are forked, removed at exit
-        slot_dir = make_slot_directory()
-        os.environ[SLOT_DIR_ENV] = slot_dir
-        options["on_exit"] = lambda arbiter: shutil.rmtree(slot_dir, ignore_errors=True)
+        # a directory of this instance's own, made when the supervisor starts (before the
+        # web processes are forked; a reload keeps it), removed when it exits
+        options["on_starting"] = share_slots
+        options["on_exit"] = remove_slots
         for key, value in options.items():
             self.cfg.set(key, value)
 

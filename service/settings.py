@@ -16,8 +16,8 @@ variable                        default     meaning
                                             process; beyond, or when one is predicted not to start
                                             in time, 503 at once with ``Retry-After``
 ``PESHKIN_MAX_REQUESTS_IN_FLIGHT`` 512     requests in flight per web process (cheap ones are
-                                            computed at once, expensive ones wait in their
-                                            gate); beyond, 503 at once
+                                            computed at once, expensive ones wait in the queue
+                                            for a slot); beyond, 503 at once
 ``PESHKIN_MAX_TIME_LIMIT_S``    30          the deadline of a request without its own time limit,
                                             and the cap of every time limit (up to 3600): past
                                             it 422; /openapi.json states it as the maximum

@@ -4,8 +4,9 @@ Every capability takes a part's outline as a :class:`Footprint`: the loci and sk
 (the outline bounds where pressure may lie, 3.1.5), the push (its convex hull meets the
 fence, 3.4), the feeder (its hull in the body frame, 5.1), the quasi-static check (its
 moments, 6.8). One validation (``Footprint.create``) gives one verdict on an outline for
-every route: a list of [x, y], finite, no repeated consecutive vertex, simple (no two edges
-cross or touch), not degenerate (collinear), the centre of mass (CM) in the convex hull.
+every route: a list of [x, y], finite, no vertex repeated, an extent whose squares are
+normal floats, simple (no two edges cross or touch), not degenerate (collinear), the
+centre of mass (CM) in the convex hull; each refusal names what is wrong and where.
 """
 
 from __future__ import annotations

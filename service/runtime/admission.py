@@ -70,16 +70,18 @@ class Gate:
 class AdmissionPolicy:
     """How the queue of expensive work (:class:`RunQueue`) decides.
 
-    A route's cost is the running mean of the run times measured for it in this web process
-    (``weight``: the share of a new measurement); before the first, ``unknown_share`` of the
-    request's time limit. A job is admitted only if it is predicted to start with time left
-    for its cost, and at least ``start_share`` of its limit; a queued job that can no longer
-    start so leaves the queue with a 503 (nothing computed is never answered 200). The head
-    of the queue looks for a slot freed by another web process every ``poll_s``; the others
-    look at their deadline every ``idle_poll_s``."""
+    A kind of job's cost is the running mean of the run times measured for it (``weight``:
+    the share of a new measurement), here or by another web process; before the first,
+    ``unknown_share`` of the request's time limit. A job is admitted only if its predicted
+    wait, stretched by ``1 + wait_margin``, leaves time for its cost and at least
+    ``start_share`` of its limit; a queued job that can no longer start so leaves the queue
+    with a 503 (nothing computed is never answered 200). The head of the queue looks for a
+    slot freed by another web process every ``poll_s``; the others look at their deadline
+    every ``idle_poll_s``."""
 
     unknown_share: float = 0.5
     start_share: float = 0.25
+    wait_margin: float = 0.25
     weight: float = 0.3
     poll_s: float = 0.005
     idle_poll_s: float = 0.05
@@ -99,9 +101,9 @@ class Refused(Exception):
 
 @dataclass(eq=False)
 class Ticket:
-    """One admitted expensive request: its route (for the cost), deadline and slot."""
+    """One admitted expensive request: its kind of job (for the cost), deadline and slot."""
 
-    route: str
+    kind: str
     deadline: Deadline
     needed_s: float
     wake: asyncio.Event = field(default_factory=asyncio.Event)
@@ -109,11 +111,33 @@ class Ticket:
     started: float = 0.0
 
 
+@dataclass(frozen=True)
+class Peers:
+    """What the other web processes published: when their running jobs are predicted to
+    end (``time.monotonic``, one clock for the machine), the work waiting in their queues,
+    and the costs they measured."""
+
+    running_ends: tuple[float, ...] = ()
+    waiting_s: float = 0.0
+    cost_s: dict[str, float] = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, published: list[dict]) -> Peers:
+        ends: list[float] = []
+        costs: dict[str, float] = {}
+        for p in published:
+            ends += [float(e) for e in p.get("running_ends", ())]
+            for kind, cost in p.get("costs", {}).items():
+                costs[kind] = max(float(cost), costs.get(kind, 0.0))
+        return cls(tuple(ends), sum(float(p.get("waiting_s", 0.0)) for p in published), costs)
+
+
 class RunQueue:
     """Expensive work of one web process: at most ``capacity`` requests wait, in arrival
     order, for a slot of the server (:class:`~service.runtime.slots.Slots`); a request is
     refused at once when it is predicted not to start in time (its ``Retry-After`` the
-    predicted wait)."""
+    predicted wait). Costs are kept per kind of job (the caller's key: a route, and what of
+    the request decides its cost)."""
 
     name = "expensive"
 
@@ -124,65 +148,63 @@ class RunQueue:
         self.waiting: deque[Ticket] = deque()
         self.running: list[Ticket] = []
         self.cost_s: dict[str, float] = {}
-        self.peer_cost_s: dict[str, float] = {}
-        self.peer_waiting_s = 0.0
+        self.peers = Peers()
         self.admitted = 0
         self.refused = 0
-        self.last_wait_s = 0.0
 
-    def estimate(self, route: str, limit_s: float) -> float:
-        """Predicted run time of a job of ``route`` with a time limit of ``limit_s``: as
+    def estimate(self, kind: str, limit_s: float) -> float:
+        """Predicted run time of a job of ``kind`` with a time limit of ``limit_s``: as
         measured here, or by another web process, or ``unknown_share`` of the limit."""
-        cost = self.cost_s.get(route, self.peer_cost_s.get(route))
+        cost = self.cost_s.get(kind, self.peers.cost_s.get(kind))
         return min(self.policy.unknown_share * limit_s if cost is None else cost, limit_s)
 
+    def _end(self, t: Ticket) -> float:
+        return min(t.started + self.estimate(t.kind, t.deadline.limit_s), t.deadline.at)
+
     def _publish(self) -> None:
-        waiting = sum(self.estimate(t.route, t.deadline.limit_s) for t in self.waiting)
-        self.slots.publish({"waiting_s": waiting, "costs": self.cost_s})
+        self.slots.publish({
+            "running_ends": [self._end(t) for t in self.running],
+            "waiting_s": sum(self.estimate(t.kind, t.deadline.limit_s) for t in self.waiting),
+            "costs": self.cost_s,
+        })
 
-    def _read_peers(self) -> None:
-        peers = self.slots.peers()
-        self.peer_waiting_s = sum(float(p.get("waiting_s", 0.0)) for p in peers)
-        self.peer_cost_s = {}
-        for p in peers:
-            for route, cost in p.get("costs", {}).items():
-                self.peer_cost_s[route] = max(float(cost), self.peer_cost_s.get(route, 0.0))
-
-    def predicted_wait(self, own_s: float = 0.0) -> float:
-        """Seconds until a request arriving now would get a slot, behind the queue here and
-        the work waiting in the other web processes (spread over the slots). A slot held by
-        another web process is predicted to be held for the longest cost known, or
-        ``own_s`` (the newcomer's) if longer."""
+    def predicted_wait(self) -> float:
+        """Seconds until a request arriving now would get a slot: behind the running jobs
+        of every web process (at their predicted ends), the queue here, and the work
+        waiting in the other web processes' queues (spread over the slots)."""
         now = time.monotonic()
-        ends = [min(max(t.started + self.estimate(t.route, t.deadline.limit_s), now), t.deadline.at)
-                for t in self.running]
-        elsewhere = self.slots.held_elsewhere()
-        typical = max([*self.cost_s.values(), *self.peer_cost_s.values()], default=own_s)
-        ends += [now + max(typical, own_s)] * elsewhere
-        ends += [now] * max(self.slots.count - len(ends), 0)
+        ends = sorted(max(e, now) for e in [*(self._end(t) for t in self.running), *self.peers.running_ends])
+        ends = [now] * max(self.slots.count - len(ends), 0) + ends[: self.slots.count]
         heapq.heapify(ends)
         for t in self.waiting:
             start = heapq.heappop(ends)
-            heapq.heappush(ends, start + self.estimate(t.route, t.deadline.limit_s))
-        return max(ends[0] - now, 0.0) + self.peer_waiting_s / self.slots.count
+            heapq.heappush(ends, start + self.estimate(t.kind, t.deadline.limit_s))
+        return max(ends[0] - now, 0.0) + self.peers.waiting_s / self.slots.count
 
     def _refuse(self, reason: str, wait_s: float) -> Refused:
         self.refused += 1
         return Refused(reason, wait_s)
 
-    async def enter(self, route: str, deadline: Deadline) -> Ticket:
+    def _leave_queue(self, ticket: Ticket) -> None:
+        head = self.waiting[0] is ticket
+        self.waiting.remove(ticket)
+        if head and self.waiting:
+            self.waiting[0].wake.set()
+        self._publish()
+
+    async def enter(self, kind: str, deadline: Deadline) -> Ticket:
         """A slot for the request, or :class:`Refused`."""
         p = self.policy
-        ticket = Ticket(route, deadline, 0.0)
-        if not self.waiting and self._start(ticket):
+        self.peers = Peers.of(self.slots.peers())
+        ticket = Ticket(kind, deadline, 0.0)
+        if not self.waiting and self.peers.waiting_s == 0.0 and self._start(ticket):
             return ticket
-        self._read_peers()
-        own = self.estimate(route, deadline.limit_s)
+        own = self.estimate(kind, deadline.limit_s)
         needed = ticket.needed_s = max(own, p.start_share * deadline.limit_s)
-        wait = self.predicted_wait(own)
+        wait = self.predicted_wait()
         if len(self.waiting) >= self.capacity:
             raise self._refuse(f"all {self.capacity} places in the queue are taken", wait)
-        if wait + needed > deadline.solver_s():
+        if wait * (1.0 + p.wait_margin) + needed > deadline.solver_s():
             raise self._refuse(f"it would start in about {wait:.3g} s, too late for its time limit of "
                                f"{deadline.limit_s:g} s", wait)
         self.waiting.append(ticket)
@@ -191,14 +213,10 @@ class RunQueue:
         try:
             while True:
                 if self.waiting[0] is ticket and self._start(ticket):
-                    self.waiting.popleft()
-                    self._publish()
-                    if self.waiting:
-                        self.waiting[0].wake.set()
                     return ticket
                 if deadline.solver_s() < needed:
-                    self.waiting.remove(ticket)
-                    self._publish()
+                    self._leave_queue(ticket)
+                    self.peers = Peers.of(self.slots.peers())
                     raise self._refuse("it waited too long for a solver worker to start in time",
                                        self.predicted_wait())
                 ticket.wake.clear()  # woken by a slot given back here, or after the poll
@@ -210,33 +228,37 @@ class RunQueue:
                     timer.cancel()
         except asyncio.CancelledError:
             if ticket in self.waiting:
-                self.waiting.remove(ticket)
-                self._publish()
+                self._leave_queue(ticket)
             raise
 
     def _start(self, ticket: Ticket) -> bool:
+        """Take a slot for ``ticket`` (from the head of the queue, or a request that
+        found the queues empty); False when none is free."""
         slot = self.slots.try_take()
         if slot is None:
             return False
         ticket.slot, ticket.started = slot, time.monotonic()
-        self.last_wait_s = ticket.started - ticket.deadline.arrived
         self.running.append(ticket)
-        if ticket not in self.waiting:
+        if ticket in self.waiting:
+            self.waiting.popleft()
+            if self.waiting:
+                self.waiting[0].wake.set()
+        else:
             self.admitted += 1
+        self._publish()
         return True
 
     def leave(self, ticket: Ticket, measured: bool = True) -> None:
         """The job of ``ticket`` ended: its slot is free, and its run time measured unless
-        ``measured`` is False (a job cancelled when its client went away tells nothing of
-        the route's cost)."""
+        ``measured`` is False (a job cancelled or refused tells nothing of its cost)."""
         assert ticket.slot is not None
         self.running.remove(ticket)
         self.slots.give_back(ticket.slot)
         if measured:
             ran = time.monotonic() - ticket.started
-            old = self.cost_s.get(ticket.route)
-            self.cost_s[ticket.route] = ran if old is None else old + self.policy.weight * (ran - old)
-            self._publish()
+            old = self.cost_s.get(ticket.kind)
+            self.cost_s[ticket.kind] = ran if old is None else old + self.policy.weight * (ran - old)
+        self._publish()
         if self.waiting:
             self.waiting[0].wake.set()
 

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import asyncio
 import concurrent.futures
-import contextlib
 import logging
 import math
 import signal
@@ -33,7 +32,7 @@ from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 
 from service.errors import BUSY, GATEWAY_TIMEOUT, FieldError, busy_response, error_body, response_for
-from service.runtime.admission import Gate, Refused, RunQueue
+from service.runtime.admission import Gate, Refused, RunQueue, Ticket
 from service.runtime.deadline import Deadline, arrival
 from service.runtime.pool import SolverPool
 from service.runtime.slots import Slots
@@ -168,7 +167,9 @@ class Runner:
         )
 
     async def start(self) -> None:
-        """Start the solver workers (at the app's startup)."""
+        """Open the slots and start the solver workers (at the app's startup)."""
+        if isinstance(self.expensive, RunQueue):
+            self.expensive.slots.open()
         if self.pool is not None:
             await anyio.to_thread.run_sync(self.pool.warm_up, WARM_UP_TIMEOUT_S)
 
@@ -193,15 +194,19 @@ class Runner:
         """:meth:`deadline` of a job whose first argument is the request's model (a limit
         the client left out is the route's default)."""
         model = args[0] if args else None
-        asked = not isinstance(model, BaseModel) or "time_limit_s" in model.model_fields_set
+        asked = not isinstance(model, BaseModel) or (
+            "time_limit_s" in model.model_fields_set and getattr(model, "time_limit_s", None) is not None)
         return self.deadline(request, time_limit_s, asked)
 
     async def cheap_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
         """Run a cheap job at once, on the event loop."""
         return execute(job, args, self.request_deadline(request, args, time_limit_s), where(request)).response()
 
-    async def expensive_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
-        """Run an expensive job in a solver worker (or a thread), under the deadline."""
+    async def expensive_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None,
+                            cost_key: str = "") -> Response:
+        """Run an expensive job in a solver worker (or a thread), under the deadline.
+        ``cost_key``: what of the request, besides its route, decides the job's cost (the
+        queue measures costs per route and key)."""
         deadline = self.request_deadline(request, args, time_limit_s)
         queue = self.expensive
         if isinstance(queue, Gate):
@@ -212,31 +217,39 @@ class Runner:
             finally:
                 queue.leave()
             return reply.response()
-        entering = asyncio.ensure_future(queue.enter(where(request), deadline))
-        gone = asyncio.ensure_future(client_gone(request))
         try:
-            await asyncio.wait({entering, gone}, return_when=asyncio.FIRST_COMPLETED)
-        finally:
-            gone.cancel()
-        if not entering.done():  # the client went away while its request was queued
-            entering.cancel()
-            with contextlib.suppress(asyncio.CancelledError, Refused):
-                await entering
-            if entering.cancelled() or entering.exception() is not None:
-                log.info("client gone on %s after %.3g s in the queue", where(request), deadline.elapsed())
-                return Reply(CLIENT_GONE, None, b"").response()
-        try:
-            ticket = entering.result()
+            ticket = await self.queued(request, queue, f"{where(request)} {cost_key}".rstrip(), deadline)
         except Refused as refused:
             retry = max(self.retry_after_s, math.ceil(refused.retry_after_s))
             log.info("refused %s: %s", where(request), refused.reason)
             return busy_response(queue.name, retry, refused.reason)
+        if ticket is None:
+            log.info("client gone on %s after %.3g s in the queue", where(request), deadline.elapsed())
+            return Reply(CLIENT_GONE, None, b"").response()
         reply = Reply(CLIENT_GONE, None, b"")
         try:
             reply = await self.in_worker(request, job, args, deadline)
-        finally:
-            queue.leave(ticket, measured=reply.status != CLIENT_GONE)
+        finally:  # only a job that ran to its answer or its deadline tells its cost
+            queue.leave(ticket, measured=reply.status in MEASURED_STATUSES)
         return reply.response()
+
+    async def queued(self, request: Request, queue: RunQueue, kind: str, deadline: Deadline) -> Ticket | None:
+        """The request's slot (:class:`Refused` passes through); None when its client went
+        away while it waited. Whatever ends the wait (this task cancelled too), a slot taken
+        for nobody is given back and a place in the queue is left."""
+        entering = asyncio.ensure_future(queue.enter(kind, deadline))
+        gone = asyncio.ensure_future(client_gone(request))
+        try:
+            await asyncio.wait({entering, gone}, return_when=asyncio.FIRST_COMPLETED)
+        except BaseException:
+            gone.cancel()
+            abandon(queue, entering)
+            raise
+        gone.cancel()
+        if not entering.done():
+            abandon(queue, entering)
+            return None
+        return entering.result()
 
     async def in_worker(self, request: Request, job: Job, args: tuple[Any, ...], deadline: Deadline) -> Reply:
         assert self.pool is not None
@@ -262,6 +275,20 @@ class Runner:
             log.info("client gone on %s after %.3g s: its job was cancelled", where(request), deadline.elapsed())
             return Reply(CLIENT_GONE, None, b"")
         return deadline_reply(deadline, "the solver worker had not answered by the deadline")
+
+
+MEASURED_STATUSES = frozenset({200, GATEWAY_TIMEOUT})
+"""Answers whose run time is a job's cost: served, or stopped at the deadline (not a quick
+refusal of the input, a lost worker or a client gone)."""
+
+
+def abandon(queue: RunQueue, entering: asyncio.Future[Ticket]) -> None:
+    """Give up a request's wait for a slot: cancel it (it leaves the queue), or, when it
+    got its slot already, give the slot back unmeasured."""
+    if not entering.done():
+        entering.cancel()
+    elif not entering.cancelled() and entering.exception() is None:
+        queue.leave(entering.result(), measured=False)
 
 
 def where(request: Request) -> str:

@@ -43,26 +43,48 @@ def make_slot_directory() -> str:
 
 
 class Slots:
-    """``count`` slots in ``directory`` (made, and removed by :meth:`close`, when None).
-    Safe to use from several threads of one process."""
+    """``count`` slots in ``directory`` (made by :meth:`open`, and removed by :meth:`close`,
+    when None). Nothing is made before :meth:`open` (importing the app makes no directory).
+    Safe to use from several threads of one process.
+
+    Each holder also keeps, while it lives, an ``flock`` on a file ``alive-<id>`` of its own
+    and publishes its queue in ``queue-<id>.json``: a reader that can lock another holder's
+    ``alive`` file knows that holder is gone (the kernel released its lock), whatever
+    became of its process id."""
 
     def __init__(self, count: int, directory: str | None = None) -> None:
         if count < 1:
             raise ValueError(f"a server needs at least one slot, got {count}")
         self.count = count
+        self.directory = directory
         self._owned = directory is None
-        self.directory = make_slot_directory() if directory is None else directory
-        os.makedirs(self.directory, exist_ok=True)
         self._lock = threading.Lock()
-        self._fds = [os.open(os.path.join(self.directory, f"slot-{i}"), os.O_RDWR | os.O_CREAT, 0o600)
-                     for i in range(count)]
+        self._fds: list[int] = []
         self._held: set[int] = set()
-        self._queue_file = f"queue-{os.getpid()}-{id(self):x}.json"
+        self._id = f"{os.getpid()}-{id(self):x}"
+        self._alive: int | None = None
 
     @classmethod
     def of_server(cls, count: int) -> Slots:
         """The server's slots (the supervisor's directory), or this process's own."""
         return cls(count, os.environ.get(SLOT_DIR_ENV) or None)
+
+    def open(self) -> Slots:
+        """Open the slots (making the directory when it is this holder's own)."""
+        with self._lock:
+            if self._fds:
+                return self
+            if self.directory is None:
+                self.directory = make_slot_directory()
+            os.makedirs(self.directory, exist_ok=True)
+            self._fds = [os.open(self._path(f"slot-{i}"), os.O_RDWR | os.O_CREAT, 0o600) for i in range(self.count)]
+            self._alive = os.open(self._path(f"alive-{self._id}"), os.O_RDWR | os.O_CREAT, 0o600)
+            fcntl.flock(self._alive, fcntl.LOCK_EX)
+            return self
+
+    def _path(self, name: str) -> str:
+        assert self.directory is not None
+        return os.path.join(self.directory, name)
 
     def try_take(self) -> int | None:
         """A free slot, now held by this process (None: all are held)."""
@@ -84,76 +106,70 @@ class Slots:
         with self._lock:
             return len(self._held)
 
-    def held_elsewhere(self) -> int:
-        """Slots held by the other web processes now (each is probed; a snapshot)."""
-        with self._lock:
-            busy = 0
-            for i, fd in enumerate(self._fds):
-                if i in self._held:
-                    continue
-                if _lock(fd):
-                    fcntl.flock(fd, fcntl.LOCK_UN)
-                else:
-                    busy += 1
-            return busy
-
     def publish(self, state: dict[str, Any]) -> None:
-        """Tell the other web processes this one's queue (``state``: JSON), in a file of
-        its own, replaced whole (a reader never sees half of it). Advisory: nothing is
-        published once the slots are closed, or when the directory is gone (the server
-        stopping)."""
+        """Tell the other holders this one's queue (``state``: JSON), in a file of its own,
+        replaced whole (a reader never sees half of it). Advisory: nothing is published
+        before :meth:`open` or after :meth:`close`, or when the directory is gone (the
+        server stopping)."""
         if not self._fds:
             return
-        path = os.path.join(self.directory, self._queue_file)
-        temporary = f"{path}.tmp"
+        path = self._path(f"queue-{self._id}.json")
         with contextlib.suppress(OSError):
-            with open(temporary, "w") as f:
+            with open(f"{path}.tmp", "w") as f:
                 json.dump(state, f)
-            os.replace(temporary, path)
+            os.replace(f"{path}.tmp", path)
 
     def peers(self) -> list[dict[str, Any]]:
-        """What the other live web processes published (a process that died is forgotten
-        and its file removed)."""
+        """What the other live holders published; a holder found gone is forgotten and its
+        files removed."""
         found: list[dict[str, Any]] = []
+        if not self._fds:
+            return found
         try:
             names = os.listdir(self.directory)
         except OSError:
             return found
         for name in names:
-            parts = name.split("-")
-            if name == self._queue_file or not (name.endswith(".json") and len(parts) == 3 and parts[1].isdigit()):
+            if not name.startswith("alive-") or name == f"alive-{self._id}":
                 continue
-            pid = int(parts[1])
-            path = os.path.join(self.directory, name)
-            if not _alive(pid):
-                with contextlib.suppress(OSError):
-                    os.remove(path)
+            other = name[len("alive-"):]
+            if not _still_held(self._path(name)):
+                for gone in (name, f"queue-{other}.json"):
+                    with contextlib.suppress(OSError):
+                        os.remove(self._path(gone))
                 continue
             with contextlib.suppress(OSError, ValueError):
-                with open(path) as f:
+                with open(self._path(f"queue-{other}.json")) as f:
                     found.append(json.load(f))
         return found
 
     def close(self) -> None:
-        with contextlib.suppress(OSError):
-            os.remove(os.path.join(self.directory, self._queue_file))
         with self._lock:
-            for fd in self._fds:
-                os.close(fd)  # releases what this process held
-            self._fds = []
+            if self._fds:
+                for name in (f"queue-{self._id}.json", f"alive-{self._id}"):
+                    with contextlib.suppress(OSError):
+                        os.remove(self._path(name))
+            for fd in [*self._fds, *([] if self._alive is None else [self._alive])]:
+                os.close(fd)  # releases what this holder held
+            self._fds, self._alive = [], None
             self._held.clear()
-        if self._owned:
+        if self._owned and self.directory is not None:
             shutil.rmtree(self.directory, ignore_errors=True)
 
 
-def _alive(pid: int) -> bool:
+def _still_held(path: str) -> bool:
+    """Whether another holder keeps its lock on ``path`` (probed without blocking)."""
     try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
+        fd = os.open(path, os.O_RDWR)
+    except OSError:
         return False
-    except PermissionError:
+    try:
+        if _lock(fd):
+            fcntl.flock(fd, fcntl.LOCK_UN)
+            return False
         return True
-    return True
+    finally:
+        os.close(fd)
 
 
 def _lock(fd: int) -> bool:

@@ -57,7 +57,7 @@ async def feeder_map_route(req: FeederMapRequest, request: Request,
     and the map of the whole sequence with its code sets (5.4, 5.5); optionally the
     product's boolean matrix (5.1)."""
     return await runner(request).expensive_job(request, map_job, req, response_format == "svg",
-                                               time_limit_s=req.deadline_s)
+                                               time_limit_s=req.deadline_s, cost_key=req.bound)
 
 
 def map_job(req: FeederMapRequest, svg: bool, deadline: Deadline) -> FeederMapResponse | Response:

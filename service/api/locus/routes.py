@@ -76,7 +76,8 @@ async def cor_locus(
                          "with method certified", where="query")
     run = runner(request)
     if svg or req.method == "certified":
-        return await run.expensive_job(request, locus_job, req, svg, time_limit_s=req.time_limit_s)
+        return await run.expensive_job(request, locus_job, req, svg, time_limit_s=req.time_limit_s,
+                                       cost_key="svg" if svg else f"certified {req.n_certified}")
     return await run.cheap_job(request, locus_job, req, svg, time_limit_s=req.time_limit_s)
 
 

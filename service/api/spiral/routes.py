@@ -74,7 +74,7 @@ def critical_radius_job(
     problem = replace(critical_radius_problem(req), store=result_store())
     with located():
         res = critical_radii(problem, budget)
-    if not np.any(np.isfinite(res.table.radii)):
+    if res.table.time_limited and not np.any(np.isfinite(res.table.radii)):
         raise nothing_computed("the first collision parameter of the r* table", budget.limit_s, budget.elapsed())
     body = critical_radius_response(req, res, budget.elapsed() * 1e3)
     if svg:

@@ -361,3 +361,18 @@ def test_bad_design_requests_are_422_at_their_field(client, patch, loc):
     r = client.post("/v1/feeder/design", json=body)
     assert r.status_code == 422, r.text
     assert r.json()["detail"][0]["loc"][:len(loc)] == loc
+
+
+def test_the_push_plan_baseline_of_a_64_gon_is_cut_and_reported_not_a_504(client):
+    """Issue 25: the regular 64-gon with its centre of mass at (0.01, 0), whose baseline push
+    plan needs over a minute: the design still answers 200 within its limit, the baseline
+    marked cut (it checks its tenth of the time at every class of turns)."""
+    gon = {"vertices": [[math.cos(2 * math.pi * i / 64), math.sin(2 * math.pi * i / 64)] for i in range(64)],
+           "center_of_mass": [0.01, 0.0]}
+    body = {"part": gon, "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(10)},
+            "mu_c": 0.25, "max_depth": 8, "time_limit_s": 10}
+    r = client.post("/v1/feeder/design", json=body)
+    assert r.status_code == 200, r.text[:300]
+    out = r.json()
+    assert out["push_plan_baseline"]["complete"] is False and out["push_plan_baseline"]["pushes"] is None
+    assert out["candidates"] == 12 and out["push_plan_baseline"]["solve_time_ms"] < 10_000
