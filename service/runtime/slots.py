@@ -3,10 +3,11 @@
 A server has as many slots as the CPUs its processes may use (:func:`usable_cpus`); a job
 runs in a solver worker only while it holds one, whichever web process took its request,
 so N concurrent expensive requests keep min(N, slots) workers busy however the kernel
-spread their connections. Each web process also publishes its queue there (the work
-waiting and the run times it measured), so that each admits by the whole server's backlog. Slot i is an exclusive ``flock`` on file i of a directory the
+spread their connections. Slot i is an exclusive ``flock`` on file i of a directory the
 web processes share: the kernel releases it when its holder dies, so a web process that
-crashes cannot leak a slot (a counter in shared memory would).
+crashes cannot leak a slot (a counter in shared memory would). Each web process also
+publishes its queue there (its running jobs' predicted ends, the work waiting, the run
+times it measured), so that each admits by the whole server's backlog.
 
 The supervisor (:mod:`service.server`) makes the directory and hands it to its web
 processes in :data:`SLOT_DIR_ENV`; a web process run alone (``uvicorn service.app:app``, the
