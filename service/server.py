@@ -125,8 +125,12 @@ def ensure_port_free(host: str, port: int) -> None:
 
 
 def share_slots(arbiter: Any) -> None:
-    """gunicorn's ``on_starting``: the slot directory of this server, for its web processes."""
+    """gunicorn's ``on_starting``: the slot directory of this server, for its web processes
+    (and the address in the log: with SO_REUSEPORT the supervisor itself listens on none,
+    so gunicorn's own "Listening at" line shows no address)."""
     os.environ[SLOT_DIR_ENV] = make_slot_directory()
+    arbiter.log.info("each web process listens on %s (SO_REUSEPORT); slots of expensive work in %s",
+                     ", ".join(arbiter.cfg.bind), os.environ[SLOT_DIR_ENV])
 
 
 def remove_slots(arbiter: Any) -> None:

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import multiprocessing
 import sqlite3
+import time
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -16,6 +18,7 @@ from service import store as store_module
 from service.store import SqliteStore
 from solver.spiral import critical_radius as cr
 from tests.budgets import checks_budget
+from tests.service.runtime.conftest import TestClient, pool_app
 
 BETAS = (0.3, 0.6, 0.9, 1.2, 1.45)
 
@@ -135,3 +138,28 @@ def test_a_certified_locus_is_kept_and_answered_again_without_work(tmp_path, mon
     assert again["certified"] == first["certified"] and again["tip"] == first["tip"]
     other = client.post("/v1/cor/locus", json={**body, "n_certified": 9})  # another request computes: here, fails
     assert other.status_code == 500
+
+
+@pytest.mark.slow
+def test_a_kept_locus_is_answered_while_every_solver_slot_is_busy(tmp_path, monkeypatch):
+    """Issue 25 (found in the container): a flood of one certified request was refused 503
+    by its predicted wait although its answer was in the store. The store is read before
+    the request queues for a slot: with the only slot held by a 2 s job, the kept answer
+    comes at once."""
+    monkeypatch.setattr(store_module, "_PROCESS_STORE", {})
+    monkeypatch.setenv("PESHKIN_STORE_PATH", str(tmp_path / "r.sqlite3"))
+    body = {"footprint": [[-1, -0.5], [1, -0.5], [1, 0.5], [-1, 0.5]], "contact_point": [-1, -0.3],
+            "edge_angle": 1.5707963267948966, "method": "certified", "n_certified": 8, "time_limit_s": 30,
+            "outputs": []}
+    with TestClient(pool_app(solver_workers=1), raise_server_exceptions=False) as c:
+        assert c.post("/v1/cor/locus", json=body).json()["certified"]["complete"]
+        with ThreadPoolExecutor(1) as ex:
+            busy = ex.submit(c.post, "/test/sleep", params={"seconds": 2.0, "limit": 10.0})
+            deadline = time.monotonic() + 5.0
+            while c.get("/readyz").json()["gates"][1]["in_use"] < 1 and time.monotonic() < deadline:
+                time.sleep(0.01)
+            t0 = time.monotonic()
+            again = c.post("/v1/cor/locus", json={**body, "time_limit_s": 3})
+            took = time.monotonic() - t0
+            assert busy.result().status_code == 200
+    assert again.status_code == 200 and again.json()["from_store"] is True and took < 1.0

@@ -75,6 +75,10 @@ async def cor_locus(
         raise FieldError(("format",), "the SVG picture shows the analytic locus only; use format json "
                          "with method certified", where="query")
     run = runner(request)
+    if not svg and req.method == "certified":
+        kept = kept_locus(req)  # a kept answer is read here, without waiting for a solver slot
+        if kept is not None:
+            return await run.cheap_job(request, stored_locus_job, req, kept, time_limit_s=req.time_limit_s)
     if svg or req.method == "certified":
         return await run.expensive_job(request, locus_job, req, svg, time_limit_s=req.time_limit_s,
                                        cost_key="svg" if svg else f"certified {req.n_certified}")
@@ -85,14 +89,25 @@ CERTIFIED_NAMESPACE = f"certified-locus/v1/service-{__version__}"
 """Where complete certified loci are kept (service.store): per request, all but its time limit."""
 
 
+def stored_key(req: CorLocusRequest) -> str:
+    """The store's key of a certified locus: the request but for its time limit."""
+    return hashlib.sha256(req.model_dump_json(exclude={"time_limit_s"}).encode()).hexdigest()
+
+
+def kept_locus(req: CorLocusRequest) -> dict | None:
+    """The kept answer to this certified-locus request, if the store has one."""
+    store = result_store()
+    return None if store is None else store.get(CERTIFIED_NAMESPACE, stored_key(req))
+
+
+def stored_locus_job(req: CorLocusRequest, kept: dict, deadline: Deadline) -> CorLocusResponse:
+    return CorLocusResponse.model_validate(kept).model_copy(
+        update={"from_store": True, "elapsed_ms": deadline.elapsed() * 1e3})
+
+
 def locus_job(req: CorLocusRequest, svg: bool, deadline: Deadline) -> CorLocusResponse | Response:
     budget = deadline.budget()
     store = result_store() if (req.method == "certified" and not svg) else None
-    key = "" if store is None else hashlib.sha256(req.model_dump_json(exclude={"time_limit_s"}).encode()).hexdigest()
-    kept = None if store is None else store.get(CERTIFIED_NAMESPACE, key)
-    if kept is not None:
-        return CorLocusResponse.model_validate(kept).model_copy(
-            update={"from_store": True, "elapsed_ms": budget.elapsed() * 1e3})
     prep, problem = locus_problem(req, all_outputs=svg)
     result = locus_of(problem, budget)
     body = locus_response(prep, result, req.time_limit_s, budget.elapsed() * 1e3)  # also the NaN/inf guard
@@ -102,7 +117,7 @@ def locus_job(req: CorLocusRequest, svg: bool, deadline: Deadline) -> CorLocusRe
     if svg:
         return Response(content=render_locus_svg(prep, result.analytic), media_type=SVG_MEDIA_TYPE)
     if store is not None and body.certified is not None and body.certified.complete:
-        store.put(CERTIFIED_NAMESPACE, key, body.model_dump(mode="json"))
+        store.put(CERTIFIED_NAMESPACE, stored_key(req), body.model_dump(mode="json"))
     return body
 
 
