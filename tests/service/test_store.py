@@ -18,7 +18,7 @@ from service import store as store_module
 from service.store import SqliteStore
 from solver.spiral import critical_radius as cr
 from tests.budgets import checks_budget
-from tests.service.runtime.conftest import TestClient, pool_app
+from tests.service.runtime.conftest import TestClient, hold_a_slot, pool_app
 
 BETAS = (0.3, 0.6, 0.9, 1.2, 1.45)
 
@@ -156,10 +156,7 @@ def test_a_kept_locus_is_answered_while_every_solver_slot_is_busy(tmp_path, monk
     assert client.post("/v1/cor/locus", json=body).json()["certified"]["complete"]
     with TestClient(pool_app(solver_workers=1), raise_server_exceptions=False) as c:
         with ThreadPoolExecutor(1) as ex:
-            busy = ex.submit(c.post, "/test/sleep", params={"seconds": 2.0, "limit": 10.0})
-            deadline = time.monotonic() + 5.0
-            while c.get("/readyz").json()["gates"][1]["in_use"] < 1 and time.monotonic() < deadline:
-                time.sleep(0.01)
+            busy = hold_a_slot(c, ex, 2.0)
             t0 = time.monotonic()
             again = c.post("/v1/cor/locus", json={**body, "time_limit_s": 3})
             took = time.monotonic() - t0

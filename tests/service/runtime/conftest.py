@@ -3,6 +3,7 @@ the jobs of tests/service/runtime/jobs_for_tests.py."""
 
 from __future__ import annotations
 
+import time
 import warnings
 
 import pytest
@@ -42,3 +43,13 @@ def pooled():
     """A client of the service with two solver workers."""
     with TestClient(pool_app(), raise_server_exceptions=False) as c:
         yield c
+
+
+def hold_a_slot(c, ex, seconds: float, limit: float = 10.0):
+    """Start a sleep job of ``seconds`` on executor ``ex`` and return its future once it
+    holds a slot (the expensive gate shows it in use)."""
+    held = ex.submit(c.post, "/test/sleep", params={"seconds": seconds, "limit": limit})
+    deadline = time.monotonic() + 5.0
+    while c.get("/readyz").json()["gates"][1]["in_use"] < 1 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return held

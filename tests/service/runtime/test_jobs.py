@@ -12,7 +12,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
-from tests.service.runtime.conftest import GRACE_S, TestClient, pool_app
+from tests.service.runtime.conftest import GRACE_S, TestClient, hold_a_slot, pool_app
 
 pytestmark = pytest.mark.slow
 
@@ -81,10 +81,7 @@ def test_a_request_that_cannot_start_in_time_is_refused_at_once_with_the_predict
     one with time to spare waits and is served."""
     with TestClient(pool_app(solver_workers=1, solver_queue=4), raise_server_exceptions=False) as c:
         with ThreadPoolExecutor(2) as ex:
-            first = ex.submit(c.post, "/test/sleep", params={"seconds": 1.5, "limit": 10.0})
-            deadline = time.monotonic() + 5.0
-            while c.get("/readyz").json()["gates"][1]["in_use"] < 1 and time.monotonic() < deadline:
-                time.sleep(0.01)
+            first = hold_a_slot(c, ex, 1.5)
             t0 = time.monotonic()
             r = c.post("/test/pid", params={"limit": 2.0})  # the sleep's cost is unknown: half its limit, 5 s
             assert time.monotonic() - t0 < 1.0
