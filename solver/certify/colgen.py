@@ -8,7 +8,8 @@ the outline seen from r. :func:`decide` then runs the loop
 
 1. the restricted master (:mod:`solver.certify.master`) on the columns so far;
 2. a residual within ``POLISH_BELOW`` is polished (:mod:`solver.certify.witness`); at most
-   ``tol.membership_residual`` after the polish: **inside**, with the witness support;
+   ``tol.membership_residual`` after the polish: **inside**, with the witness support (a
+   master that stalls below ``POLISH_LAST_TRY`` is polished once more before giving up);
 3. otherwise the master's dual (scaled to max(|y|, |lambda|) <= 1) is priced over the
    outline (:mod:`solver.certify.pricing`): grid local minima refined by golden section;
    when none lies below y . b + ``tol.certificate_margin`` and the point-mass value does
@@ -43,6 +44,13 @@ POINT_MASS_RADIUS = 1e-7
 """With r in the footprint, outline points closer than this (/ L) to r are not used as
 columns: their columns are within this distance of the point-mass set, which the master
 has."""
+
+POLISH_LAST_TRY = 1e-4
+"""A query whose master stalls (no improving column, no certificate) with a residual at most
+this is polished once more before it is called undecided: just inside a boundary the master
+alone can stall a little above POLISH_BELOW (the book's 6.3 sticking end: residual 1.16e-6
+at 2.7e-7 L inside, undecided until this last polish; its witness is then checked like any
+other)."""
 
 MAX_WARM_POINTS = 64
 """Most warm-start points taken from a caller (the first ones are kept)."""
@@ -285,6 +293,11 @@ def decide(
             lower, margin, method = pr.lower, pr.lower - yb, pr.method
         if pr.stop is not None:
             status, kind, message = pr.status, pr.kind, pr.stop
+            if status == "undecided" and res <= POLISH_LAST_TRY:
+                w2, pm2, res2 = exact_witness(rows.b, g, h, weights, pm, pg, ph, tol.membership_residual)
+                if res2 <= tol.membership_residual:
+                    weights, pm, res = w2, pm2, res2
+                    status, kind, message = "inside", "witness", messages.inside
             break
         new_p, new_t = pr.new_p, pr.new_t
         nw, nrho, nu = pieces.geom(new_p, new_t)

@@ -433,3 +433,26 @@ def test_a_certified_sketch_cut_by_its_time_limit_says_its_verdict_is_provisiona
     monkeypatch.setattr(Deadline, "budget", deadline_budgets(NoLimitBudgets))  # a busy machine cannot cut it
     whole = client.post(URL, json=body).json()
     assert whole["certification"]["complete"] is True and not whole["message"].startswith("PROVISIONAL")
+
+
+def test_the_book_6_3_experiment_is_certified_whole_by_the_service():
+    """Issue 26: the certified sketch of the book's 6.3 experiment (a disk of radius 1.25
+    pushed by a fence at 70 degrees, contact on the rim, mu_c 0.5) answered its sticking
+    locus's lower end "undecided": the restricted master stalled at a residual of 1.16e-6
+    just inside the end (a cold Clarabel solve; the outcome had hung on the seeds' warm
+    columns). A stalled master below POLISH_LAST_TRY is polished once more: both ends are
+    certified, with the 6.3 figures (solver/sketch tests: -5.528 a and -2.481 a)."""
+    from fastapi.testclient import TestClient
+
+    from service.app import create_app
+    from service.settings import Settings
+
+    a, al = 1.25, math.radians(70)
+    body = {"disk_radius": a, "contact_point": [-a * math.sin(al), a * math.cos(al)], "edge_angle": al,
+            "mu_c": 0.5, "method": "certified"}
+    with TestClient(create_app(Settings(solver_workers=0)), raise_server_exceptions=False) as c:
+        cert = c.post("/v1/cor/sketch", json=body).json()["certification"]
+    assert cert["complete"] and cert["sticking_status"] == "found"
+    for end in ("sticking_lower", "sticking_upper"):
+        assert cert[end]["status"] == "bracketed" and cert[end]["certified"], cert[end]
+    assert abs(cert["sticking_lower"]["position"] - (-7.3374477)) < 1e-6
