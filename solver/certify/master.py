@@ -28,8 +28,16 @@ from solver.core.threads import PerThreadCache, ignore_inaccurate_solution_warni
 from solver.core.tolerances import SolverTolerances
 
 BASE_CAPACITY = 320
-"""Column capacities of the compiled masters are BASE_CAPACITY * 2^k (one compiled problem
-each per shape and thread); unused columns are padded with copies of column 0."""
+CAPACITY_STEP = 64
+"""Column capacities of the compiled masters: BASE_CAPACITY, then the next multiple of
+CAPACITY_STEP (one compiled problem each per shape and thread, ~15 ms to compile); unused
+columns are padded with copies of column 0. Clarabel's time grows with the padded size:
+doubling (the earlier ladder) padded 74 % of the part-bound map's masters, 319-386 columns,
+to 640, at 6.2 ms a solve against 3.5 ms at 400 (issue 26's profile). The masters with
+inequality rows (the sticking locus's friction cone) keep doubling: at 384 columns a far
+sticking end (65 L from the contact) moved in its last digits to a point whose membership
+query stalls undecided (tests/solver/sketch/test_sticking_locus.py, the far locus), and
+they gain little (a tenth of their solves exceed 320 columns)."""
 
 
 class RestrictedMaster:
@@ -110,7 +118,10 @@ _MASTERS: PerThreadCache[tuple[int, int, int], RestrictedMaster] = PerThreadCach
 
 def master_for(n_eq: int, n_ineq: int, n_columns: int) -> RestrictedMaster:
     """This thread's compiled master of the shape with room for ``n_columns`` columns."""
-    cap = BASE_CAPACITY
-    while cap < n_columns:
-        cap *= 2
+    if n_ineq:  # the sticking masters keep doubling (see CAPACITY_STEP)
+        cap = BASE_CAPACITY
+        while cap < n_columns:
+            cap *= 2
+    else:
+        cap = max(BASE_CAPACITY, -(-n_columns // CAPACITY_STEP) * CAPACITY_STEP)
     return _MASTERS.get((n_eq, n_ineq, cap), lambda: RestrictedMaster(n_eq, n_ineq, cap))

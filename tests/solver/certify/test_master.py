@@ -12,7 +12,7 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from solver.certify.master import BASE_CAPACITY, master_for
+from solver.certify.master import BASE_CAPACITY, CAPACITY_STEP, master_for
 from solver.core.errors import NotConverged, SolverError
 from solver.core.tolerances import SOLVER_DEFAULT
 from tests.scenes import SEED
@@ -53,11 +53,16 @@ def test_an_infeasible_right_hand_side_is_separated_by_the_dual():
     assert np.all(y @ g >= -1e-7) and np.max(np.abs(y)) <= 1.0 + 1e-7
 
 
-def test_capacities_grow_by_doubling_and_pad_with_column_zero():
+def test_capacities_grow_in_steps_and_pad_with_column_zero():
+    """Issue 26: past BASE_CAPACITY the capacity is the next multiple of CAPACITY_STEP (the
+    doubling ladder padded most of the part-bound map's masters from ~330 to 640 columns,
+    nearly doubling Clarabel's time); masters with inequality rows keep doubling."""
     m = master_for(4, 0, BASE_CAPACITY + 1)
-    assert m.capacity == 2 * BASE_CAPACITY
+    assert m.capacity == BASE_CAPACITY + CAPACITY_STEP
+    assert master_for(4, 0, 700).capacity == 704 and master_for(4, 0, 10).capacity == BASE_CAPACITY
+    assert master_for(4, 2, BASE_CAPACITY + 1).capacity == 2 * BASE_CAPACITY
     g, h, b = _instance(np.random.default_rng(SEED + 2), True)
-    weights, *_ = m.solve(g, h, None, None, b, TOL)  # 40 columns in a 640-column problem
+    weights, *_ = m.solve(g, h, None, None, b, TOL)  # 40 columns in a 384-column problem
     assert weights.shape == (40,) and np.abs(g @ weights - b).sum() < 1e-8
 
 
