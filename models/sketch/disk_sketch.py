@@ -206,15 +206,11 @@ def _line_intervals(poly: np.ndarray, origin: np.ndarray, direction: np.ndarray)
     rel = poly - origin
     nrm = perp(direction)
     s = rel @ nrm
-    ts = []
-    n = len(poly)
-    for i in range(n):
-        j = (i + 1) % n
-        if (s[i] > 0.0) != (s[j] > 0.0):
-            u = s[i] / (s[i] - s[j])
-            p = rel[i] + u * (rel[j] - rel[i])
-            ts.append(float(p @ direction))
-    ts.sort()
+    i = np.flatnonzero((s > 0.0) != (np.roll(s, -1) > 0.0))  # edges i -> i + 1 the line crosses
+    j = (i + 1) % len(poly)
+    u = s[i] / (s[i] - s[j])
+    p = rel[i] + u[:, None] * (rel[j] - rel[i])
+    ts = np.sort(p[:, 0] * direction[0] + p[:, 1] * direction[1]).tolist()
     return [(ts[k], ts[k + 1]) for k in range(0, len(ts) - 1, 2)]
 
 
