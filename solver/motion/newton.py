@@ -90,16 +90,16 @@ class BatchSolution(BatchConvergence):
         return f"{self.converged_count()} problems met the KKT tolerance"
 
 
-_SUM_COLUMNS_BELOW = 8
+SUM_COLUMNS_BELOW = 8
 """Row sums over fewer support points than this are added column by column: bitwise what
 numpy's reduction gives (it sums pairwise only from 8 terms on), and ~10x faster on the
 (B, 3) arrays of tripods, where ``.sum(1)`` was a fifth of a 590,000-tripod batch."""
 
 
-def _sum_rows(x):
-    """``x.sum(1)`` of a (B, k) array (see _SUM_COLUMNS_BELOW)."""
+def sum_rows(x):
+    """``x.sum(1)`` of a (B, k) array (see SUM_COLUMNS_BELOW)."""
     k = x.shape[1]
-    if k >= _SUM_COLUMNS_BELOW or k == 0:
+    if k >= SUM_COLUMNS_BELOW or k == 0:
         return x.sum(1)
     total = x[:, 0].copy()
     for j in range(1, k):
@@ -119,13 +119,13 @@ def gradient(x, wx, wy, p):
     uy = x[:, 1:2] + x[:, 2:3] * wx
     ex, ey, _ = _unit_or_zero(ux, uy)
     pe_x, pe_y = p * ex, p * ey
-    return np.stack([_sum_rows(pe_x), _sum_rows(pe_y), _sum_rows(pe_y * wx - pe_x * wy)], axis=1)
+    return np.stack([sum_rows(pe_x), sum_rows(pe_y), sum_rows(pe_y * wx - pe_x * wy)], axis=1)
 
 
 def power(x, wx, wy, p):
     ux = x[:, 0:1] - x[:, 2:3] * wy
     uy = x[:, 1:2] + x[:, 2:3] * wx
-    return _sum_rows(p * np.sqrt(ux * ux + uy * uy))
+    return sum_rows(p * np.sqrt(ux * ux + uy * uy))
 
 
 def _vertex_optima(wx, wy, p, a, q, slack, candidates=None, return_z=False):
@@ -154,9 +154,9 @@ def _vertex_optima(wx, wy, p, a, q, slack, candidates=None, return_z=False):
         pj = p.copy()
         pj[:, j] = 0.0
         # Coincident points were merged by the caller; a zero rho elsewhere has no weight.
-        gx = _sum_rows(pj * ex)
-        gy = _sum_rows(pj * ey)
-        gw = _sum_rows(pj * (ey * wx - ex * wy))
+        gx = sum_rows(pj * ex)
+        gy = sum_rows(pj * ey)
+        gw = sum_rows(pj * (ey * wx - ex * wy))
         # g + (z, Jw_j . z) = lambda a. With z = lambda a_v - g_v:
         # Jw_j . (lambda a_v - g_v) - lambda a_w = -g_w  ->  lambda (Jw_j . a_v - a_w) = Jw_j . g_v - g_w
         jwx, jwy = -wy[:, j], wx[:, j]
@@ -223,8 +223,8 @@ def _newton_plane(wx, wy, p, a, q, kkt_tol, max_iter, x0=None):
         uy = PY + Y1[:, None] * E1y + Y2[:, None] * E2y
         ex, ey, rho = _unit_or_zero(ux, uy)
         pe_x, pe_y = P * ex, P * ey
-        g1 = _sum_rows(pe_x * E1x + pe_y * E1y)
-        g2 = _sum_rows(pe_x * E2x + pe_y * E2y)
+        g1 = sum_rows(pe_x * E1x + pe_y * E1y)
+        g2 = sum_rows(pe_x * E2x + pe_y * E2y)
         res = np.hypot(g1, g2)
         kkt[act] = res
         live = res > kkt_tol
@@ -242,9 +242,9 @@ def _newton_plane(wx, wy, p, a, q, kkt_tol, max_iter, x0=None):
         coef = P / np.maximum(rho, _TINY)
         t1 = -ey * E1x + ex * E1y
         t2 = -ey * E2x + ex * E2y
-        h11 = _sum_rows(coef * t1 * t1)
-        h12 = _sum_rows(coef * t1 * t2)
-        h22 = _sum_rows(coef * t2 * t2)
+        h11 = sum_rows(coef * t1 * t1)
+        h12 = sum_rows(coef * t1 * t2)
+        h22 = sum_rows(coef * t2 * t2)
         lam = (reg[act] + 1e-14) * 0.5 * (h11 + h22)
         h11r, h22r = h11 + lam, h22 + lam
         det = h11r * h22r - h12 * h12
@@ -256,7 +256,7 @@ def _newton_plane(wx, wy, p, a, q, kkt_tol, max_iter, x0=None):
         s1 = np.where(bad, -g1, s1)
         s2 = np.where(bad, -g2, s2)
         slope = np.where(bad, -(g1 * g1 + g2 * g2), slope)
-        f0 = _sum_rows(P * rho)
+        f0 = sum_rows(P * rho)
         roundoff = -slope <= _ROUNDOFF * f0
         tstep = np.ones(act.size)
         accepted = np.zeros(act.size, dtype=bool)
@@ -266,7 +266,7 @@ def _newton_plane(wx, wy, p, a, q, kkt_tol, max_iter, x0=None):
             T2 = Y2[sub] + tstep[sub] * s2[sub]
             vx = PX[sub] + T1[:, None] * E1x[sub] + T2[:, None] * E2x[sub]
             vy = PY[sub] + T1[:, None] * E1y[sub] + T2[:, None] * E2y[sub]
-            ft = _sum_rows(P[sub] * np.sqrt(vx * vx + vy * vy))
+            ft = sum_rows(P[sub] * np.sqrt(vx * vx + vy * vy))
             ok = (ft <= f0[sub] + _ARMIJO * tstep[sub] * slope[sub]) | (roundoff[sub] & (tstep[sub] == 1.0))
             good = sub[ok]
             y1[act[good]] = T1[ok]
@@ -311,13 +311,13 @@ def _newton_line(wx, wy, p, xp, kdir, kkt_tol, max_iter):
         ux = PX + t[:, None] * KX
         uy = PY + t[:, None] * KY
         ex, ey, rho = _unit_or_zero(ux, uy)
-        d1 = _sum_rows(P * (ex * KX + ey * KY))
+        d1 = sum_rows(P * (ex * KX + ey * KY))
         tt = -ey * KX + ex * KY
-        d2 = _sum_rows(P / np.maximum(rho, _TINY) * tt * tt)
+        d2 = sum_rows(P / np.maximum(rho, _TINY) * tt * tt)
         return d1, d2
 
     # Bracket: phi'(t) -> +-sum P_i |k(w_i)| as t -> +-inf.
-    scale = np.maximum(_sum_rows(p * np.sqrt(px * px + py * py)) / np.maximum(_sum_rows(p * np.sqrt(kx * kx + ky * ky)), _TINY), 1.0)
+    scale = np.maximum(sum_rows(p * np.sqrt(px * px + py * py)) / np.maximum(sum_rows(p * np.sqrt(kx * kx + ky * ky)), _TINY), 1.0)
     lo = -scale
     hi = scale.copy()
     for _ in range(200):
