@@ -116,8 +116,9 @@ def _classes(pf: PushFunction, state: frozenset[int]) -> list[tuple[float, float
 def plan_pushes(part: Footprint, max_pushes: int = 20, tol: DesignTolerances = DESIGN_DEFAULT,
                 expired: Callable[[], bool] | None = None) -> PushPlan:
     """The shortest push plan (module docstring), breadth first; among the shortest the one
-    whose least tolerance is largest. ``expired`` is asked before every state expanded:
-    once it answers True the search stops with what it proved (``complete`` False)."""
+    whose least tolerance is largest. ``expired`` is asked before every class of turns of
+    every state expanded: once it answers True the search stops with what it proved
+    (``complete`` False)."""
     t0 = time.perf_counter()
     pf = PushFunction.of(part)
     k = rotational_symmetry(part, tol)

@@ -32,17 +32,13 @@ REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 
 from tests.benchmarks._docs import write_section
-from tests.service.live import live_server
+from tests.service.live import DESIGN, live_server
 
 LOCUS = {"disk_radius": 1, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966}
 EXPENSIVE = {
     "footprint": [[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]], "contact_point": [0, 0.5],
     "edge_angle": 1.5707963267948966, "method": "certified", "n_certified": 64, "time_limit_s": 5, "outputs": [],
 }
-PENTAGON = {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]}
-DESIGN = {"part": PENTAGON, "angles": {"min": 0.3490658503988659, "max": 1.2217304763960306,
-                                       "step": 0.17453292519943295},
-          "mu_c": 0.25, "alternate": False, "max_depth": 10, "validation_parts": 4, "time_limit_s": 20}
 CONCURRENCY = (1, 8, 32, 128)
 UNITS = {"us": 1e-3, "ms": 1.0, "s": 1e3}
 

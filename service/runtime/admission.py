@@ -105,7 +105,6 @@ class Ticket:
 
     kind: str
     deadline: Deadline
-    needed_s: float
     wake: asyncio.Event = field(default_factory=asyncio.Event)
     slot: int | None = None
     started: float = 0.0
@@ -185,22 +184,22 @@ class RunQueue:
         self.refused += 1
         return Refused(reason, wait_s)
 
-    def _leave_queue(self, ticket: Ticket) -> None:
+    def _dequeue(self, ticket: Ticket) -> None:
+        """Take ``ticket`` out of the queue, waking the next head when it was the head."""
         head = self.waiting[0] is ticket
         self.waiting.remove(ticket)
         if head and self.waiting:
             self.waiting[0].wake.set()
-        self._publish()
 
     async def enter(self, kind: str, deadline: Deadline) -> Ticket:
         """A slot for the request, or :class:`Refused`."""
         p = self.policy
         self.peers = Peers.of(self.slots.peers())
-        ticket = Ticket(kind, deadline, 0.0)
+        ticket = Ticket(kind, deadline)
         if not self.waiting and self.peers.waiting_s == 0.0 and self._start(ticket):
             return ticket
         own = self.estimate(kind, deadline.limit_s)
-        needed = ticket.needed_s = max(own, p.start_share * deadline.limit_s)
+        needed = max(own, p.start_share * deadline.limit_s)
         wait = self.predicted_wait()
         if len(self.waiting) >= self.capacity:
             raise self._refuse(f"all {self.capacity} places in the queue are taken", wait)
@@ -215,7 +214,8 @@ class RunQueue:
                 if self.waiting[0] is ticket and self._start(ticket):
                     return ticket
                 if deadline.solver_s() < needed:
-                    self._leave_queue(ticket)
+                    self._dequeue(ticket)
+                    self._publish()
                     self.peers = Peers.of(self.slots.peers())
                     raise self._refuse("it waited too long for a solver worker to start in time",
                                        self.predicted_wait())
@@ -228,7 +228,8 @@ class RunQueue:
                     timer.cancel()
         except asyncio.CancelledError:
             if ticket in self.waiting:
-                self._leave_queue(ticket)
+                self._dequeue(ticket)
+                self._publish()
             raise
 
     def _start(self, ticket: Ticket) -> bool:
@@ -240,9 +241,7 @@ class RunQueue:
         ticket.slot, ticket.started = slot, time.monotonic()
         self.running.append(ticket)
         if ticket in self.waiting:
-            self.waiting.popleft()
-            if self.waiting:
-                self.waiting[0].wake.set()
+            self._dequeue(ticket)
         else:
             self.admitted += 1
         self._publish()

@@ -103,10 +103,6 @@ class Slots:
             self._held.discard(slot)
             fcntl.flock(self._fds[slot], fcntl.LOCK_UN)
 
-    def held_here(self) -> int:
-        with self._lock:
-            return len(self._held)
-
     def publish(self, state: dict[str, Any]) -> None:
         """Tell the other holders this one's queue (``state``: JSON), in a file of its own,
         replaced whole (a reader never sees half of it). Advisory: nothing is published

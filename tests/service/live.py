@@ -3,6 +3,7 @@ workers) in a subprocess on a free loopback port."""
 
 from __future__ import annotations
 
+import math
 import os
 import socket
 import subprocess
@@ -15,6 +16,12 @@ from pathlib import Path
 import httpx
 
 REPO = Path(__file__).resolve().parents[2]
+PENTAGON = {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]}
+DESIGN = {"part": PENTAGON, "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(10)},
+          "mu_c": 0.25, "alternate": False, "max_depth": 10, "validation_parts": 4, "time_limit_s": 20}
+"""A feeder design of a few seconds (the pentagon, 12 candidate fences, 4 validating parts):
+the expensive request of the floods (tests/service/runtime/test_flood_live.py, make load)."""
+
 STARTUP_TIMEOUT_S = 120.0
 """How long the server may take to start (its workers import the solver stack)."""
 

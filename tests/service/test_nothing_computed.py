@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.service.runtime.test_flood_live import DESIGN
+from tests.service.live import DESIGN
 from tests.service.runtime.test_live import SLOW_LOCUS
 
 CASES = [

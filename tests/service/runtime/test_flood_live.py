@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import http.client
 import json
-import math
 import os
 import signal
 import subprocess
@@ -19,15 +18,12 @@ from concurrent.futures import ThreadPoolExecutor
 import httpx
 import pytest
 
-from tests.service.live import REPO, live_server, live_server_process, server_command
+from tests.service.live import DESIGN, REPO, live_server, live_server_process, server_command
 from tests.service.runtime.test_live import SLOW_LOCUS
 
 pytestmark = pytest.mark.slow
 
 REFUSED_WITHIN_S = 1.0
-PENTAGON = {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]}
-DESIGN = {"part": PENTAGON, "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(10)},
-          "mu_c": 0.25, "alternate": False, "max_depth": 10, "validation_parts": 4, "time_limit_s": 20}
 
 
 def _post(url: str, path: str, body: dict) -> tuple[httpx.Response, float]:
