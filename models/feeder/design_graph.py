@@ -40,6 +40,7 @@ than Y does), so the measure is conservative there.
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -92,6 +93,28 @@ def rotational_symmetry(part: Footprint, tol: DesignTolerances = DESIGN_DEFAULT)
 
 
 @dataclass(frozen=True)
+class _PackedRows:
+    """Row g of the graph's relations with every candidate's bands side by side (candidate
+    f's columns are ``offsets[f]:offsets[f + 1]``), so one node's steps to every candidate
+    are a few array reductions (:meth:`DesignGraph.steps`)."""
+
+    offsets: np.ndarray
+    meets: tuple[np.ndarray, ...]
+    gap: tuple[np.ndarray, ...]
+    bad: tuple[np.ndarray, ...]
+    bad_gap: tuple[np.ndarray, ...]
+
+    @classmethod
+    def of(cls, gap: list[tuple[np.ndarray, ...]], bad_gap: list[tuple[np.ndarray, ...]]) -> _PackedRows:
+        widths = [m.shape[1] for m in gap[0]]
+        offsets = np.concatenate([[0], np.cumsum(widths)]).astype(np.intp)
+        packed_gap = tuple(np.concatenate(row, axis=1) for row in gap)
+        packed_bad_gap = tuple(np.stack(row, axis=1) if row else np.zeros((0, 0)) for row in bad_gap)
+        return cls(offsets, tuple(d == 0.0 for d in packed_gap), packed_gap,
+                   tuple(d == 0.0 for d in packed_bad_gap), packed_bad_gap)
+
+
+@dataclass(frozen=True)
 class DesignGraph:
     """The maps of the candidate fences and every relation the searches need (module
     docstring), precomputed: ``meets[g][f]`` (bands of g x bands of f) whether B^g_i meets
@@ -109,6 +132,7 @@ class DesignGraph:
     start: tuple[frozenset[int], ...]
     first_ok: tuple[bool, ...]
     orbit: tuple[tuple[int, ...], ...]
+    packed: _PackedRows
 
     @classmethod
     def build(cls, part: Footprint, maps: Sequence[FenceMap], tol: DesignTolerances = DESIGN_DEFAULT,
@@ -133,7 +157,8 @@ class DesignGraph:
         start = tuple(frozenset(j for j, kern in enumerate(f.map.kernels) if not kern.is_empty) for f in maps)
         first_ok = tuple(f.map.jam.is_empty and f.map.unaligned.is_empty and bool(s) for f, s in zip(maps, start))
         orbit = tuple(tuple(e % step for e in f.final_edges) for f in maps)
-        return cls(tuple(maps), k, tuple(meets), tuple(gap), tuple(bad), tuple(bad_gap), start, first_ok, orbit)
+        return cls(tuple(maps), k, tuple(meets), tuple(gap), tuple(bad), tuple(bad_gap), start, first_ok, orbit,
+                   _PackedRows.of(gap, bad_gap))
 
     def side(self, f: int) -> float:
         return self.maps[f].fence.sign
@@ -151,6 +176,32 @@ class DesignGraph:
         if missed.any():
             margin = min(margin, float(self.gap[g][f][np.ix_(rows, np.nonzero(missed)[0])].min()))
         return reached, margin
+
+    def steps(self, g: int, occupied: frozenset[int]) -> list[tuple[frozenset[int], float] | None]:
+        """:meth:`step` to every candidate f at once (the same sets and margins: the same
+        minima of the same numbers), from row g's relations packed side by side."""
+        pk = self.packed
+        rows = np.array(sorted(occupied), dtype=np.intp)
+        refused = pk.bad[g][rows].any(axis=0)
+        hit = pk.meets[g][rows].any(axis=0)
+        if rows.size:
+            stop_margin = pk.bad_gap[g][rows].min(axis=0)
+            missed_gap = np.where(hit, math.inf, pk.gap[g][rows].min(axis=0))
+        else:
+            stop_margin = np.full(len(self.maps), math.inf)
+            missed_gap = np.full(hit.shape, math.inf)
+        out: list[tuple[frozenset[int], float] | None] = []
+        for f in range(len(self.maps)):
+            if refused[f]:
+                out.append(None)
+                continue
+            lo, hi = pk.offsets[f], pk.offsets[f + 1]
+            reached = frozenset(int(j) for j in np.flatnonzero(hit[lo:hi]))
+            margin = float(stop_margin[f])
+            if len(reached) < hi - lo:
+                margin = min(margin, float(missed_gap[lo:hi].min()))
+            out.append((reached, margin))
+        return out
 
     def is_goal(self, f: int, occupied: frozenset[int]) -> bool:
         return len({self.orbit[f][j] for j in occupied}) == 1
@@ -217,12 +268,64 @@ def cell_mask(arcs: Arcs, cells: int) -> int:
     return int.from_bytes(bits.tobytes(), "little")
 
 
-def _dominated(seen: list[_Node], arcs: Arcs, mask: int, margin: float, slack: float) -> bool:
-    """A node already reached whose set lies within ``arcs`` at no smaller margin."""
-    for old in seen:
-        if old.margin >= margin and old.mask & ~mask == 0 and old.arcs.issubset(arcs, slack):
-            return True
-    return False
+def cell_words(mask: int, cells: int) -> np.ndarray:
+    """A cell mask (:func:`cell_mask`) as 64-bit words, least significant first."""
+    n = -(-cells // 64)
+    return np.frombuffer(mask.to_bytes(8 * n, "little"), dtype="<u8").astype(np.uint64)
+
+
+class _Seen:
+    """The nodes reached on one side, for the dominance test: their margins and cell masks
+    as arrays, so the quick necessary conditions are tested on all of them at once and
+    the exact arc test only where they hold."""
+
+    CHUNK = 256  # nodes tested at once: an answer found early stops the test
+
+    def __init__(self, cells: int) -> None:
+        self.cells = cells
+        self.arcs: list[Arcs] = []
+        self.masks: list[int] = []
+        self.by_state: dict[tuple[int, frozenset[int]], int] = {}  # the state's node of largest margin
+        self.margins = np.empty(64)
+        self.words = np.empty((64, -(-cells // 64)), dtype=np.uint64)
+
+    def add(self, node: _Node) -> None:
+        n = len(self.arcs)
+        if n == self.margins.size:
+            self.margins = np.concatenate([self.margins, np.empty(n)])
+            self.words = np.concatenate([self.words, np.empty_like(self.words)])
+        self.margins[n] = node.margin
+        self.words[n] = cell_words(node.mask, self.cells)
+        self.arcs.append(node.arcs)
+        self.masks.append(node.mask)
+        state = (node.fence, node.occupied)
+        if state not in self.by_state or self.margins[self.by_state[state]] < node.margin:
+            self.by_state[state] = n
+
+    def dominated(self, arcs: Arcs, mask: int, margin: float, slack: float, fence: int = -1,
+                  occupied: frozenset[int] = frozenset()) -> bool:
+        """A node already reached whose set lies within ``arcs`` at no smaller margin.
+
+        The nodes of the same fence whose code set is within ``occupied`` are tried first
+        (their sets are unions of fewer of the same bands: the usual answer, found by
+        looking up each subset); every node is tried, by the same test, before False."""
+        for size in range(1, len(occupied) + 1):
+            for sub in itertools.combinations(sorted(occupied), size):
+                i = self.by_state.get((fence, frozenset(sub)))
+                if (i is not None and self.margins[i] >= margin and self.masks[i] & ~mask == 0
+                        and self.arcs[i].issubset(arcs, slack)):
+                    return True
+        n = len(self.arcs)
+        inverse = ~cell_words(mask, self.cells)
+        lo, size = 0, self.CHUNK
+        while lo < n:  # in the order reached, in growing chunks: most answers come early
+            hi = min(lo + size, n)
+            ok = self.margins[lo:hi] >= margin
+            ok &= ~(self.words[lo:hi] & inverse).any(axis=1)
+            if any(self.arcs[lo + i].issubset(arcs, slack) for i in np.flatnonzero(ok)):
+                return True
+            lo, size = hi, 2 * size
+        return False
 
 
 def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
@@ -246,11 +349,11 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
     nodes = len(frontier)
     pruned = 0
     per_depth = [len(frontier)]
-    seen: dict[float, list[_Node]] = {}
+    seen: dict[float, _Seen] = {}
     sets: dict[tuple[int, frozenset[int]], tuple[Arcs, int]] = {}  # (fence, code set) -> its set and mask
     best_margin: dict[tuple[int, frozenset[int]], float] = {}  # the same state reached before
     for node in frontier:
-        seen.setdefault(graph.side(node.fence) if alternate else 0.0, []).append(node)
+        seen.setdefault(graph.side(node.fence) if alternate else 0.0, _Seen(tol.mask_cells)).add(node)
     depth = 1
     while True:
         progress.nodes, progress.pruned, progress.per_depth = nodes, pruned, list(per_depth)
@@ -267,10 +370,9 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
             if checkpoint is not None:
                 progress.nodes, progress.pruned = nodes, pruned
                 checkpoint(f"depth {depth + 1} of the design search ({nodes} nodes so far)")
-            for f in range(n):
+            for f, got in enumerate(graph.steps(node.fence, node.occupied)):
                 if alternate and graph.side(f) == graph.side(node.fence):
                     continue
-                got = graph.step(node.fence, node.occupied, f)
                 if got is None:
                     continue
                 occ, m = got
@@ -286,12 +388,13 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                     arcs = graph.occupied_set(f, occ)
                     sets[(f, occ)] = (arcs, cell_mask(arcs, tol.mask_cells))
                 arcs, mask = sets[(f, occ)]
-                if not goal and _dominated(seen.get(key, []), arcs, mask, margin, tol.subset_slack):
+                side = seen.setdefault(key, _Seen(tol.mask_cells))
+                if not goal and side.dominated(arcs, mask, margin, tol.subset_slack, f, occ):
                     pruned += 1
                     continue
                 best_margin[(f, occ)] = margin
                 child = _Node(f, occ, arcs, margin, node.path + (f,), mask, goal)
-                seen.setdefault(key, []).append(child)
+                side.add(child)
                 nxt.append(child)
                 nodes += 1
         frontier = nxt

@@ -119,3 +119,57 @@ def test_a_square_needs_one_fence_and_a_fence_that_jams_is_never_used_6_4():
     with pytest.raises(InvalidInput):
         search_design(graph, 0)
     assert np.isinf(search_design(graph_of("square"), 2).design.margin)
+
+
+@pytest.mark.parametrize("name", ["rectangle", "right triangle", "pentagon", "L-shape", "near-symmetric"])
+def test_steps_to_every_candidate_are_each_step_5_4(name):
+    """Issue 26: the search takes one node's steps to every candidate at once from packed
+    rows (DesignGraph.steps); each is exactly DesignGraph.step's code set (5.4) and margin,
+    from every band set reached by up to three fences."""
+    graph = graph_of(name, angles=(12.0, 28.0, 44.0, 61.0, 77.0))
+    n = len(graph.maps)
+    states = {(f, graph.start[f]) for f in range(n) if graph.start[f]}
+    checked = 0
+    for _ in range(3):
+        nxt = set()
+        for g, occ in states:
+            many = graph.steps(g, occ)
+            assert len(many) == n
+            for f in range(n):
+                one = graph.step(g, occ, f)
+                assert many[f] == one  # the same frozenset and the same float, not approximately
+                checked += 1
+                if one is not None and one[0]:
+                    nxt.add((f, one[0]))
+        states = nxt
+    assert checked > 100
+
+
+def test_the_dominance_test_on_arrays_is_the_list_test_5_3_2():
+    """Issue 26: the pruning's dominance test on arrays of margins and cell masks (_Seen)
+    answers as the plain scan of every node reached: a node whose set lies within the new
+    set at no smaller margin."""
+    from models.feeder.design_graph import _Node, _Seen, cell_mask
+    from models.feeder.arcs import Arcs
+
+    rng = np.random.default_rng(20261127)
+    cells = 1440
+
+    def random_arcs():
+        return Arcs.of([(float(rng.uniform(0, 2 * math.pi)), float(rng.uniform(0.01, 1.5)))
+                        for _ in range(int(rng.integers(1, 4)))])
+
+    seen, plain = _Seen(cells), []
+    for _ in range(150):  # past the arrays' first capacity (64)
+        arcs = random_arcs()
+        node = _Node(0, frozenset(), arcs, float(rng.choice([0.1, 0.2, math.inf])), (0,), cell_mask(arcs, cells), False)
+        seen.add(node)
+        plain.append(node)
+    answers = []
+    for _ in range(400):
+        arcs = random_arcs()
+        mask, margin = cell_mask(arcs, cells), float(rng.choice([0.05, 0.15, 0.3]))
+        want = any(o.margin >= margin and o.mask & ~mask == 0 and o.arcs.issubset(arcs, 1e-12) for o in plain)
+        assert seen.dominated(arcs, mask, margin, 1e-12) == want
+        answers.append(want)
+    assert 0 < sum(answers) < len(answers)  # both answers were exercised
