@@ -59,7 +59,7 @@ meeting a fence") and checked in tests/models/feeder/test_fence.py:
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -71,7 +71,7 @@ from models.core.mpp import mason_sense, perp
 from models.core.scene import PushScene
 from models.feeder.arcs import TWO_PI, Arcs, wrap
 from models.feeder.maps import ConfigurationMap
-from models.locus.cor_disk import disk_cor_locus
+from models.locus.cor_disk import disk_boundaries, disk_cor_locus
 from models.sketch.disk_sketch import force_scene
 
 PUSH = np.array([0.0, 1.0])
@@ -395,14 +395,30 @@ def upward_slip_scene(a: float, c: np.ndarray, psi: float, mu: float) -> tuple[P
 def max_slip_rate(a: float, c: np.ndarray, psi: float, mu: float, n_points: int) -> tuple[float, bool]:
     """Largest dl/ddelta over the disk's motions at contact c (CM frame), edge angle psi
     (phase 5), and whether Mason's rule at c gives CCW."""
-    e = np.array([math.cos(psi), math.sin(psi)])
-    ccw = mason_sense(c, perp(e), PUSH, mu) == "ccw"
-    turned, m_sign = upward_slip_scene(a, c, psi, mu)
-    if m_sign == 0:
-        return math.inf, ccw  # that force passes through the CM: slip without turning
-    if m_sign > 0:
-        return 0.0, ccw  # that slip would turn the part CW: none toward the upstream end
-    return max(float(np.max(_slip_per_radian(turned, c, e, n_points))), 0.0), ccw
+    return max_slip_rates(a, [(c, psi, mu)], n_points)[0]
+
+
+def max_slip_rates(a: float, queries: Sequence[tuple[np.ndarray, float, float]],
+                   n_points: int) -> list[tuple[float, bool]]:
+    """:func:`max_slip_rate` at each (c, psi, mu), the disk loci of all of them solved at
+    once (models/locus/cor_disk.py, disk_boundaries)."""
+    out: list[tuple[float, bool]] = []
+    pending: list[tuple[int, PushScene, np.ndarray, np.ndarray]] = []
+    for c, psi, mu in queries:
+        e = np.array([math.cos(psi), math.sin(psi)])
+        ccw = mason_sense(c, perp(e), PUSH, mu) == "ccw"
+        turned, m_sign = upward_slip_scene(a, c, psi, mu)
+        if m_sign == 0:
+            out.append((math.inf, ccw))  # that force passes through the CM: slip without turning
+        elif m_sign > 0:
+            out.append((0.0, ccw))  # that slip would turn the part CW: none toward the upstream end
+        else:
+            pending.append((len(out), turned, c, e))
+            out.append((math.nan, ccw))
+    boundaries = disk_boundaries([turned for _, turned, _, _ in pending], n_points)
+    for (i, _, c, e), boundary in zip(pending, boundaries):
+        out[i] = (max(float(np.max((boundary - c) @ slip_normal(e))), 0.0), out[i][1])
+    return out
 
 
 def face_slip_rate(a: float, c: np.ndarray, fence: Fence, mu: float, n_points: int) -> float:
@@ -721,57 +737,101 @@ def endpoint_turn(part: Footprint, j: int, fence: Fence, tol: FeederTolerances =
     path is integrated in its arc length s, (dl / a, ddelta)/ds = (R / a, 1) / |(R / a, 1)|
     (lengths in part radii a; Heun, ``endpoint_steps`` steps of ((L - u_X) / a + A) / steps,
     enough to reach an end)."""
-    g = abs(fence.angle)
-    most = 0.5 * math.pi - g
-    mu_range = fence.sliding_mu()
-    if mu_range is None:
-        raise InvalidInput("mu_c", "the part jams on this fence for every mu_c given: it never reaches the end")
-    mus = tol.mu_values(*mu_range)
-    least = most
-    lost = False
-    evaluations = flags = 0
-    cap = most - tol.grazing_margin
+    return endpoint_turns(part, [(j, fence)], tol, own_rate)[0]
+
+
+@dataclass
+class _SlipPath:
+    """One integration of endpoint_turn's slip path (one edge, one mu_c), stepped in
+    lockstep with the others (endpoint_turns)."""
+
+    job: int
+    mu: float
+    u_c: float
+    h_c: float
+    end: float
+    cap: float
+    g: float
+    own: Callable[[float, float], float] | None
+    x: np.ndarray
+    ds: float
+    steps_left: int
+
+
+def endpoint_turns(part: Footprint, jobs: Sequence[tuple[int, Fence]], tol: FeederTolerances = DEFAULT,
+                   own_rate: OwnRate | None = None) -> list[EndpointTurn]:
+    """:func:`endpoint_turn` of each (edge j, fence), every path (an edge and a mu_c) taking
+    its Heun steps in lockstep with the others, so that each step's disk loci are solved
+    together (max_slip_rates): the same steps, the same answers as one at a time."""
     a = part.circumradius
-    t0 = np.array([math.cos(g), math.sin(g)])
-    n0 = perp(t0)
-    for mu in mus:
-        u_c, h_c, length, ell0 = canonical_edge(part, j, fence, float(mu))
-        own = None if own_rate is None else own_rate(j, float(mu))
+    least, lost, evaluations, flags, used = [], [], [], [], []
+    paths: list[_SlipPath] = []
+    for k, (j, fence) in enumerate(jobs):
+        g = abs(fence.angle)
+        most = 0.5 * math.pi - g
+        mu_range = fence.sliding_mu()
+        if mu_range is None:
+            raise InvalidInput("mu_c", "the part jams on this fence for every mu_c given: it never reaches the end")
+        mus = tol.mu_values(*mu_range)
+        least.append(most)
+        lost.append(False)
+        evaluations.append(0)
+        flags.append(0)
+        used.append(tuple(float(m) for m in mus))
+        cap = most - tol.grazing_margin
+        for mu in mus:
+            u_c, h_c, length, ell0 = canonical_edge(part, j, fence, float(mu))
+            own = None if own_rate is None else own_rate(j, float(mu))
+            x = np.array([ell0 / a, 0.0])
+            end = length / a
+            ds = ((end - x[0]) + cap) / tol.endpoint_steps
+            paths.append(_SlipPath(k, float(mu), u_c, h_c, end, cap, g, own, x, ds, 4 * tol.endpoint_steps))
 
-        def heading(ell_a: float, delta: float) -> np.ndarray:
-            """(dl / a, ddelta)/ds at contact l = ell_a a and turn delta."""
-            nonlocal evaluations, flags
-            c = rotation(delta) @ ((ell_a * a - u_c) * t0 - h_c * n0)
-            r, ccw = max_slip_rate(part.circumradius, c, g + delta, float(mu), tol.locus_points)
-            evaluations += 1
+    def headings(where: list[tuple[_SlipPath, np.ndarray]]) -> list[np.ndarray]:
+        """(dl / a, ddelta)/ds of each path at its contact l = ell_a a and turn delta."""
+        queries = []
+        for p, (ell_a, delta) in where:
+            t0 = np.array([math.cos(p.g), math.sin(p.g)])
+            c = rotation(delta) @ ((ell_a * a - p.u_c) * t0 - p.h_c * perp(t0))
+            queries.append((c, p.g + delta, p.mu))
+        out = []
+        for (p, (ell_a, delta)), (r, ccw) in zip(where, max_slip_rates(a, queries, tol.locus_points)):
+            evaluations[p.job] += 1
             if math.isinf(r):  # the slipping force through the CM: slide without turning
-                return np.array([1.0, 0.0])
-            flags += 0 if ccw else 1
-            if own is not None and r > 0.0:
-                r = min(r, own(ell_a * a, delta))
-            return np.array([r / a, 1.0]) / math.hypot(r / a, 1.0)
+                out.append(np.array([1.0, 0.0]))
+                continue
+            flags[p.job] += 0 if ccw else 1
+            if p.own is not None and r > 0.0:
+                r = min(r, p.own(ell_a * a, delta))
+            out.append(np.array([r / a, 1.0]) / math.hypot(r / a, 1.0))
+        return out
 
-        x = np.array([ell0 / a, 0.0])
-        end = length / a
-        ds = ((end - x[0]) + cap) / tol.endpoint_steps
-        for _ in range(4 * tol.endpoint_steps):  # the path's length allows endpoint_steps
-            k1 = heading(*x)
-            k2 = heading(*(x + ds * k1))
-            x_new = x + 0.5 * ds * (k1 + k2)
-            if x_new[0] >= end:  # contact lost within this step: where l = L
-                f = (end - x[0]) / (x_new[0] - x[0])
+    active = paths
+    while active:
+        k1 = headings([(p, p.x) for p in active])
+        k2 = headings([(p, p.x + p.ds * h) for p, h in zip(active, k1)])
+        still = []
+        for p, h1, h2 in zip(active, k1, k2):
+            x, x_new = p.x, p.x + 0.5 * p.ds * (h1 + h2)
+            p.steps_left -= 1
+            if x_new[0] >= p.end:  # contact lost within this step: where l = L
+                f = (p.end - x[0]) / (x_new[0] - x[0])
                 delta_lost = x[1] + f * (x_new[1] - x[1])
-                if delta_lost < cap:
-                    lost = True
-                    least = min(least, max(delta_lost - tol.b_margin, 0.0))
-                break
-            if x_new[1] >= cap:
-                break
-            x = x_new
-        else:  # no end reached (never seen): B no later than the turn reached, the safe side
-            least = min(least, max(x[1] - tol.b_margin, 0.0))
-    return EndpointTurn(edge=j, least=least, most=most, contact_lost=lost, mu_used=tuple(float(m) for m in mus),
-                        locus_evaluations=evaluations, sense_flags=flags)
+                if delta_lost < p.cap:
+                    lost[p.job] = True
+                    least[p.job] = min(least[p.job], max(delta_lost - tol.b_margin, 0.0))
+                continue
+            if x_new[1] >= p.cap:
+                continue
+            p.x = x_new
+            if p.steps_left == 0:  # no end reached (never seen): B no later than the turn reached, the safe side
+                least[p.job] = min(least[p.job], max(p.x[1] - tol.b_margin, 0.0))
+                continue
+            still.append(p)
+        active = still
+    return [EndpointTurn(edge=j, least=least[k], most=0.5 * math.pi - abs(fence.angle), contact_lost=lost[k],
+                         mu_used=used[k], locus_evaluations=evaluations[k], sense_flags=flags[k])
+            for k, (j, fence) in enumerate(jobs)]
 
 
 @dataclass(frozen=True)
@@ -790,23 +850,51 @@ class FenceMap:
 def fence_map(part: Footprint, fence: Fence, tol: FeederTolerances = DEFAULT,
               checkpoint: Callable[[str], None] | None = None, own_rate: OwnRate | None = None) -> FenceMap:
     """The configuration map of ``part`` meeting ``fence`` (phases 1-6); ``checkpoint``
-    (the caller's deadline: it raises to stop) is called before each edge's extremes.
+    (the caller's deadline: it raises to stop) is called before the extremes of leaving the
+    end (before each edge's with ``own_rate``) and the reach.
     With ``own_rate`` the extremes B are bounded by the part's own loci (``bound`` "part");
     the reach (phase 6) stays bounded by the disk."""
-    gamma = fence.angle
-    finals_of_flush = {j: final_edges(part, j, fence, tol) for j in range(part.hull_size)}
-    kernels: dict[int, list[tuple[float, float]]] = {}
-    pieces = contact_pieces(part, fence)
-    for piece in pieces:
-        for f in finals_of_flush[piece.flushed_edge % part.hull_size]:
-            kernels.setdefault(f, []).append((piece.start, piece.width))
-    edges = tuple(sorted(kernels))
-    turns_made = []
-    for j in edges:
+    return fence_maps(part, [fence], tol, checkpoint, own_rate)[0]
+
+
+def fence_maps(part: Footprint, fences: Sequence[Fence], tol: FeederTolerances = DEFAULT,
+               checkpoint: Callable[[str], None] | None = None, own_rate: OwnRate | None = None) -> list[FenceMap]:
+    """:func:`fence_map` of each fence, the extremes of every fence's edges integrated in
+    lockstep (endpoint_turns; one edge at a time with ``own_rate``, whose certified rays
+    take long enough for the deadline to be asked between edges)."""
+    layouts = []
+    for fence in fences:
+        finals_of_flush = {j: final_edges(part, j, fence, tol) for j in range(part.hull_size)}
+        kernels: dict[int, list[tuple[float, float]]] = {}
+        pieces = contact_pieces(part, fence)
+        for piece in pieces:
+            for f in finals_of_flush[piece.flushed_edge % part.hull_size]:
+                kernels.setdefault(f, []).append((piece.start, piece.width))
+        layouts.append((fence, pieces, kernels, tuple(sorted(kernels))))
+    jobs = [(j, fence) for fence, _, _, edges in layouts for j in edges]
+    if own_rate is None:
         if checkpoint is not None:
-            checkpoint(f"the extremes of leaving the end on edge {j}")
-        turns_made.append(endpoint_turn(part, j, fence, tol, own_rate))
-    turns = tuple(turns_made)
+            checkpoint(f"the extremes of leaving the end on {len(jobs)} edges")
+        turns_made = endpoint_turns(part, jobs, tol)
+    else:
+        turns_made = []
+        for j, fence in jobs:
+            if checkpoint is not None:
+                checkpoint(f"the extremes of leaving the end on edge {j}")
+            turns_made += endpoint_turns(part, [(j, fence)], tol, own_rate)
+    out = []
+    for fence, pieces, kernels, edges in layouts:
+        turns = tuple(turns_made[:len(edges)])
+        turns_made = turns_made[len(edges):]
+        out.append(_assemble_map(part, fence, pieces, kernels, edges, turns, tol, checkpoint, own_rate))
+    return out
+
+
+def _assemble_map(part: Footprint, fence: Fence, pieces: list[Piece], kernels: dict[int, list[tuple[float, float]]],
+                  edges: tuple[int, ...], turns: tuple[EndpointTurn, ...], tol: FeederTolerances,
+                  checkpoint: Callable[[str], None] | None, own_rate: OwnRate | None) -> FenceMap:
+    """One fence's map from its kernels and its extremes (phases 5-6)."""
+    gamma = fence.angle
     bands = []
     for j, turn in zip(edges, turns):
         theta = flush_orientation(part, j, gamma)

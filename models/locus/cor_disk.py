@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Iterable
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 
@@ -193,8 +193,9 @@ def outer_corner_omega(mu: float) -> float:
     return 0.5 * math.pi - 2.0 * math.acos(min(mu, 1.0))
 
 
-def outer_boundary(omega: np.ndarray, mu: float, tol: Tolerances = DEFAULT) -> tuple[np.ndarray, np.ndarray, int]:
-    """Solve (3.35) for rho at each dipod angle omega (vectorised, no Python loop per point).
+def outer_boundary(omega: np.ndarray, mu: float | np.ndarray, tol: Tolerances = DEFAULT) -> tuple[np.ndarray, np.ndarray, int]:
+    """Solve (3.35) for rho at each dipod angle omega (vectorised, no Python loop per point;
+    ``mu`` one value or one per point, so the boundaries of many loci are solved at once).
 
     For fixed omega the dipod moment arm decreases from >= mu at rho = 1 to <= mu at
     rho = r_tip (3.37), so the root is bracketed in x = log(rho) in [0, log(1/mu)]. A
@@ -203,13 +204,14 @@ def outer_boundary(omega: np.ndarray, mu: float, tol: Tolerances = DEFAULT) -> t
     """
     omega = np.asarray(omega, dtype=float)
     sa, ca = np.sin(omega), np.cos(omega)
+    mus = np.broadcast_to(np.asarray(mu, dtype=float), omega.shape)
 
     def g(x: np.ndarray, k: np.ndarray | slice) -> np.ndarray:
         # log(mu(x)/mu) of dipod_quotient (same operations, without eta, on the points k)
-        return np.log(_dipod_terms(np.exp(x), sa[k], ca[k])[0] / mu)
+        return np.log(_dipod_terms(np.exp(x), sa[k], ca[k])[0] / mus[k])
 
     x_lo = np.zeros_like(omega)
-    x_hi = np.full_like(omega, math.log(1.0 / mu))
+    x_hi = np.log(1.0 / mus)
     # rho = 1 is singular only at omega = 0, which callers exclude.
     g_lo = g(x_lo, slice(None))
     g_hi = g(x_hi, slice(None))
@@ -245,7 +247,7 @@ def outer_boundary(omega: np.ndarray, mu: float, tol: Tolerances = DEFAULT) -> t
     if not np.all(done):
         raise BoundaryNotConverged(
             f"outer COR boundary (3.35) did not converge in {tol.root_max_iter} iterations "
-            f"for mu = {mu!r}"
+            f"for mu = {mus[~done][0]!r}"
         )
     rho = np.exp(x)
     _, eta = dipod_quotient(rho, omega)
@@ -303,63 +305,114 @@ def _allocate(lengths: list[float], total: int, minimum: int) -> list[int]:
     return counts
 
 
+@dataclass(frozen=True)
+class _HalfPlan:
+    """The pieces of one half boundary (half_boundary): their ends and point counts."""
+
+    mu: float
+    rho_min: float
+    eta_a: float
+    eta_c: float
+    rho_tip: float
+    omega_c: float
+    has_outer: bool
+    n_outer: int
+    n_arc: int
+    n_inner: int
+    length_arc: float
+
+    @classmethod
+    def of(cls, mu: float, n_half: int) -> _HalfPlan:
+        rho_min = float(r_min(mu))
+        cos_a = float(disk_crossing_cos_eta(mu))
+        eta_a = math.acos(min(1.0, cos_a))
+        has_outer = mu < 1.0
+        omega_c = outer_corner_omega(mu) if has_outer else 0.0
+        if not has_outer:
+            eta_c = 0.0
+        elif mu >= SQRT_HALF:
+            eta_c = math.acos(mu)
+        else:
+            eta_c = eta_a
+        rho_tip = float(tip_distance(mu))
+
+        cart = polar_to_local
+        corner = cart(1.0, eta_c)
+        length_outer = float(np.linalg.norm(cart(rho_tip, 0.0) - corner)) if has_outer else 0.0
+        length_arc = max(0.0, eta_a - eta_c)
+        mid = 0.5 * (1.0 + rho_min)
+        mid_pt = cart(mid, math.acos(np.clip(inner_boundary_cos_eta(mid, mu), -1.0, 1.0)))
+        length_inner = float(np.linalg.norm(cart(1.0, eta_a) - mid_pt) + np.linalg.norm(mid_pt - cart(rho_min, math.pi)))
+        # Pieces share their end points, so each joint adds one to the points to allocate.
+        lengths = [length_outer, length_arc, length_inner]
+        joints = sum(ell > 0.0 for ell in lengths) - 1
+        n_outer, n_arc, n_inner = _allocate(lengths, n_half + joints, 2)
+        return cls(mu, rho_min, eta_a, eta_c, rho_tip, omega_c, has_outer, n_outer, n_arc, n_inner, length_arc)
+
+    def outer_omegas(self) -> np.ndarray:
+        """The outer piece's interior dipod angles: omega evenly spaced from pi/2 (tip) down
+        to the corner, without its ends."""
+        t = np.linspace(0.0, 1.0, self.n_outer)
+        return (self.omega_c + (0.5 * math.pi - self.omega_c) * (1.0 - t))[1:-1]
+
+
 def half_boundary(mu: float, n_half: int, tol: Tolerances = DEFAULT) -> PolarBoundary:
     """Points of the boundary from the tip (eta = 0) to r_min (eta = pi), in order.
 
     ``n_half`` counts both ends. Pieces present depend on mu (module docstring).
     """
-    rho_min = float(r_min(mu))
-    cos_a = float(disk_crossing_cos_eta(mu))
-    eta_a = math.acos(min(1.0, cos_a))
-    has_outer = mu < 1.0
-    omega_c = outer_corner_omega(mu) if has_outer else 0.0
-    if not has_outer:
-        eta_c = 0.0
-    elif mu >= SQRT_HALF:
-        eta_c = math.acos(mu)
-    else:
-        eta_c = eta_a
-    rho_tip = float(tip_distance(mu))
+    return half_boundaries([mu], n_half, tol)[0]
 
-    cart = polar_to_local
-    corner = cart(1.0, eta_c)
-    length_outer = float(np.linalg.norm(cart(rho_tip, 0.0) - corner)) if has_outer else 0.0
-    length_arc = max(0.0, eta_a - eta_c)
-    mid = 0.5 * (1.0 + rho_min)
-    mid_pt = cart(mid, math.acos(np.clip(inner_boundary_cos_eta(mid, mu), -1.0, 1.0)))
-    length_inner = float(np.linalg.norm(cart(1.0, eta_a) - mid_pt) + np.linalg.norm(mid_pt - cart(rho_min, math.pi)))
-    # Pieces share their end points, so each joint adds one to the points to allocate.
-    lengths = [length_outer, length_arc, length_inner]
-    joints = sum(ell > 0.0 for ell in lengths) - 1
-    n_outer, n_arc, n_inner = _allocate(lengths, n_half + joints, 2)
 
+def half_boundaries(mus: Sequence[float], n_half: int, tol: Tolerances = DEFAULT) -> list[PolarBoundary]:
+    """:func:`half_boundary` of each mu, the outer pieces (3.35) of all of them solved at once
+    (the same iteration on each point; ``iterations`` is the batch's)."""
+    plans = [_HalfPlan.of(float(mu), n_half) for mu in mus]
+    omegas = [p.outer_omegas() if p.has_outer else np.empty(0) for p in plans]
+    flat_omega = np.concatenate(omegas) if omegas else np.empty(0)
+    flat_mu = np.repeat([p.mu for p in plans], [o.size for o in omegas])
+    iterations = 0
+    if flat_omega.size:
+        flat_rho, flat_eta, iterations = outer_boundary(flat_omega, flat_mu, tol)
+        flat_res = outer_boundary_residual(flat_rho, flat_eta, flat_omega, flat_mu)
+    out = []
+    start = 0
+    for plan, omega in zip(plans, omegas):
+        stop = start + omega.size
+        out.append(_assemble_half(plan, flat_rho[start:stop] if omega.size else omega,
+                                  flat_eta[start:stop] if omega.size else omega,
+                                  flat_res[start:stop] if omega.size else omega, iterations))
+        start = stop
+    return out
+
+
+def _assemble_half(plan: _HalfPlan, rho_i: np.ndarray, eta_i: np.ndarray, outer_res: np.ndarray,
+                   iterations: int) -> PolarBoundary:
+    """One half boundary from its plan and its solved outer interior points."""
+    mu = plan.mu
     rhos, etas, pieces = [], [], []
     residual = 0.0
-    iterations = 0
-    if has_outer:
-        # omega evenly spaced from pi/2 (tip) down to the corner.
-        t = np.linspace(0.0, 1.0, n_outer)
-        omega = omega_c + (0.5 * math.pi - omega_c) * (1.0 - t)
-        interior = omega[1:-1]
-        rho_i, eta_i, iterations = outer_boundary(interior, mu, tol)
-        residual = max(residual, float(np.max(outer_boundary_residual(rho_i, eta_i, interior, mu), initial=0.0)))
-        rhos += [np.array([rho_tip]), rho_i, np.array([1.0])]
-        etas += [np.array([0.0]), eta_i, np.array([eta_c])]
-        pieces.append(np.zeros(n_outer, dtype=int))
-    if length_arc > 0.0:
-        eta_arc = np.linspace(eta_c, eta_a, n_arc)
-        if has_outer:
+    if plan.has_outer:
+        residual = max(residual, float(np.max(outer_res, initial=0.0)))
+        rhos += [np.array([plan.rho_tip]), rho_i, np.array([1.0])]
+        etas += [np.array([0.0]), eta_i, np.array([plan.eta_c])]
+        pieces.append(np.zeros(plan.n_outer, dtype=int))
+    else:
+        iterations = 0
+    if plan.length_arc > 0.0:
+        eta_arc = np.linspace(plan.eta_c, plan.eta_a, plan.n_arc)
+        if plan.has_outer:
             eta_arc = eta_arc[1:]  # the corner is already the outer piece's last point
         rhos.append(np.ones_like(eta_arc))
         etas.append(eta_arc)
         pieces.append(np.ones(eta_arc.size, dtype=int))
     # Inner piece: rho = rho_min + (1 - rho_min) t^2 resolves the square-root behaviour of
     # eta(rho) at r_min.
-    t = np.linspace(1.0, 0.0, n_inner)
-    rho_in = rho_min + (1.0 - rho_min) * t * t
+    t = np.linspace(1.0, 0.0, plan.n_inner)
+    rho_in = plan.rho_min + (1.0 - plan.rho_min) * t * t
     cos_in = np.clip(inner_boundary_cos_eta(rho_in, mu), -1.0, 1.0)
     eta_in = np.arccos(cos_in)
-    eta_in[0] = eta_a
+    eta_in[0] = plan.eta_a
     eta_in[-1] = math.pi
     rho_in = rho_in[1:]  # (1, eta_a) closes the arc or the outer piece
     eta_in = eta_in[1:]
@@ -382,14 +435,21 @@ def boundary_local(mu: float, n_points: int, tol: Tolerances = DEFAULT) -> tuple
     locus frame, starting at the tip. The boundary is mirror symmetric, so an odd
     ``n_points`` is rounded up to the next even number. Returns (points, residual,
     iterations)."""
+    return boundary_locals([mu], n_points, tol)[0]
+
+
+def boundary_locals(mus: Sequence[float], n_points: int, tol: Tolerances = DEFAULT) -> list[tuple[np.ndarray, float, int]]:
+    """:func:`boundary_local` of each mu, solved together (:func:`half_boundaries`)."""
     n_half = (n_points + 1) // 2 + 1
-    half = half_boundary(mu, n_half, tol)
-    # The half runs tip -> r_min through y > 0 (clockwise); its mirror image closes it.
-    upper = polar_to_local(half.rho, half.eta)
-    lower = upper[-2:0:-1] * np.array([1.0, -1.0])
-    ring = np.vstack([upper, lower])[::-1]
-    ring = np.roll(ring, 1, axis=0)  # start at the tip again
-    return ring, half.residual, half.iterations
+    out = []
+    for half in half_boundaries(mus, n_half, tol):
+        # The half runs tip -> r_min through y > 0 (clockwise); its mirror image closes it.
+        upper = polar_to_local(half.rho, half.eta)
+        lower = upper[-2:0:-1] * np.array([1.0, -1.0])
+        ring = np.vstack([upper, lower])[::-1]
+        ring = np.roll(ring, 1, axis=0)  # start at the tip again
+        out.append((ring, half.residual, half.iterations))
+    return out
 
 
 # ---------------------------------------------------------------------------------------
@@ -511,6 +571,24 @@ def _disk_crossings(scene: PushScene) -> DiskCrossings:
         arcs.append(PerimeterArc(world_angle(eta_a), world_angle(eta_c), on_disk(eta_a), on_disk(eta_c)))
         arcs.append(PerimeterArc(world_angle(-eta_c), world_angle(-eta_a), on_disk(-eta_c), on_disk(-eta_a)))
     return DiskCrossings(cos_eta=cos_a, points=np.vstack([on_disk(eta_a), on_disk(-eta_a)]), arcs=tuple(arcs))
+
+
+def disk_boundaries(scenes: Sequence[PushScene], n_points: int = 256, tol: Tolerances | None = None) -> list[np.ndarray]:
+    """The world-frame boundary of each bounded scene's disk locus, as
+    ``disk_cor_locus(scene, outputs=["boundary"], n_points).boundary``, with the boundaries
+    of all of them solved at once (:func:`boundary_locals`)."""
+    if n_points < 8:
+        raise InvalidInput("n_points", "must be at least 8")
+    if any(s.is_translation for s in scenes):
+        raise InvalidInput("scenes", "a translation has no bounded locus")
+    tol = tol or (scenes[0].tolerances if scenes else DEFAULT)
+    out = []
+    for scene, (local, residual, _) in zip(scenes, boundary_locals([s.relative_moment_arm for s in scenes],
+                                                                   n_points, tol)):
+        if not residual <= tol.boundary_residual_rel:  # NaN fails too
+            raise BoundaryNotConverged(f"boundary residual {residual:.3g} exceeds {tol.boundary_residual_rel:.3g}")
+        out.append(scene.to_world(local * scene.disk_radius))
+    return out
 
 
 def disk_cor_locus(

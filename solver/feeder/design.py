@@ -31,7 +31,7 @@ from models.feeder.design_graph import (
     SearchResult,
     search_design,
 )
-from models.feeder.fence import DESIGN, FeederTolerances, Fence, FenceMap, ReachBound, fence_map, sampled_reach
+from models.feeder.fence import DESIGN, FeederTolerances, Fence, FenceMap, ReachBound, fence_maps, sampled_reach
 from models.feeder.gate import GateSpec
 from models.feeder.maps import ConfigurationMap, sequence
 from models.feeder.placed import Belt, Goal, PlacedDesign, PlacedGraph, PlacedSearchResult, search_placed
@@ -160,10 +160,19 @@ class FeederDesignResult:
         return f"a design of {n} fences, none shorter (searched {found.nodes} nodes)"
 
 
+MAPS_AT_ONCE = 16
+"""Candidate fences whose maps are integrated in lockstep (models/feeder/fence.py,
+fence_maps): their disk loci solved together; the deadline is asked between groups."""
+
+
 def _maps(problem: FeederDesignProblem, budget: Budget, maps: list[FenceMap]) -> None:
-    for g in problem.angles():
-        budget.checkpoint(f"the map of the fence at {math.degrees(g):+.1f} degrees")
-        maps.append(fence_map(problem.part, Fence.create(g, problem.mu_c), problem.tol, checkpoint=budget.checkpoint))
+    angles = problem.angles()
+    for lo in range(0, len(angles), MAPS_AT_ONCE):
+        group = angles[lo:lo + MAPS_AT_ONCE]
+        budget.checkpoint(f"the maps of the fences at {math.degrees(group[0]):+.1f} to "
+                          f"{math.degrees(group[-1]):+.1f} degrees")
+        maps += fence_maps(problem.part, [Fence.create(g, problem.mu_c) for g in group], problem.tol,
+                           checkpoint=budget.checkpoint)
 
 
 def _profiles(problem: FeederDesignProblem, maps: list[FenceMap], budget: Budget) -> list[ReachBound]:

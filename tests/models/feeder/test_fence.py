@@ -364,3 +364,25 @@ def test_over_a_mu_c_interval_a_design_samples_the_reach_per_mu_c_1_8_6():
     assert sampled.unaligned(reach).measure <= dropped <= allowance
     one, ref = sampled_reach(part, Fence.create(0.7, 0.25)), reach_profile(part, Fence.create(0.7, 0.25))
     assert isinstance(one, ReachProfile) and np.array_equal(one.need, ref.need) and np.array_equal(one.lo, ref.lo)
+
+
+def test_maps_in_lockstep_are_the_maps_one_at_a_time_5_1():
+    """Issue 26: the maps of many fences integrated in lockstep (fence_maps: every edge's
+    slip path (5.1, phase 5) steps together and their disk loci are solved at once) have
+    the bands of each map alone, to rounding, on both sides of the belt and over a mu_c
+    interval."""
+    from models.feeder.fence import fence_maps
+    from tests.feeder_cases import part
+
+    p = part("pentagon")
+    fences = [Fence.create(s * math.radians(d), mu) for s in (1.0, -1.0) for d in (22.0, 41.0, 63.0)
+              for mu in ((0.25, 0.25), (0.1, 0.4))]
+    together = fence_maps(p, fences)
+    for fence, got in zip(fences, together):
+        alone = fence_map(p, fence)
+        assert got.final_edges == alone.final_edges
+        for t, u in zip(got.turns, alone.turns):
+            assert abs(t.least - u.least) <= 1e-12 and t.most == u.most
+            assert (t.contact_lost, t.locus_evaluations, t.sense_flags) == (u.contact_lost, u.locus_evaluations,
+                                                                               u.sense_flags)
+        assert got.map.kernels == alone.map.kernels

@@ -353,3 +353,21 @@ def test_absurd_moment_arm_is_an_input_error_not_an_overflow():
     assert err.value.field == "disk_radius"
     loc = cd.disk_cor_locus(PushScene.create(1e-12, [0.0, 0.9999], math.pi / 2))
     assert np.all(np.isfinite(loc.boundary)) and loc.tip.on_disk
+
+
+def test_boundaries_solved_together_are_each_boundary_3_35():
+    """Issue 26: the boundaries of many loci solved at once (boundary_locals: the outer
+    pieces (3.35) of every mu in one root-finding) are, point for point, the boundary of
+    each alone, across the outer/arc/inner regimes (mu < 1/sqrt 2, up to 1, above 1)."""
+    from models.locus.cor_disk import boundary_local, boundary_locals
+
+    rng = np.random.default_rng(20261127)
+    mus = [float(m) for m in rng.uniform(1e-3, 3.0, 60)] + [1e-6, 0.5, SQRT_HALF_PROBE, 1.0, 1.0 - 1e-9, 50.0]
+    together = boundary_locals(mus, 64)
+    for mu, (ring, residual, _) in zip(mus, together):
+        alone, alone_residual, _ = boundary_local(mu, 64)
+        assert np.array_equal(ring, alone), mu
+        assert residual == alone_residual
+
+
+SQRT_HALF_PROBE = 0.7071067811865476  # the outer piece meets the disk from here (outer_corner_omega)
