@@ -58,7 +58,7 @@ solves the same question as a convex feasibility problem in the pressure distrib
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -67,7 +67,7 @@ from numpy.typing import ArrayLike
 from models.core.errors import InvalidInput
 from models.core.mpp import mason_sense, perp
 from models.core.scene import PushScene
-from models.locus.cor_disk import DiskCorLocus, disk_cor_locus
+from models.locus.cor_disk import DiskCorLocus, disk_boundaries, disk_cor_locus
 
 Configuration = str  # "pure_slipping" | "same_sided_split" | "opposite_sided_split" | "wrapped"
 CONFIG_ORDER = ("pure_slipping", "same_sided_split", "opposite_sided_split", "wrapped")
@@ -225,41 +225,62 @@ def _locus(scene: PushScene, phi: float, n_points: int) -> tuple[int, PushScene,
 def _sticking_span(scene: PushScene, phi: float, n_points: int) -> tuple[float, float] | None:
     """The part of the sticking line inside {COR}_phi where sticking is consistent with
     that locus's sense: (t_min, t_max) or None."""
-    m_sign, _, loc = _locus(scene, phi, n_points)
-    if loc is None or loc.boundary is None:
-        return None
+    return _sticking_spans(scene, [phi], n_points)[0]
+
+
+def _sticking_spans(scene: PushScene, phis: Sequence[float], n_points: int) -> list[tuple[float, float] | None]:
+    """:func:`_sticking_span` at each force angle, the loci's boundaries solved at once
+    (models/locus/cor_disk.py, disk_boundaries)."""
+    turned = [force_scene(scene, float(phi)) for phi in phis]
+    bounded = [i for i, (_, m_sign) in enumerate(turned) if m_sign != 0]
+    out: list[tuple[float, float] | None] = [None] * len(turned)
     c = scene.contact_point
     jp = perp(scene.push_hat)
-    sgn = float(m_sign)
-    spans = []
-    for lo, hi in _line_intervals(loc.boundary, c, jp):
-        # r = c + t J p: (c - r) . J p = -t must have the sign of m_phi.
-        if sgn > 0.0:
-            lo, hi = lo, min(hi, 0.0)
-        else:
-            lo, hi = max(lo, 0.0), hi
-        if hi > lo:
-            spans.append((lo, hi))
-    if not spans:
-        return None
-    return min(s[0] for s in spans), max(s[1] for s in spans)
+    for i, boundary in zip(bounded, disk_boundaries([turned[i][0] for i in bounded], n_points)):
+        sgn = float(turned[i][1])
+        spans = []
+        for lo, hi in _line_intervals(boundary, c, jp):
+            # r = c + t J p: (c - r) . J p = -t must have the sign of m_phi.
+            if sgn > 0.0:
+                lo, hi = lo, min(hi, 0.0)
+            else:
+                lo, hi = max(lo, 0.0), hi
+            if hi > lo:
+                spans.append((lo, hi))
+        if spans:
+            out[i] = (min(s[0] for s in spans), max(s[1] for s in spans))
+    return out
 
 
-def _golden(f: Callable[[float], float], lo: float, hi: float, steps: int) -> float:
-    """Argmin of f on [lo, hi] by golden section (f unimodal near the bracket)."""
+def _golden(evaluate: Callable[[list[int], list[float]], list[float]], brackets: Sequence[tuple[float, float]],
+            steps: int) -> list[float]:
+    """Argmin of each f_k on its bracket [lo, hi] by golden section (f_k unimodal near the
+    bracket), the searches in lockstep: ``evaluate(ks, xs)`` gives f_k(x) for each pair,
+    so each step's points are evaluated together."""
     g = (math.sqrt(5.0) - 1.0) / 2.0
-    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-    f1, f2 = f(x1), f(x2)
+    lo = [b[0] for b in brackets]
+    hi = [b[1] for b in brackets]
+    ks = list(range(len(brackets)))
+    x1 = [hi[k] - g * (hi[k] - lo[k]) for k in ks]
+    x2 = [lo[k] + g * (hi[k] - lo[k]) for k in ks]
+    both = evaluate(ks + ks, x1 + x2)
+    f1, f2 = both[:len(ks)], both[len(ks):]
     for _ in range(steps):
-        if f1 <= f2:
-            hi, x2, f2 = x2, x1, f1
-            x1 = hi - g * (hi - lo)
-            f1 = f(x1)
-        else:
-            lo, x1, f1 = x1, x2, f2
-            x2 = lo + g * (hi - lo)
-            f2 = f(x2)
-    return x1 if f1 <= f2 else x2
+        lower = [f1[k] <= f2[k] for k in ks]
+        for k in ks:
+            if lower[k]:
+                hi[k], x2[k], f2[k] = x2[k], x1[k], f1[k]
+                x1[k] = hi[k] - g * (hi[k] - lo[k])
+            else:
+                lo[k], x1[k], f1[k] = x1[k], x2[k], f2[k]
+                x2[k] = lo[k] + g * (hi[k] - lo[k])
+        new = evaluate(ks, [x1[k] if lower[k] else x2[k] for k in ks])
+        for k in ks:
+            if lower[k]:
+                f1[k] = new[k]
+            else:
+                f2[k] = new[k]
+    return [x1[k] if f1[k] <= f2[k] else x2[k] for k in ks]
 
 
 def _sweep_angles(scene: PushScene, nu: float) -> np.ndarray:
@@ -286,29 +307,26 @@ def sticking_locus_sweep(scene: PushScene, mu_c: float, n_points: int = 1024) ->
     refined by golden-section search over phi around the best coarse angle."""
     nu = math.atan(mu_c)
     phis = _sweep_angles(scene, nu)
-    found = [_sticking_span(scene, float(ph), n_points) for ph in phis]
+    found = _sticking_spans(scene, [float(ph) for ph in phis], n_points)
     spans = {i: s for i, s in enumerate(found) if s is not None}
     have = list(spans)
     if not have:
         return None
     big = 1e300
 
-    def low(ph: float) -> float:
-        s = _sticking_span(scene, ph, n_points)
-        return big if s is None else s[0]
-
-    def neg_high(ph: float) -> float:
-        s = _sticking_span(scene, ph, n_points)
-        return big if s is None else -s[1]
+    def low_and_neg_high(ks: list[int], xs: list[float]) -> list[float]:
+        """f_0 = the span's low end, f_1 = minus its high end (big where there is none)."""
+        found = _sticking_spans(scene, xs, n_points)
+        return [big if s is None else (s[0] if k == 0 else -s[1]) for k, s in zip(ks, found)]
 
     def bracket(i: int) -> tuple[float, float]:
         return float(phis[max(i - 1, 0)]), float(phis[min(i + 1, len(phis) - 1)])
 
     i_lo = min(have, key=lambda i: spans[i][0])
     i_hi = max(have, key=lambda i: spans[i][1])
-    p_lo = _golden(low, *bracket(i_lo), GOLDEN_STEPS)
-    p_hi = _golden(neg_high, *bracket(i_hi), GOLDEN_STEPS)
-    t_lo, t_hi = low(p_lo), -neg_high(p_hi)
+    p_lo, p_hi = _golden(low_and_neg_high, [bracket(i_lo), bracket(i_hi)], GOLDEN_STEPS)
+    t_lo, neg_t_hi = low_and_neg_high([0, 1], [p_lo, p_hi])
+    t_hi = -neg_t_hi
     if not t_lo <= spans[i_lo][0]:
         t_lo, p_lo = spans[i_lo][0], float(phis[i_lo])
     if not t_hi >= spans[i_hi][1]:
