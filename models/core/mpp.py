@@ -32,7 +32,12 @@ from numpy.typing import ArrayLike
 def perp(v: np.ndarray) -> np.ndarray:
     """J v: rotate vectors (..., 2) by +90 degrees."""
     v = np.asarray(v, dtype=float)
-    return np.stack([-v[..., 1], v[..., 0]], axis=-1)
+    if v.ndim == 1:  # one vector, the common case: no stacking (the same numbers)
+        return np.array([-v[1], v[0]])
+    out = np.empty(v.shape)
+    out[..., 0] = -v[..., 1]
+    out[..., 1] = v[..., 0]
+    return out
 
 
 def contact_generalized_force(direction: np.ndarray, contact_rel: np.ndarray) -> np.ndarray:

@@ -262,11 +262,13 @@ class _FenceGeometry:
         """Whether the fence passes through the part's hull deeper than ``tol`` (clipping
         the segment by the hull's edges, each kept ``tol`` inside)."""
         q = pts[self.next_vertex] - pts
-        inward = np.stack([-q[:, 1], q[:, 0]], axis=1) / np.hypot(q[:, 0], q[:, 1])[:, None]
+        length = np.hypot(q[:, 0], q[:, 1])
+        nx, ny = -q[:, 1] / length, q[:, 0] / length  # each edge's inward unit normal
+        # inside by more than tol where base > 0; the clip moves along the fence at rate
+        bases = (nx * (self.e[0] - pts[:, 0]) + ny * (self.e[1] - pts[:, 1]) - tol).tolist()
+        rates = (nx * self.w[0] + ny * self.w[1]).tolist()
         lo, hi = 0.0, self.length
-        for n_i, p_i in zip(inward, pts):
-            base = float(n_i @ (self.e - p_i)) - tol  # inside by more than tol where > 0
-            rate = float(n_i @ self.w)
+        for base, rate in zip(bases, rates):
             if rate == 0.0:
                 if base <= 0.0:
                     return False

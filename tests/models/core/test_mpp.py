@@ -127,3 +127,16 @@ def test_mason_a_cone_with_one_edge_through_the_cm_turns_with_the_other():
     n = np.array([math.sin(phi), math.cos(phi)])  # (0, 1) turned clockwise by phi: n + mu J n is vertical
     for push in (np.array([1.0, 0.0]), np.array([-1.0, 0.2])):
         assert mason_sense(c, n, push, mu) == "ccw"  # the other edge leans right of the CM: c x f > 0
+
+
+def test_perp_is_the_quarter_turn_for_one_vector_and_for_arrays():
+    """Issue 26: perp's fast path for one vector and its array path give J v exactly (the
+    same numbers as stacking (-y, x)), in the input's shape."""
+    from models.core.mpp import perp
+
+    rng = np.random.default_rng(5)
+    for v in (rng.normal(size=2), rng.normal(size=(7, 2)), rng.normal(size=(3, 4, 2))):
+        want = np.stack([-v[..., 1], v[..., 0]], axis=-1)
+        got = perp(v)
+        assert got.shape == want.shape and np.array_equal(got, want)
+    assert np.array_equal(perp([1, 2]), [-2.0, 1.0])
