@@ -28,12 +28,13 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
+from collections.abc import Callable
 from typing import Protocol
 
 import numpy as np
 
 from solver.certify.functional import DualFunctional
-from solver.certify.master import master_for
+from solver.certify.master import MasterSolver, compiled_master_for, master_for
 from solver.certify.outline import ON_BOUNDARY_REL, Pieces, grid
 from solver.certify.pricing import COLUMNS_PER_ROUND, branch_and_bound, golden, local_minima
 from solver.certify.witness import POLISH_BELOW, exact_witness, residual
@@ -245,7 +246,23 @@ def decide(
 ) -> Decision:
     """Decide the candidate of ``rows`` (module docstring). ``warm_local``: extra initial
     support points on the outline (local frame). Stops undecided when the budget expires
-    (checked before every round and inside the branch and bound)."""
+    (checked before every round and inside the branch and bound).
+
+    The restricted masters are solved by Clarabel directly (master_for); a query that ends
+    undecided with time left is decided again with the compiled cvxpy formulation
+    (compiled_master_for), whose different last digits decide some borderline and far
+    candidates the direct one leaves (a witness or a dual certificate is checked the same
+    way whichever solved the master)."""
+    first = _decide(rows, tol, budget, messages, warm_local, certify, master_for)
+    if first.status != "undecided" or budget.expired():
+        return first
+    again = _decide(rows, tol, budget, messages, warm_local, certify, compiled_master_for)
+    return again if again.status != "undecided" else first
+
+
+def _decide(rows: Rows, tol: SolverTolerances, budget: Budget, messages: Messages, warm_local: np.ndarray | None,
+            certify: bool, master: Callable[[int, int, int], MasterSolver]) -> Decision:
+    """:func:`decide` with the masters of ``master``."""
     pieces = rows.pieces
     gp, gt = grid(pieces)
     in_f = rows.in_footprint
@@ -269,7 +286,7 @@ def decide(
             message = f"time limit{limit} reached"
             iterations -= 1
             break
-        weights, pm_raw, y_raw, lam_raw = master_for(n_eq, n_ineq, g.shape[1]).solve(g, h, pg, ph, rows.b, tol)
+        weights, pm_raw, y_raw, lam_raw = master(n_eq, n_ineq, g.shape[1]).solve(g, h, pg, ph, rows.b, tol)
         pm = _clip_point_mass(pm_raw) if in_f else np.zeros(3)
         res = residual(rows.b, g, h, weights, pg, ph, pm)
         if res <= max(POLISH_BELOW, tol.membership_residual):

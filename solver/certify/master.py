@@ -20,8 +20,12 @@ solves.
 
 from __future__ import annotations
 
+from typing import Protocol
+
+import clarabel
 import cvxpy as cp
 import numpy as np
+import scipy.sparse as sp
 
 from solver.core.errors import NotConverged
 from solver.core.threads import PerThreadCache, ignore_inaccurate_solution_warning
@@ -38,6 +42,13 @@ inequality rows (the sticking locus's friction cone) keep doubling: at 384 colum
 sticking end (65 L from the contact) moved in its last digits to a point whose membership
 query stalls undecided (tests/solver/sketch/test_sticking_locus.py, the far locus), and
 they gain little (a tenth of their solves exceed 320 columns)."""
+
+
+class MasterSolver(Protocol):
+    """What column generation asks of a restricted master (either formulation below)."""
+
+    def solve(self, g: np.ndarray, h: np.ndarray, pg: np.ndarray | None, ph: np.ndarray | None, b: np.ndarray,
+              tol: SolverTolerances) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]: ...
 
 
 class RestrictedMaster:
@@ -112,12 +123,92 @@ class RestrictedMaster:
         return weights, pm, y, lam
 
 
+class DirectMaster:
+    """The same master handed to Clarabel directly in its conic form, at the exact number of
+    columns (no compiled problem, no padding): cvxpy's parameter stuffing and unpacking
+    were about half of each solve (issue 26's profile). Variables x = (P, P0, z, e, u, t):
+
+        min  sum(u) + sum(t)
+        s.t. G P + PG (P0, z) - e = b                 zero cone (duals y)
+             -P <= 0,  e - u <= 0,  -e - u <= 0,  -t <= 0,
+             -H P - PH (P0, z) - t <= 0               non-negative cone (duals lambda last)
+             (P0, z) in the second-order cone
+
+    Clarabel's duals z of ``A x + s = b`` satisfy c + A' z = 0, so on column j
+    y . G_j - lambda . H_j = z_(P_j) >= 0 and y . b = -optimum: the separating functional
+    of :class:`RestrictedMaster` with the same signs (tests/solver/certify/test_master.py
+    checks the two against each other). Every solve starts cold, as there."""
+
+    def __init__(self, n_eq: int, n_ineq: int):
+        self.n_eq, self.n_ineq = n_eq, n_ineq
+
+    def solve(
+        self, g: np.ndarray, h: np.ndarray, pg: np.ndarray | None, ph: np.ndarray | None, b: np.ndarray,
+        tol: SolverTolerances,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """As :meth:`RestrictedMaster.solve`."""
+        m, k = self.n_eq, self.n_ineq
+        n = g.shape[1]
+        has_point_mass = pg is not None
+        pg = np.zeros((m, 3)) if pg is None else np.asarray(pg, dtype=float)
+        h = np.asarray(h, dtype=float).reshape(k, n)
+        ph = np.zeros((k, 3)) if ph is None or not k else np.asarray(ph, dtype=float)
+        a = _conic_matrix(np.asarray(g, dtype=float), h, pg, ph)
+        n_x = n + 3 + 2 * m + k
+        rhs = np.concatenate([np.asarray(b, dtype=float), np.zeros(a.shape[0] - m)])
+        q = np.concatenate([np.zeros(n + 3 + m), np.ones(m + k)])
+        cones = [clarabel.ZeroConeT(m), clarabel.NonnegativeConeT(n + 2 * m + 2 * k), clarabel.SecondOrderConeT(3)]
+        settings = clarabel.DefaultSettings()
+        settings.verbose = False
+        settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = tol.conic_gap
+        try:
+            solution = clarabel.DefaultSolver(sp.csc_matrix((n_x, n_x)), q, a, rhs, cones, settings).solve()
+        except Exception as exc:  # Clarabel's own errors (bad data, a panic) have no common base
+            raise NotConverged(f"Clarabel failed on the restricted master: {exc}") from exc
+        status = str(solution.status)
+        if status not in ("Solved", "AlmostSolved"):
+            raise NotConverged(f"the restricted master ended with status {status}")
+        x, z = np.asarray(solution.x), np.asarray(solution.z)
+        weights = np.clip(x[:n], 0.0, None)
+        pm = x[n:n + 3].copy() if has_point_mass else np.zeros(3)
+        y = z[:m].copy()
+        lam = np.clip(z[m + n + 2 * m + k:m + n + 2 * m + 2 * k], 0.0, None) if k else np.zeros(0)
+        return weights, pm, y, lam
+
+
+def _conic_matrix(g: np.ndarray, h: np.ndarray, pg: np.ndarray, ph: np.ndarray) -> sp.csc_matrix:
+    """DirectMaster's A, column by column (P, (P0, z), e, u, t) in CSC arrays; rows: the m
+    equalities, then -P, e - u, -e - u, -t, -H P - PH (P0, z) - t, then the cone's 3."""
+    m, n = g.shape
+    k = h.shape[0]
+    r_p, r_eu, r_neu, r_t, r_h, r_soc = m, m + n, 2 * m + n, 3 * m + n, 3 * m + n + k, 3 * m + n + 2 * k
+    # P_j: G[:, j], -1 at its own row, -H[:, j]
+    p_rows = np.concatenate([np.broadcast_to(np.arange(m)[:, None], (m, n)), (r_p + np.arange(n))[None, :],
+                             np.broadcast_to((r_h + np.arange(k))[:, None], (k, n))])
+    p_data = np.concatenate([g, -np.ones((1, n)), -h])
+    # (P0, z)_c: PG[:, c], -PH[:, c], -1 in the cone
+    c_rows = np.concatenate([np.broadcast_to(np.arange(m)[:, None], (m, 3)),
+                             np.broadcast_to((r_h + np.arange(k))[:, None], (k, 3)), (r_soc + np.arange(3))[None, :]])
+    c_data = np.concatenate([pg, -ph, -np.ones((1, 3))])
+    i_m, i_k = np.arange(m), np.arange(k)
+    e_rows = np.stack([i_m, r_eu + i_m, r_neu + i_m])  # e_i: -1 (equality), +1 (e - u), -1 (-e - u)
+    e_data = np.broadcast_to(np.array([[-1.0], [1.0], [-1.0]]), (3, m))
+    u_rows = np.stack([r_eu + i_m, r_neu + i_m])
+    t_rows = np.stack([r_t + i_k, r_h + i_k])
+    rows = np.concatenate([p_rows.T.ravel(), c_rows.T.ravel(), e_rows.T.ravel(), u_rows.T.ravel(), t_rows.T.ravel()])
+    data = np.concatenate([p_data.T.ravel(), c_data.T.ravel(), e_data.T.ravel(), -np.ones(2 * m), -np.ones(2 * k)])
+    counts = np.concatenate([np.full(n, m + 1 + k), np.full(3, m + k + 1), np.full(m, 3), np.full(m, 2), np.full(k, 2)])
+    indptr = np.concatenate([[0], np.cumsum(counts)])
+    return sp.csc_matrix((data, rows, indptr), shape=(r_soc + 3, n + 3 + 2 * m + k))
+
+
 _MASTERS: PerThreadCache[tuple[int, int, int], RestrictedMaster] = PerThreadCache()
 """(n_eq, n_ineq, capacity) -> this thread's compiled master."""
 
 
-def master_for(n_eq: int, n_ineq: int, n_columns: int) -> RestrictedMaster:
-    """This thread's compiled master of the shape with room for ``n_columns`` columns."""
+def compiled_master_for(n_eq: int, n_ineq: int, n_columns: int) -> RestrictedMaster:
+    """This thread's compiled (cvxpy) master of the shape with room for ``n_columns``
+    columns: the reference formulation the direct one is checked against."""
     if n_ineq:  # the sticking masters keep doubling (see CAPACITY_STEP)
         cap = BASE_CAPACITY
         while cap < n_columns:
@@ -125,3 +216,15 @@ def master_for(n_eq: int, n_ineq: int, n_columns: int) -> RestrictedMaster:
     else:
         cap = max(BASE_CAPACITY, -(-n_columns // CAPACITY_STEP) * CAPACITY_STEP)
     return _MASTERS.get((n_eq, n_ineq, cap), lambda: RestrictedMaster(n_eq, n_ineq, cap))
+
+
+def master_for(n_eq: int, n_ineq: int, n_columns: int) -> DirectMaster:
+    """The master column generation solves: Clarabel called directly (:class:`DirectMaster`;
+    it holds no solver state, so threads may share it), except with inequality rows (the
+    sticking locus's friction cone), which keep the compiled formulation: with the direct
+    one the far sticking end of tests/solver/sketch/test_sticking_locus.py moved in its last
+    digits to a witness whose membership in its frictionless locus neither formulation
+    decides."""
+    if n_ineq:
+        return compiled_master_for(n_eq, n_ineq, n_columns)
+    return DirectMaster(n_eq, n_ineq)

@@ -295,10 +295,16 @@ def test_a_loose_residual_tolerance_admits_points_just_beyond_the_tip():
 def test_conic_solver_failure_is_a_solver_error(monkeypatch):
     """A failure of the restricted master's conic solve becomes the project's SolverError."""
 
+    import clarabel
+
     def broken(*args, **kwargs):
         raise cp.error.SolverError("boom")
 
-    monkeypatch.setattr(cp.Problem, "solve", broken)
+    def broken_direct(*args, **kwargs):
+        raise ValueError("boom")
+
+    monkeypatch.setattr(cp.Problem, "solve", broken)  # the compiled master
+    monkeypatch.setattr(clarabel, "DefaultSolver", broken_direct)  # the direct one
     with pytest.raises(SolverError):
         membership(scene_for_mu(0.3), [0.5, 0.5])
 
