@@ -762,7 +762,9 @@ def endpoint_turns(part: Footprint, jobs: Sequence[tuple[int, Fence]], tol: Feed
                    own_rate: OwnRate | None = None) -> list[EndpointTurn]:
     """:func:`endpoint_turn` of each (edge j, fence), every path (an edge and a mu_c) taking
     its Heun steps in lockstep with the others, so that each step's disk loci are solved
-    together (max_slip_rates): the same steps, the same answers as one at a time."""
+    together (max_slip_rates): the same steps as one at a time, the same answers to the last
+    digit or two (the batched root-finding of (3.35) may round differently: B moved by at
+    most 3e-17 rad over 68 maps, tests/models/feeder/test_fence.py)."""
     a = part.circumradius
     least, lost, evaluations, flags, used = [], [], [], [], []
     paths: list[_SlipPath] = []

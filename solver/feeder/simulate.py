@@ -111,7 +111,8 @@ class FeederSimSettings:
     """Named settings of a fence run (lengths relative to the part's radius a).
 
     Attributes:
-        step: push per midpoint step.
+        step: push per step (first order: the twist at the step's start is held for the
+            step, about the COR where it was found; docs/benchmarks.md gives the error).
         contact_tol: a vertex this close to the face (or E to an edge) is in contact.
         min_step: the shortest step event location halves down to.
         max_steps: steps (of any kind) before the run gives up (status "step_limit").
