@@ -274,7 +274,7 @@ def cell_words(mask: int, cells: int) -> np.ndarray:
     return np.frombuffer(mask.to_bytes(8 * n, "little"), dtype="<u8").astype(np.uint64)
 
 
-class _Seen:
+class ReachedSets:
     """The nodes reached on one side, for the dominance test: their margins and cell masks
     as arrays, so the quick necessary conditions are tested on all of them at once and
     the exact arc test only where they hold."""
@@ -289,17 +289,18 @@ class _Seen:
         self.margins = np.empty(64)
         self.words = np.empty((64, -(-cells // 64)), dtype=np.uint64)
 
-    def add(self, node: _Node) -> None:
+    def add(self, fence: int, occupied: frozenset[int], arcs: Arcs, mask: int, margin: float) -> None:
+        """A node reached: its last fence, code set, set of orientations, cell mask, margin."""
         n = len(self.arcs)
         if n == self.margins.size:
             self.margins = np.concatenate([self.margins, np.empty(n)])
             self.words = np.concatenate([self.words, np.empty_like(self.words)])
-        self.margins[n] = node.margin
-        self.words[n] = cell_words(node.mask, self.cells)
-        self.arcs.append(node.arcs)
-        self.masks.append(node.mask)
-        state = (node.fence, node.occupied)
-        if state not in self.by_state or self.margins[self.by_state[state]] < node.margin:
+        self.margins[n] = margin
+        self.words[n] = cell_words(mask, self.cells)
+        self.arcs.append(arcs)
+        self.masks.append(mask)
+        state = (fence, occupied)
+        if state not in self.by_state or self.margins[self.by_state[state]] < margin:
             self.by_state[state] = n
 
     def dominated(self, arcs: Arcs, mask: int, margin: float, slack: float, fence: int = -1,
@@ -349,11 +350,12 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
     nodes = len(frontier)
     pruned = 0
     per_depth = [len(frontier)]
-    seen: dict[float, _Seen] = {}
+    seen: dict[float, ReachedSets] = {}
     sets: dict[tuple[int, frozenset[int]], tuple[Arcs, int]] = {}  # (fence, code set) -> its set and mask
     best_margin: dict[tuple[int, frozenset[int]], float] = {}  # the same state reached before
     for node in frontier:
-        seen.setdefault(graph.side(node.fence) if alternate else 0.0, _Seen(tol.mask_cells)).add(node)
+        seen.setdefault(graph.side(node.fence) if alternate else 0.0, ReachedSets(tol.mask_cells)).add(
+            node.fence, node.occupied, node.arcs, node.mask, node.margin)
     depth = 1
     while True:
         progress.nodes, progress.pruned, progress.per_depth = nodes, pruned, list(per_depth)
@@ -388,13 +390,13 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                     arcs = graph.occupied_set(f, occ)
                     sets[(f, occ)] = (arcs, cell_mask(arcs, tol.mask_cells))
                 arcs, mask = sets[(f, occ)]
-                side = seen.setdefault(key, _Seen(tol.mask_cells))
+                side = seen.setdefault(key, ReachedSets(tol.mask_cells))
                 if not goal and side.dominated(arcs, mask, margin, tol.subset_slack, f, occ):
                     pruned += 1
                     continue
                 best_margin[(f, occ)] = margin
                 child = _Node(f, occ, arcs, margin, node.path + (f,), mask, goal)
-                side.add(child)
+                side.add(f, occ, arcs, mask, margin)
                 nxt.append(child)
                 nodes += 1
         frontier = nxt

@@ -222,15 +222,10 @@ def _locus(scene: PushScene, phi: float, n_points: int) -> tuple[int, PushScene,
     return m_sign, sc, disk_cor_locus(sc, outputs=["tip", "boundary"], n_points=n_points)
 
 
-def _sticking_span(scene: PushScene, phi: float, n_points: int) -> tuple[float, float] | None:
-    """The part of the sticking line inside {COR}_phi where sticking is consistent with
-    that locus's sense: (t_min, t_max) or None."""
-    return _sticking_spans(scene, [phi], n_points)[0]
-
-
-def _sticking_spans(scene: PushScene, phis: Sequence[float], n_points: int) -> list[tuple[float, float] | None]:
-    """:func:`_sticking_span` at each force angle, the loci's boundaries solved at once
-    (models/locus/cor_disk.py, disk_boundaries)."""
+def sticking_spans(scene: PushScene, phis: Sequence[float], n_points: int) -> list[tuple[float, float] | None]:
+    """At each force angle phi, the part of the sticking line inside {COR}_phi where
+    sticking is consistent with that locus's sense: (t_min, t_max) or None; the loci's
+    boundaries solved at once (models/locus/cor_disk.py, disk_boundaries)."""
     turned = [force_scene(scene, float(phi)) for phi in phis]
     bounded = [i for i, (_, m_sign) in enumerate(turned) if m_sign != 0]
     out: list[tuple[float, float] | None] = [None] * len(turned)
@@ -307,7 +302,7 @@ def sticking_locus_sweep(scene: PushScene, mu_c: float, n_points: int = 1024) ->
     refined by golden-section search over phi around the best coarse angle."""
     nu = math.atan(mu_c)
     phis = _sweep_angles(scene, nu)
-    found = _sticking_spans(scene, [float(ph) for ph in phis], n_points)
+    found = sticking_spans(scene, [float(ph) for ph in phis], n_points)
     spans = {i: s for i, s in enumerate(found) if s is not None}
     have = list(spans)
     if not have:
@@ -316,7 +311,7 @@ def sticking_locus_sweep(scene: PushScene, mu_c: float, n_points: int = 1024) ->
 
     def low_and_neg_high(ks: list[int], xs: list[float]) -> list[float]:
         """f_0 = the span's low end, f_1 = minus its high end (big where there is none)."""
-        found = _sticking_spans(scene, xs, n_points)
+        found = sticking_spans(scene, xs, n_points)
         return [big if s is None else (s[0] if k == 0 else -s[1]) for k, s in zip(ks, found)]
 
     def bracket(i: int) -> tuple[float, float]:

@@ -141,7 +141,7 @@ def forward_rows():
     pts, wts = random_balanced_tripods(rng, 20_000, 1.0)
     sc = scene_for_mu(0.3)
     ref = solve_forward_batch(sc, pts, wts, tol=dataclasses.replace(SOLVER_DEFAULT, kkt=1e-14, kkt_accept=1e-13))
-    twist = lambda b: np.column_stack([b.velocity_cm, b.omega])  # noqa: E731
+    twist = lambda b: np.column_stack([b.velocity_cm, b.omega])
     rows = []
     for kkt in (1e-4, 1e-6, 1e-8, 1e-10, 1e-12):
         tol = dataclasses.replace(SOLVER_DEFAULT, kkt=kkt, kkt_accept=10 * kkt)

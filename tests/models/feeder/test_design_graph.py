@@ -146,11 +146,11 @@ def test_steps_to_every_candidate_are_each_step_5_4(name):
 
 
 def test_the_dominance_test_on_arrays_is_the_list_test_5_3_2():
-    """Issue 26: the pruning's dominance test on arrays of margins and cell masks (_Seen)
+    """Issue 26: the pruning's dominance test on arrays of margins and cell masks (ReachedSets)
     answers as the plain scan of every node reached: a node whose set lies within the new
     set at no smaller margin."""
-    from models.feeder.design_graph import _Node, _Seen, cell_mask
     from models.feeder.arcs import Arcs
+    from models.feeder.design_graph import ReachedSets, cell_mask
 
     rng = np.random.default_rng(20261127)
     cells = 1440
@@ -159,17 +159,18 @@ def test_the_dominance_test_on_arrays_is_the_list_test_5_3_2():
         return Arcs.of([(float(rng.uniform(0, 2 * math.pi)), float(rng.uniform(0.01, 1.5)))
                         for _ in range(int(rng.integers(1, 4)))])
 
-    seen, plain = _Seen(cells), []
-    for _ in range(150):  # past the arrays' first capacity (64)
+    seen, plain = ReachedSets(cells), []
+    for i in range(150):  # past the arrays' first capacity (64)
         arcs = random_arcs()
-        node = _Node(0, frozenset(), arcs, float(rng.choice([0.1, 0.2, math.inf])), (0,), cell_mask(arcs, cells), False)
-        seen.add(node)
-        plain.append(node)
+        margin, mask = float(rng.choice([0.1, 0.2, math.inf])), cell_mask(arcs, cells)
+        seen.add(i % 7, frozenset({i % 3}), arcs, mask, margin)
+        plain.append((margin, mask, arcs))
     answers = []
     for _ in range(400):
         arcs = random_arcs()
         mask, margin = cell_mask(arcs, cells), float(rng.choice([0.05, 0.15, 0.3]))
-        want = any(o.margin >= margin and o.mask & ~mask == 0 and o.arcs.issubset(arcs, 1e-12) for o in plain)
-        assert seen.dominated(arcs, mask, margin, 1e-12) == want
+        want = any(m >= margin and k & ~mask == 0 and a.issubset(arcs, 1e-12) for m, k, a in plain)
+        fence, occupied = int(rng.integers(7)), frozenset({0, 1, 2})  # its subsets are looked up first
+        assert seen.dominated(arcs, mask, margin, 1e-12, fence, occupied) == want
         answers.append(want)
     assert 0 < sum(answers) < len(answers)  # both answers were exercised

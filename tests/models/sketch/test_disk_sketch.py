@@ -202,10 +202,10 @@ def test_extreme_cor_without_friction_is_the_tip():
 def test_the_sweep_solved_together_is_the_sweep_one_locus_at_a_time_4_1_4():
     """Issue 26: the sticking sweep (4.1.4) solves the loci of its coarse angles at once and
     runs its two golden searches in lockstep; each span is the span of that locus alone."""
-    from models.sketch.disk_sketch import _sticking_span, _sticking_spans
+    from models.sketch.disk_sketch import sticking_spans
 
     sc = PushScene.create(1.25, [-1.25 * math.sin(1.2217), 1.25 * math.cos(1.2217)], 1.2217, 0.0)
     phis = [float(p) for p in np.linspace(-0.46, 0.46, 37)]
-    together = _sticking_spans(sc, phis, 256)
-    alone = [_sticking_span(sc, p, 256) for p in phis]
+    together = sticking_spans(sc, phis, 256)
+    alone = [sticking_spans(sc, [p], 256)[0] for p in phis]
     assert together == alone and sum(s is not None for s in alone) > 5
