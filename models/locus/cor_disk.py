@@ -372,6 +372,7 @@ def half_boundaries(mus: Sequence[float], n_half: int, tol: Tolerances = DEFAULT
     flat_omega = np.concatenate(omegas) if omegas else np.empty(0)
     flat_mu = np.repeat([p.mu for p in plans], [o.size for o in omegas])
     iterations = 0
+    flat_rho = flat_eta = flat_res = np.empty(0)
     if flat_omega.size:
         flat_rho, flat_eta, iterations = outer_boundary(flat_omega, flat_mu, tol)
         flat_res = outer_boundary_residual(flat_rho, flat_eta, flat_omega, flat_mu)
@@ -379,9 +380,7 @@ def half_boundaries(mus: Sequence[float], n_half: int, tol: Tolerances = DEFAULT
     start = 0
     for plan, omega in zip(plans, omegas):
         stop = start + omega.size
-        out.append(_assemble_half(plan, flat_rho[start:stop] if omega.size else omega,
-                                  flat_eta[start:stop] if omega.size else omega,
-                                  flat_res[start:stop] if omega.size else omega, iterations))
+        out.append(_assemble_half(plan, flat_rho[start:stop], flat_eta[start:stop], flat_res[start:stop], iterations))
         start = stop
     return out
 

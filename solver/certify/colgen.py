@@ -34,7 +34,7 @@ from typing import Protocol
 import numpy as np
 
 from solver.certify.functional import DualFunctional
-from solver.certify.master import MasterSolver, compiled_master_for, master_for
+from solver.certify.master import DirectMaster, MasterSolver, compiled_master_for, master_for
 from solver.certify.outline import ON_BOUNDARY_REL, Pieces, grid
 from solver.certify.pricing import COLUMNS_PER_ROUND, branch_and_bound, golden, local_minima
 from solver.certify.witness import POLISH_BELOW, exact_witness, residual
@@ -253,16 +253,16 @@ def decide(
     (compiled_master_for), whose different last digits decide some borderline and far
     candidates the direct one leaves (a witness or a dual certificate is checked the same
     way whichever solved the master)."""
-    first = _decide(rows, tol, budget, messages, warm_local, certify, master_for)
-    if first.status != "undecided" or budget.expired():
+    first, direct = _decide(rows, tol, budget, messages, warm_local, certify, master_for)
+    if first.status != "undecided" or not direct or budget.expired():
         return first
-    again = _decide(rows, tol, budget, messages, warm_local, certify, compiled_master_for)
+    again, _ = _decide(rows, tol, budget, messages, warm_local, certify, compiled_master_for)
     return again if again.status != "undecided" else first
 
 
 def _decide(rows: Rows, tol: SolverTolerances, budget: Budget, messages: Messages, warm_local: np.ndarray | None,
-            certify: bool, master: Callable[[int, int, int], MasterSolver]) -> Decision:
-    """:func:`decide` with the masters of ``master``."""
+            certify: bool, master: Callable[[int, int, int], MasterSolver]) -> tuple[Decision, bool]:
+    """:func:`decide` with the masters of ``master``, and whether they were direct ones."""
     pieces = rows.pieces
     gp, gt = grid(pieces)
     in_f = rows.in_footprint
@@ -270,6 +270,7 @@ def _decide(rows: Rows, tol: SolverTolerances, budget: Budget, messages: Message
     pts, g, h = _initial_columns(rows, gp, gt, warm_local, min_rho)
     pg, ph = rows.point_mass_columns() if in_f else (None, None)
     n_eq, n_ineq = g.shape[0], h.shape[0]
+    direct = isinstance(master(n_eq, n_ineq, g.shape[1]), DirectMaster)
 
     status, kind, message = "undecided", "none", ""
     weights = np.zeros(g.shape[1])
@@ -351,4 +352,4 @@ def _decide(rows: Rows, tol: SolverTolerances, budget: Budget, messages: Message
         n_columns=int(g.shape[1]),
         bnb_intervals=bnb_total,
         message=message,
-    )
+    ), direct

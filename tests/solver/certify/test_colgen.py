@@ -7,6 +7,8 @@ for the disk, in the locus frame."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -99,3 +101,35 @@ def test_warm_columns_are_taken_and_capped():
                                                                                 np.linspace(0.01, 3.0, 200))[0])
     assert many.n_columns - 4 * (many.iterations - 1) <= n_grid + MAX_WARM_POINTS
     assert many.n_columns >= n_grid + MAX_WARM_POINTS
+
+
+def test_a_query_the_direct_master_leaves_undecided_is_decided_again_on_the_compiled_one(monkeypatch):
+    """Issue 26: decide solves its masters with Clarabel directly; only a query that ends
+    undecided there, with time left, is decided again on the compiled (cvxpy) masters, and
+    the second answer is taken only when it decides. Masters that are compiled anyway (with
+    inequality rows) are not solved twice."""
+    import solver.certify.colgen as colgen
+    from solver.certify.master import compiled_master_for, master_for
+
+    real = decide(_rows(_boundary_pair()[0]), TOL, UNLIMITED, MESSAGES)
+    calls = []
+
+    def fake(answers, direct=True):
+        def run(rows, tol, budget, messages, warm_local, certify, master):
+            calls.append(master)
+            status = answers[len(calls) - 1]
+            return dataclasses.replace(real, status=status, message=status), direct
+        return run
+
+    for answers, direct, budget, want, n_calls in (
+        (["undecided", "outside"], True, UNLIMITED, "outside", 2),
+        (["undecided", "undecided"], True, UNLIMITED, "undecided", 2),
+        (["inside"], True, UNLIMITED, "inside", 1),
+        (["undecided"], False, UNLIMITED, "undecided", 1),  # compiled already: the same answer again
+        (["undecided"], True, checks_budget(0), "undecided", 1),  # no time left
+    ):
+        calls.clear()
+        monkeypatch.setattr(colgen, "_decide", fake(answers, direct))
+        got = decide(_rows(_boundary_pair()[0]), TOL, budget, MESSAGES)
+        assert got.status == want and len(calls) == n_calls
+        assert calls[0] is master_for and all(m is compiled_master_for for m in calls[1:])
