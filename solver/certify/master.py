@@ -1,5 +1,8 @@
 """The restricted master of column generation: one L1-residual LP/SOCP for every certified
-COR problem (cvxpy + Clarabel), compiled once per shape and re-solved with Parameters.
+COR problem, solved by Clarabel, in two formulations: handed over directly in its conic
+form (:class:`DirectMaster`, what :func:`master_for` gives without inequality rows) or
+through cvxpy, compiled once per shape and re-solved with Parameters
+(:class:`RestrictedMaster`, the reference, and the masters with inequality rows).
 
     min  ||e||_1 + sum(t)
     s.t. G P + PG (P0, z) - e = b            (equality rows: weights, centroid, ...)
@@ -15,7 +18,7 @@ the separating functional that pricing minimises over the outline
 
 Compiled problems are kept per thread (:class:`solver.core.threads.PerThreadCache`): no
 cvxpy problem is ever used by two threads at once, and threads never wait for each other's
-solves.
+solves. A direct master keeps nothing between solves.
 """
 
 from __future__ import annotations
@@ -218,7 +221,7 @@ def compiled_master_for(n_eq: int, n_ineq: int, n_columns: int) -> RestrictedMas
     return _MASTERS.get((n_eq, n_ineq, cap), lambda: RestrictedMaster(n_eq, n_ineq, cap))
 
 
-def master_for(n_eq: int, n_ineq: int, n_columns: int) -> DirectMaster:
+def master_for(n_eq: int, n_ineq: int, n_columns: int) -> MasterSolver:
     """The master column generation solves: Clarabel called directly (:class:`DirectMaster`;
     it holds no solver state, so threads may share it), except with inequality rows (the
     sticking locus's friction cone), which keep the compiled formulation: with the direct
