@@ -100,7 +100,7 @@ def test_bench_feeder_placed():
                 nothing.append(best_gate(name, mu))
     lines = [
         f"`tests/benchmarks/test_bench_feeder_placed.py`, seed {SEED}, {platform.python_version()}, one core of a "
-        f"2-core machine (the other busy), {time.perf_counter() - t0:.0f} s in all. Belt {BELT_RADII:g} part radii "
+        f"2-core machine (the other mostly idle), {time.perf_counter() - t0:.0f} s in all. Belt {BELT_RADII:g} part radii "
         "wide (clearance 0.1 a, spacing 2 a, parts entering with the CM anywhere within 0.5 a of a lane beside the "
         "right side), candidates 20°…70° in 5° steps "
         "on both sides, sides free (same-side runs where the width allows), depth up to 8, a fences-only design "
