@@ -182,8 +182,8 @@ class DesignGraph:
         minima of the same numbers), from row g's relations packed side by side."""
         pk = self.packed
         rows = np.array(sorted(occupied), dtype=np.intp)
-        refused = pk.bad[g][rows].any(axis=0)
-        hit = pk.meets[g][rows].any(axis=0)
+        refused = np.asarray(pk.bad[g][rows].any(axis=0))
+        hit = np.asarray(pk.meets[g][rows].any(axis=0))
         if rows.size:
             stop_margin = pk.bad_gap[g][rows].min(axis=0)
             missed_gap = np.where(hit, math.inf, pk.gap[g][rows].min(axis=0))

@@ -375,7 +375,7 @@ def half_boundaries(mus: Sequence[float], n_half: int, tol: Tolerances = DEFAULT
     flat_rho = flat_eta = flat_res = np.empty(0)
     if flat_omega.size:
         flat_rho, flat_eta, iterations = outer_boundary(flat_omega, flat_mu, tol)
-        flat_res = outer_boundary_residual(flat_rho, flat_eta, flat_omega, flat_mu)
+        flat_res = np.asarray(outer_boundary_residual(flat_rho, flat_eta, flat_omega, flat_mu))
     out = []
     start = 0
     for plan, omega in zip(plans, omegas):
