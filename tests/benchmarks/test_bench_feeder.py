@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 import platform
-import statistics
 import time
 
 import numpy as np
@@ -20,8 +19,9 @@ import pytest
 
 from models.feeder.arcs import ccw_distance
 from models.feeder.fence import FINE, FeederTolerances, Fence, fence_map
-from solver.feeder.simulate import FeederSimSettings, simulate_fence, simulate_fence_batch
+from solver.feeder.simulate import simulate_fence, simulate_fence_batch
 from tests.benchmarks._docs import write_section
+from tests.benchmarks._sim_steps import step_cases, step_sweep
 from tests.benchmarks._timing import timed
 from tests.feeder_cases import PARTS, part, random_encounter
 
@@ -127,21 +127,8 @@ def throughput_rows(rng):
 
 def step_rows(rng):
     """The final orientation against the step (reference: step 0.0025 a)."""
-    steps = (0.005, 0.01, 0.02, 0.05)
-    worst = dict.fromkeys(steps, 0.0)
-    solves = {st: [] for st in steps}
-    for name in ("pentagon", "square", "L-shape", "right triangle"):
-        enc = random_encounter(rng, name)
-        for gamma, mu in ((0.7, 0.25), (-0.9, 0.15)):
-            fence = Fence.create(gamma, mu)
-            ref = simulate_fence(enc.part, fence, mu, enc.body, enc.weights, enc.theta,
-                                 settings=FeederSimSettings(step=0.0025)).theta_final
-            for st in steps:
-                run = simulate_fence(enc.part, fence, mu, enc.body, enc.weights, enc.theta,
-                                     settings=FeederSimSettings(step=st))
-                worst[st] = max(worst[st], abs(math.degrees(math.remainder(run.theta_final - ref, 2 * math.pi))))
-                solves[st].append(run.counts.solves)
-    return [f"| {st:g} a | {worst[st]:.3f} | {statistics.mean(solves[st]):.0f} |" for st in steps]
+    sweep = step_sweep(step_cases(rng))
+    return [f"| {st:g} a | {math.degrees(r.worst_error):.3f} | {r.mean_solves:.0f} |" for st, r in sweep.items()]
 
 
 def test_bench_feeder():

@@ -24,12 +24,13 @@ from models.core.support import random_balanced_tripods
 from models.feeder.fence import FINE, FeederTolerances, Fence, fence_map
 from models.push.gross_bounds import encounter_bounds_exact, fence_push_bound_exact
 from solver.core.tolerances import SOLVER_DEFAULT
-from solver.feeder.simulate import FeederSimSettings, simulate_fence
+from solver.feeder.simulate import FeederSimSettings
 from solver.locus.cor_locus import LocusProblem, cor_locus
 from solver.motion.forward import solve_forward_batch
 from solver.sketch.sticking_locus import sticking_locus
 from tests.benchmarks._docs import DOCS, write_section
-from tests.feeder_cases import part, random_encounter
+from tests.benchmarks._sim_steps import step_cases, step_sweep
+from tests.feeder_cases import part
 from tests.scenes import SEED, scene_for_mu
 
 pytestmark = pytest.mark.benchmark
@@ -113,25 +114,8 @@ def map_rows():
 def simulator_rows():
     """Fence runs (6.4-6.6): four parts at gamma = 0.7 and -0.9; the worst error of the
     final orientation (radians) against step 0.0025 a, the time per run."""
-    rng = np.random.default_rng(SEED)
-    runs = []
-    for name in ("pentagon", "square", "L-shape", "right triangle"):
-        enc = random_encounter(rng, name)
-        for gamma, mu in ((0.7, 0.25), (-0.9, 0.15)):
-            fence = Fence.create(gamma, mu)
-            ref = simulate_fence(enc.part, fence, mu, enc.body, enc.weights, enc.theta,
-                                 settings=FeederSimSettings(step=0.0025)).theta_final
-            runs.append((enc, fence, mu, ref))
-    rows = []
-    for step in (0.005, 0.01, 0.02, 0.05):
-        worst, total = 0.0, 0.0
-        for enc, fence, mu, ref in runs:
-            t, run = clock(lambda: simulate_fence(enc.part, fence, mu, enc.body, enc.weights, enc.theta,
-                                                  settings=FeederSimSettings(step=step)))
-            total += t
-            worst = max(worst, abs(math.remainder(run.theta_final - ref, 2 * math.pi)))
-        rows.append((f"step {step:g} a", total / len(runs), worst, step == FeederSimSettings().step))
-    return rows
+    sweep = step_sweep(step_cases(np.random.default_rng(SEED)))
+    return [(f"step {st:g} a", r.mean_time_s, r.worst_error, st == FeederSimSettings().step) for st, r in sweep.items()]
 
 
 def forward_rows():
