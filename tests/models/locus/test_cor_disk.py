@@ -355,6 +355,9 @@ def test_absurd_moment_arm_is_an_input_error_not_an_overflow():
     assert np.all(np.isfinite(loc.boundary)) and loc.tip.on_disk
 
 
+SQRT_HALF_PROBE = 0.7071067811865476  # the outer piece meets the disk from here (outer_corner_omega)
+
+
 def test_boundaries_solved_together_are_each_boundary_3_35():
     """Issue 26: the boundaries of many loci solved at once (boundary_locals: the outer
     pieces (3.35) of every mu in one root-finding) are, point for point, the boundary of
@@ -369,5 +372,3 @@ def test_boundaries_solved_together_are_each_boundary_3_35():
         assert np.array_equal(ring, alone), mu
         assert residual == alone_residual
 
-
-SQRT_HALF_PROBE = 0.7071067811865476  # the outer piece meets the disk from here (outer_corner_omega)
