@@ -85,7 +85,7 @@ class FeederMapRequest(Strict):
         default="disk",
         description="What bounds the turns off each fence's end (5.1): `disk`, the part's circumscribing disk "
                     "(analytic loci: milliseconds per fence); or `part`, the part's own COR loci as well (dipods on "
-                    "its outline and certified rays of its exact locus: tens of seconds per fence, bands a few "
+                    "its outline and certified rays of its exact locus: 4-18 s per fence on one core, bands a few "
                     "degrees narrower; docs/benchmarks.md). Ask for `part` only when the disk's bands are too wide. "
                     "The outline must then be a simple polygon.")
     part_bound: FeederPartBoundIn | None = Field(
