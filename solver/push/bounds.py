@@ -45,13 +45,15 @@ class GrossMethod:
 class SketchCost:
     """Predicted seconds of one exact COR sketch: ``fixed_s + per_point_s * n_points``.
 
-    Measured on one core (docs/api.md): 0.05-0.09 s at 8 points, 0.09-0.14 s at 256,
-    0.2-0.3 s at 1024 and 0.55-0.9 s at 4096 (sketch points and sticking sweep alike); the
-    default is a little above those numbers. A slower machine may take longer: the
-    workflows also stop at their budget's checkpoints."""
+    Measured on one core (2026-11-27, after issue 26 solved the sticking sweep's loci
+    together): 0.031 s at 8 points, 0.046 s at 256, 0.071 s at 1024 and 0.16 s at 4096
+    (sketch points and sticking sweep alike); whole requests 0.036 s a sketch at 256 points
+    and 0.054 s at 1024 (docs/api.md). The default is about 1.5 times those numbers. A
+    slower or busier machine may take longer: the workflows also stop at their budget's
+    checkpoints."""
 
-    fixed_s: float = 0.1
-    per_point_s: float = 2.5e-4
+    fixed_s: float = 0.05
+    per_point_s: float = 4e-5
 
     def sketch_s(self, n_points: int) -> float:
         """Seconds of one sketch of ``n_points`` boundary points."""
@@ -64,15 +66,15 @@ class SketchCost:
 
 
 SKETCH_COST = SketchCost()
-"""The cost model of fence alignment (one core). Measured against it (issue 11, quiet
-2-core machine): the square of the API guide at 8 nodes, 256 points, 1.2 s against 2.0 s
-predicted; at 16 nodes, 1024 points, 5.0 s against 8.5 s; an L shape at 16 nodes 2.8 s
-against 3.9 s."""
+"""The cost model of fence alignment (one core). Measured against it (2026-11-27, quiet
+2-core machine, docs/api.md): the square of the API guide at 8 nodes, 256 points, 0.43 s
+against 0.72 s predicted; at 16 nodes, 1024 points, 1.30 s against 2.18 s; an L shape at
+16 nodes 1.01 s against 1.44 s."""
 
-ENCOUNTER_SKETCH_COST = SketchCost(fixed_s=0.12, per_point_s=3.2e-4)
-"""The cost model of the disk encounter, whose sketches cost more (measured 0.18 s each at
-256 points and 0.26 s at 512, i.e. 0.106 s + 3.0e-4 s per point; this is ~10 % above):
-beta 45 degrees, 16 nodes, 256 points took 4.4 s where SKETCH_COST predicted 3.9 s."""
+ENCOUNTER_SKETCH_COST = SketchCost(fixed_s=0.06, per_point_s=6e-5)
+"""The cost model of the disk encounter, whose sketches cost more (measured 0.050 s each at
+256 points and 0.062 s at 512 in whole requests; this is about 1.5 times that): beta 45
+degrees, 16 nodes, 256 points took 1.19 s against 1.81 s predicted."""
 
 
 def refuse_over_budget(predicted_s: float, budget: Budget) -> None:
