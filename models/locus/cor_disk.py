@@ -584,10 +584,16 @@ def disk_boundaries(scenes: Sequence[PushScene], n_points: int = 256, tol: Toler
     out = []
     for scene, (local, residual, _) in zip(scenes, boundary_locals([s.relative_moment_arm for s in scenes],
                                                                    n_points, tol)):
-        if not residual <= tol.boundary_residual_rel:  # NaN fails too
-            raise BoundaryNotConverged(f"boundary residual {residual:.3g} exceeds {tol.boundary_residual_rel:.3g}")
-        out.append(scene.to_world(local * scene.disk_radius))
+        out.append(_world_boundary(scene, local, residual, tol))
     return out
+
+
+def _world_boundary(scene: PushScene, local: np.ndarray, residual: float, tol: Tolerances) -> np.ndarray:
+    """The locus-frame boundary ``local`` in the world of ``scene``, once its residual is
+    within tolerance (BoundaryNotConverged otherwise)."""
+    if not residual <= tol.boundary_residual_rel:  # NaN fails too
+        raise BoundaryNotConverged(f"boundary residual {residual:.3g} exceeds {tol.boundary_residual_rel:.3g}")
+    return scene.to_world(local * scene.disk_radius)
 
 
 def disk_cor_locus(
@@ -658,11 +664,7 @@ def disk_cor_locus(
     boundary = residual = iterations = None
     if "boundary" in wanted:
         local, residual, iterations = boundary_local(mu, n_points, tol)
-        if not residual <= tol.boundary_residual_rel:  # NaN fails too
-            raise BoundaryNotConverged(
-                f"boundary residual {residual:.3g} exceeds {tol.boundary_residual_rel:.3g}"
-            )
-        boundary = scene.to_world(local * a)
+        boundary = _world_boundary(scene, local, residual, tol)
     return DiskCorLocus(
         kind="bounded", tip=tip, r_min=rmin, curvatures=curv, disk_crossings=crossings,
         boundary=boundary, boundary_residual=residual, boundary_iterations=iterations, **common,
