@@ -71,7 +71,7 @@ from models.core.mpp import mason_sense, perp
 from models.core.scene import PushScene
 from models.feeder.arcs import TWO_PI, Arcs, wrap
 from models.feeder.maps import ConfigurationMap
-from models.locus.cor_disk import disk_boundaries, disk_cor_locus
+from models.locus.cor_disk import disk_boundaries
 from models.sketch.disk_sketch import force_scene
 
 PUSH = np.array([0.0, 1.0])
@@ -378,10 +378,8 @@ def slip_normal(e: np.ndarray) -> np.ndarray:
     return perp(float(PUSH @ e) / float(PUSH @ n) * n - e)
 
 
-def _slip_per_radian(turned: PushScene, c: np.ndarray, e: np.ndarray, n_points: int) -> np.ndarray:
-    """(r - c) . J g over the boundary of the disk locus of the force scene ``turned``
-    (slip_normal) at each extreme COR."""
-    boundary = disk_cor_locus(turned, outputs=["boundary"], n_points=n_points).boundary
+def _slip_per_radian(boundary: np.ndarray, c: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """(r - c) . J g (slip_normal) at each extreme COR r of a disk locus's ``boundary``."""
     return (boundary - c) @ slip_normal(e)
 
 
@@ -417,7 +415,7 @@ def max_slip_rates(a: float, queries: Sequence[tuple[np.ndarray, float, float]],
             out.append((math.nan, ccw))
     boundaries = disk_boundaries([turned for _, turned, _, _ in pending], n_points)
     for (i, _, c, e), boundary in zip(pending, boundaries):
-        out[i] = (max(float(np.max((boundary - c) @ slip_normal(e))), 0.0), out[i][1])
+        out[i] = (max(float(np.max(_slip_per_radian(boundary, c, e))), 0.0), out[i][1])
     return out
 
 
@@ -437,7 +435,8 @@ def face_slip_rate(a: float, c: np.ndarray, fence: Fence, mu: float, n_points: i
     if m_sign == 0:
         return math.inf
     sense = -float(m_sign)  # a positive moment arm turns the part CW (max_slip_rate)
-    return max(float(np.max(sense * fence.sign * _slip_per_radian(turned, c, fence.tangent, n_points))), 0.0)
+    boundary = disk_boundaries([turned], n_points)[0]
+    return max(float(np.max(sense * fence.sign * _slip_per_radian(boundary, c, fence.tangent))), 0.0)
 
 
 def _face_rate_over_mu(part: Footprint, k: int, theta: float, fence: Fence, tol: FeederTolerances) -> float:
@@ -752,6 +751,8 @@ class _SlipPath:
     end: float
     cap: float
     g: float
+    t0: np.ndarray  # the edge's direction before any turn, (cos g, sin g)
+    n0: np.ndarray  # J t0
     own: Callable[[float, float], float] | None
     x: np.ndarray
     ds: float
@@ -766,35 +767,36 @@ def endpoint_turns(part: Footprint, jobs: Sequence[tuple[int, Fence]], tol: Feed
     digit or two (the batched root-finding of (3.35) may round differently: B moved by at
     most 3e-17 rad over 68 maps, tests/models/feeder/test_fence.py)."""
     a = part.circumradius
-    least, lost, evaluations, flags, used = [], [], [], [], []
+    least, most, lost, evaluations, flags, used = [], [], [], [], [], []
     paths: list[_SlipPath] = []
     for k, (j, fence) in enumerate(jobs):
         g = abs(fence.angle)
-        most = 0.5 * math.pi - g
+        t0 = np.array([math.cos(g), math.sin(g)])
         mu_range = fence.sliding_mu()
         if mu_range is None:
             raise InvalidInput("mu_c", "the part jams on this fence for every mu_c given: it never reaches the end")
         mus = tol.mu_values(*mu_range)
-        least.append(most)
+        most.append(0.5 * math.pi - g)
+        least.append(most[k])
         lost.append(False)
         evaluations.append(0)
         flags.append(0)
         used.append(tuple(float(m) for m in mus))
-        cap = most - tol.grazing_margin
+        cap = most[k] - tol.grazing_margin
         for mu in mus:
             u_c, h_c, length, ell0 = canonical_edge(part, j, fence, float(mu))
             own = None if own_rate is None else own_rate(j, float(mu))
             x = np.array([ell0 / a, 0.0])
             end = length / a
             ds = ((end - x[0]) + cap) / tol.endpoint_steps
-            paths.append(_SlipPath(k, float(mu), u_c, h_c, end, cap, g, own, x, ds, 4 * tol.endpoint_steps))
+            paths.append(_SlipPath(k, float(mu), u_c, h_c, end, cap, g, t0, perp(t0), own, x, ds,
+                                   4 * tol.endpoint_steps))
 
     def headings(where: list[tuple[_SlipPath, np.ndarray]]) -> list[np.ndarray]:
         """(dl / a, ddelta)/ds of each path at its contact l = ell_a a and turn delta."""
         queries = []
         for p, (ell_a, delta) in where:
-            t0 = np.array([math.cos(p.g), math.sin(p.g)])
-            c = rotation(delta) @ ((ell_a * a - p.u_c) * t0 - p.h_c * perp(t0))
+            c = rotation(delta) @ ((ell_a * a - p.u_c) * p.t0 - p.h_c * p.n0)
             queries.append((c, p.g + delta, p.mu))
         out = []
         for (p, (ell_a, delta)), (r, ccw) in zip(where, max_slip_rates(a, queries, tol.locus_points)):
@@ -831,9 +833,9 @@ def endpoint_turns(part: Footprint, jobs: Sequence[tuple[int, Fence]], tol: Feed
                 continue
             still.append(p)
         active = still
-    return [EndpointTurn(edge=j, least=least[k], most=0.5 * math.pi - abs(fence.angle), contact_lost=lost[k],
-                         mu_used=used[k], locus_evaluations=evaluations[k], sense_flags=flags[k])
-            for k, (j, fence) in enumerate(jobs)]
+    return [EndpointTurn(edge=j, least=least[k], most=most[k], contact_lost=lost[k], mu_used=used[k],
+                         locus_evaluations=evaluations[k], sense_flags=flags[k])
+            for k, (j, _) in enumerate(jobs)]
 
 
 @dataclass(frozen=True)
