@@ -479,9 +479,11 @@ def _scan_positions(lo: float, hi: float, centre: float, n: int) -> np.ndarray:
     return centre + np.sinh(u)
 
 
-def _scan(search: _LineSearch, probes: np.ndarray) -> tuple[list[float], list[str], bool]:
-    """Probe each position (certified only where the grid leaves it undecided), in order
-    along the line: (positions, statuses, whether the time limit cut the scan)."""
+def _scan(search: _LineSearch, probes: np.ndarray, stop_inside: bool = False
+          ) -> tuple[list[float], list[str], bool]:
+    """Probe each position (certified only where the grid leaves it undecided), in the
+    order given (``stop_inside``: up to the first feasible one): (positions and statuses
+    sorted along the line, whether the time limit cut the scan)."""
     scan_s, scan_st = [], []
     time_limited = False
     for s in probes:
@@ -493,8 +495,23 @@ def _scan(search: _LineSearch, probes: np.ndarray) -> tuple[list[float], list[st
             res = search(float(s), certify=True)
         scan_s.append(_local_position(search.geo, res))
         scan_st.append(res.status)
+        if stop_inside and res.status == "inside":
+            break
     order = np.argsort(scan_s)
     return [scan_s[i] for i in order], [scan_st[i] for i in order], time_limited
+
+
+def _scan_line(search: _LineSearch, probes: np.ndarray, ends: str) -> tuple[list[float], list[str], bool, bool]:
+    """The scan of :func:`sticking_locus` (step 3): every probe, or for ``ends="lowest"``
+    those below the contact up to the first feasible one, then the rest only if none was.
+    (positions, statuses, time-limited, whether only the lowest end is to be found)."""
+    if ends != "lowest":
+        return (*_scan(search, probes), False)
+    scan_s, scan_st, time_limited = _scan(search, probes[probes < 0.0], stop_inside=True)
+    if "inside" in scan_st or time_limited:
+        return scan_s, scan_st, time_limited, True
+    more_s, more_st, time_limited = _scan(search, probes[probes > 0.0])
+    return scan_s + more_s, scan_st + more_st, time_limited, False
 
 
 def _inside_runs(marks: list[tuple[float, str]]) -> list[tuple[int, int]]:
@@ -513,6 +530,25 @@ def _inside_runs(marks: list[tuple[float, str]]) -> list[tuple[int, int]]:
     return runs
 
 
+def _mark_beyond(marks: list[tuple[float, str]], k: int, limit: float, capped: bool) -> tuple[str, float]:
+    """(kind, position) of the outside point beyond a run of inside marks: mark ``k``
+    ("contact" or a "probe"), or when the run reaches the scan's end the search range's
+    end ``limit`` (a hard "limit" when ``capped``)."""
+    if 0 <= k < len(marks):
+        return ("contact" if marks[k][1] == "contact" else "probe"), marks[k][0]
+    return ("limit" if capped else "probe"), limit
+
+
+def _lowest_end(search: _LineSearch, marks: list[tuple[float, str]], limit: float, capped: bool) -> LocusEnd | None:
+    """The lower end of the lowest run of inside marks (:func:`_bracket_end`), None when
+    there is none."""
+    runs = _inside_runs(marks)
+    if not runs:
+        return None
+    kind, s_out = _mark_beyond(marks, runs[0][0] - 1, limit, capped)
+    return _bracket_end(search, "lower", marks[runs[0][0]][0], s_out, kind)
+
+
 def _intervals(search: _LineSearch, marks: list[tuple[float, str]], limits: tuple[float, float],
                capped: bool) -> list[StickingInterval]:
     """Each run of inside marks bracketed at both ends (:func:`_bracket_end`) against the
@@ -521,18 +557,8 @@ def _intervals(search: _LineSearch, marks: list[tuple[float, str]], limits: tupl
     ell = search.geo.length
     intervals: list[StickingInterval] = []
     for i, j in _inside_runs(marks):
-        if i > 0:
-            below = marks[i - 1]
-            kind_lo = "contact" if below[1] == "contact" else "probe"
-            s_out_lo = below[0]
-        else:
-            kind_lo, s_out_lo = ("limit", limits[0]) if capped else ("probe", limits[0])
-        if j + 1 < len(marks):
-            above = marks[j + 1]
-            kind_hi = "contact" if above[1] == "contact" else "probe"
-            s_out_hi = above[0]
-        else:
-            kind_hi, s_out_hi = ("limit", limits[1]) if capped else ("probe", limits[1])
+        kind_lo, s_out_lo = _mark_beyond(marks, i - 1, limits[0], capped)
+        kind_hi, s_out_hi = _mark_beyond(marks, j + 1, limits[1], capped)
         if intervals and intervals[-1].upper.feasible_position is not None and (
             intervals[-1].upper.feasible_position >= marks[i][0] * ell
         ):
@@ -556,6 +582,7 @@ def sticking_locus(
     scan_points: int = SCAN_POINTS,
     seed_tripods: int = SEED_TRIPODS,
     seed: int = 0,
+    ends: str = "all",
 ) -> StickingLocus:
     """The sticking locus along the sticking line (book 4.1.4), each end bracketed to
     tol.boundary_bracket * L by a (feasible, infeasible) pair of queries.
@@ -569,7 +596,14 @@ def sticking_locus(
     4. Each interval end is narrowed by bisection with uncertified probes and certified at
        both ends of its final bracket (:func:`_bracket_end`).
     5. The tip line's crossing (3.3.11.1) and its error against the exact end on its side.
+
+    ``ends="lowest"``: the lowest end only (what r*(beta) of 4.5.3 needs), see
+    :func:`_scan_line`; it is bracketed from the same pair of probes as with "all";
+    ``intervals`` is then empty, ``upper`` None, ``multiple_intervals`` False (not looked
+    for) and the message says so; with nothing feasible below the contact, as "all".
     """
+    if ends not in ("all", "lowest"):
+        raise InvalidInput("ends", 'must be "all" or "lowest"')
     t0 = time.perf_counter()
     geo = sticking_geometry(scene, footprint, mu_c, tol)
     mu = geo.mu_c
@@ -584,10 +618,10 @@ def sticking_locus(
         and float(np.min(geo.cone @ np.array([1.0, 0.0]))) >= 0.0
     )
 
-    def finish(status, intervals, scan_s, scan_st, seeds, message, time_limited):
+    def finish(status, intervals, scan_s, scan_st, seeds, message, time_limited, lowest=None):
         if translation:
             message += "; a pure translation along the push sticks (COR at infinity on the line)"
-        lower = intervals[0].lower if intervals else None
+        lower = intervals[0].lower if intervals else lowest
         upper = intervals[-1].upper if intervals else None
         tip = _tip_estimate(s_tip, tip_point, intervals)
         complete = status in ("found", "empty") and not time_limited
@@ -614,9 +648,16 @@ def sticking_locus(
     lo_p, hi_p = (lo, hi) if capped else (lo - margin, hi + margin)
     centre = float(np.clip(-geo.c[1], lo, hi))
     probes = np.concatenate([_scan_positions(lo_p, hi_p, centre, scan_points), seeds])
-    scan_s, scan_st, time_limited = _scan(search, np.unique(probes[probes != 0.0]))
+    scan_s, scan_st, time_limited, lowest_only = _scan_line(search, np.unique(probes[probes != 0.0]), ends)
     # runs of "inside" separated by outside/undecided probes and by the contact point
     marks = sorted([*zip(scan_s, scan_st), (0.0, "contact")], key=lambda m: m[0])
+    if lowest_only:
+        end = _lowest_end(search, marks, lo_p, capped)
+        time_limited = time_limited or search.expired()
+        status = "incomplete" if time_limited or end is None or end.status == "undecided" else "found"
+        msg = (f"the lowest end only: the scan stopped at the first feasible probe below the contact "
+               f"(upper ends not computed); {scan_st.count('undecided')} undecided scan probe(s)")
+        return finish(status, [], scan_s, scan_st, seeds, msg, time_limited, lowest=end)
     intervals = _intervals(search, marks, (lo_p, hi_p), capped)
     incomplete = time_limited
     for iv in intervals:

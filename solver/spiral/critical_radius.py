@@ -159,7 +159,7 @@ def critical_radius(a: float, beta: float, mu_c: float, method: str = "exact", t
         r = -float(st.t_low)
         return CriticalRadius(a, beta, mu, method, r, None, None, None, False, "approximate", d, tip, r > kink_at, dt,
                               f"force-angle sweep (4.1.4) with {int(sweep_points)}-point loci; not certified")
-    loc = sticking_locus(scene, mu, tol=tol, budget=budget, seed=seed)
+    loc = sticking_locus(scene, mu, tol=tol, budget=budget, seed=seed, ends="lowest")
     retries = []
     for n_scan in EMPTY_RETRY_SCAN:
         if loc.status != "empty" or loc.search_range[0] > loc.search_range[1]:  # empty range: sound
@@ -167,7 +167,7 @@ def critical_radius(a: float, beta: float, mu_c: float, method: str = "exact", t
         if budget.expired():
             break
         retries.append(n_scan)
-        loc = sticking_locus(scene, mu, tol=tol, budget=budget, seed=seed, scan_points=n_scan)
+        loc = sticking_locus(scene, mu, tol=tol, budget=budget, seed=seed, scan_points=n_scan, ends="lowest")
     dt = time.perf_counter() - t0
     end = loc.lower
     if end is None or end.position >= 0.0:

@@ -965,7 +965,7 @@ def worst_case_support(a: float, beta: float, mu_c: float, tol: SolverTolerances
     from models.push.gross_bounds import encounter_scene
 
     scene = encounter_scene(a, beta)
-    end = sticking_locus(scene, mu_c, tol=tol).lower
+    end = sticking_locus(scene, mu_c, tol=tol, ends="lowest").lower
     if end is None or end.feasible is None:
         raise SolverError(f"no certified lower end of the sticking locus at beta = {beta:g}")
     wit = end.feasible

@@ -409,3 +409,46 @@ def test_book_6_3_ends_are_certified_whatever_the_seed(seed):
         assert end.status == "bracketed" and end.certified
         check_witness(sc, end.feasible, 0.5)
     assert -5.53 < loc.lower.point[1] / a < -5.52
+
+
+# --- the lowest end alone (what r*(beta) of 4.5.3 needs) -----------------------------------
+
+
+@pytest.mark.parametrize("name", ["6.3", "u_shape"])
+def test_the_lowest_end_alone_is_the_whole_locus_lower_end(name):
+    """ends="lowest" (4.5.3 uses only the lower end): the scan stops at the first feasible
+    probe below the contact and only that run's lower end is bracketed, from the same pair
+    of probes as the whole locus, so the certified end is the same to the last digit, in
+    a fraction of the queries. The U shape has two intervals below the contact: the lowest
+    one's end is found."""
+    if name == "6.3":
+        a, al = 1.25, math.radians(70)
+        sc, mu_c, fp = PushScene.create(a, [-a * math.sin(al), a * math.cos(al)], al, 0.0), 0.5, None
+    else:
+        (sc, mu_c), fp = u_scene(), U_SHAPE
+    whole = sticking_locus(sc, mu_c, footprint=fp, seed=SEED)
+    low = sticking_locus(sc, mu_c, footprint=fp, seed=SEED, ends="lowest")
+    assert whole.lower.position < 0.0
+    assert low.status == "found" and low.complete and low.intervals == () and low.upper is None
+    assert "lowest end only" in low.message
+    end = low.lower
+    assert end.status == "bracketed" and end.certified
+    assert end.feasible_position == whole.lower.feasible_position
+    assert end.infeasible_position == whole.lower.infeasible_position
+    check_witness(sc, end.feasible, mu_c)
+    assert low.n_queries < 0.5 * whole.n_queries
+
+
+def test_the_lowest_end_above_the_contact_falls_back_to_the_whole_locus():
+    """The book's 6.3 scene mirrored: the locus lies above the contact (s > 0), no probe
+    below it is feasible, and ends="lowest" scans the rest of the line and returns the whole
+    locus, as ends="all" does."""
+    a, al = 1.25, math.radians(70)
+    sc = PushScene.create(a, [-a * math.sin(al), -a * math.cos(al)], -al, 0.0)
+    whole = sticking_locus(sc, 0.5, seed=SEED)
+    low = sticking_locus(sc, 0.5, seed=SEED, ends="lowest")
+    assert whole.lower.position > 0.0 and len(low.intervals) == len(whole.intervals) == 1
+    assert low.lower.position == whole.lower.position and low.upper.position == whole.upper.position
+    assert low.n_queries == whole.n_queries
+    with pytest.raises(InvalidInput, match="ends"):
+        sticking_locus(sc, 0.5, ends="upper")
