@@ -21,13 +21,18 @@ import pytest
 from models.core.footprint import Footprint
 from models.core.scene import PushScene
 from models.core.support import random_balanced_tripods
-from models.feeder.fence import FINE, FeederTolerances, Fence, fence_map
+from models.feeder.fence import DESIGN, FINE, FeederTolerances, Fence, fence_map
 from models.push.gross_bounds import encounter_bounds_exact, fence_push_bound_exact
 from solver.core.tolerances import SOLVER_DEFAULT
+from solver.feeder.design import FeederDesignProblem, feeder_design
+from solver.feeder.part_bound import PART_DEFAULT, PART_FINE, PartBoundSettings, PartLoci
 from solver.feeder.simulate import FeederSimSettings
 from solver.locus.cor_locus import LocusProblem, cor_locus
 from solver.motion.forward import solve_forward_batch
+from solver.sketch.certified_sketch import certified_sketch
 from solver.sketch.sticking_locus import sticking_locus
+from solver.spiral.critical_radius import SWEEP_POINTS, critical_radius_table
+from solver.spiral.plan import SpiralProblem, plan_spiral
 from tests.benchmarks._docs import DOCS, write_section
 from tests.benchmarks._sim_steps import step_cases, step_sweep
 from tests.feeder_cases import part
@@ -136,6 +141,112 @@ def forward_rows():
     return rows
 
 
+def part_bound_rows():
+    """One fence's map bounded by the part's own loci (5.1, 7.5), the pentagon at +40 deg,
+    mu_c 0.25: the largest |B - B_PART_FINE| over the bands (radians) for the disk bound, a
+    cheap search and the default one (the dipods alone are not a bound and are left out)."""
+    pent = part("pentagon")
+    fence = Fence.create(math.radians(40.0), 0.25)
+    ref = fence_map(pent, fence, own_rate=PartLoci(pent, fence, PART_FINE).rate_for)
+    cheap = PartBoundSettings(contacts=5, turns=1, refine_levels=0, max_rays_per_aim=2)
+    rows = []
+    for label, settings in (("disk", None), ("climbs of 2 rays", cheap), ("climbs of <= 8 rays", PART_DEFAULT)):
+        if settings is None:
+            t, got = clock(lambda: fence_map(pent, fence))
+        else:
+            t, got = clock(lambda: fence_map(pent, fence, own_rate=PartLoci(pent, fence, settings).rate_for))
+        err = max(abs(g.least - r.least) for g, r in zip(got.turns, ref.turns))
+        rows.append((label, t, err, settings is PART_DEFAULT))
+    return rows
+
+
+def design_rows():
+    """Design at 1 deg candidates (5.3-5.4), the pentagon, mu_c 0.25, no belt, by the maps'
+    endpoint steps: the largest |B - B_FINE| over the maps of the design's fences (radians);
+    the label says how many fences the design has."""
+    rows = []
+    for steps in (4, 8, 16, 32):
+        tol = dataclasses.replace(DESIGN, endpoint_steps=steps)
+        problem = FeederDesignProblem(part("pentagon"), 0.349, 1.222, math.radians(1.0), (0.25, 0.25),
+                                      alternate=False, tol=tol)
+        t, res = clock(lambda: feeder_design(problem))
+        err = 0.0
+        for i in sorted(set(res.design.fences)):  # candidate indices
+            fine = fence_map(problem.part, res.maps[i].fence, FINE)
+            err = max(err, max(abs(g.least - r.least) for g, r in zip(res.maps[i].turns, fine.turns)))
+        rows.append((f"endpoint_steps {steps}, {len(res.design.fences)} fences", t, err,
+                     steps == DESIGN.endpoint_steps))
+    return rows
+
+
+def certified_sketch_rows():
+    """Certified sketch (4.1 on exact loci) of the documented rectangle, 16 rays: half the
+    widest final bracket of its traces and sticking ends, / L."""
+    fp = Footprint.create([[-1.5, -0.4], [1.5, -0.4], [1.5, 0.4], [-1.5, 0.4]])
+    scene = PushScene.create(fp.circumradius, [-1.5, 0.18766172], math.pi / 2, -0.4635935760943159)
+    rows = []
+    for bracket in BRACKETS:
+        tol = dataclasses.replace(SOLVER_DEFAULT, boundary_bracket=bracket)
+        t, sk = clock(lambda: certified_sketch(scene, 0.3, footprint=fp, n_rays=16, tol=tol))
+        widths = [tr.width for tr in (sk.plus_trace, sk.minus_trace) if tr is not None]
+        if sk.sticking is not None:
+            widths += [e.width for e in (sk.sticking.lower, sk.sticking.upper) if e is not None]
+        rows.append((f"boundary_bracket {bracket:g}", t, 0.5 * max(widths) / fp.circumradius,
+                     bracket == SOLVER_DEFAULT.boundary_bracket))
+    return rows
+
+
+def rstar_rows():
+    """r*(beta) table (4.5.3), exact, a = 1, mu_c 0.25, radii up to 100 a, cold: the widest
+    certified bracket / a."""
+    rows = []
+    for bracket in BRACKETS:
+        tol = dataclasses.replace(SOLVER_DEFAULT, boundary_bracket=bracket)
+        t, tab = clock(lambda: critical_radius_table(1.0, 0.25, "exact", tol=tol))
+        rows.append((f"boundary_bracket {bracket:g}", t, float(np.nanmax(tab.widths)),
+                     bracket == SOLVER_DEFAULT.boundary_bracket))
+    return rows
+
+
+def schedule_rows():
+    """The documented spiral schedule (4.5), a = 1, mu_c 0.25, from 20 a to 3 a, cold, on
+    r* by the force-angle sweep: the largest |r*_sweep - r*_exact| / a over the table's
+    collision parameters (the exact table is the reference)."""
+    exact = critical_radius_table(1.0, 0.25, "exact")
+    ref = dict(zip(exact.betas, exact.radii))
+    rows = []
+    for pts in (128, 256, SWEEP_POINTS, 2 * SWEEP_POINTS):
+        problem = SpiralProblem(1.0, 0.25, 20.0, 3.0, sweep_points=pts, cached=False)
+        t, plan = clock(lambda: plan_spiral(problem))
+        tab = critical_radius_table(1.0, 0.25, "sweep", betas=exact.betas, sweep_points=pts)
+        err = float(np.nanmax(np.abs(tab.radii - np.array([ref[b] for b in tab.betas]))))
+        rows.append((f"{pts} points per locus", t, err, pts == SWEEP_POINTS))
+    return rows
+
+
+def tripod_http_rows():
+    """Tripod statistics over HTTP (3.3.3, figure 3-5), the documented disk scene, mu_c 0.5:
+    the standard error of the sticking fraction, sqrt(p (1 - p) / n), against the request's
+    time (the in-process client, solver in the web process)."""
+    from fastapi.testclient import TestClient
+
+    from service.app import create_app
+    from service.settings import Settings
+
+    rows = []
+    with TestClient(create_app(Settings(solver_workers=0, store_path=""))) as client:
+        client.get("/healthz")
+        for n in (1_000, 3_000, 10_000, 30_000, 100_000):
+            body = {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": math.pi / 2, "n_tripods": n,
+                    "seed": 7, "mu_c": 0.5, "include_cors": False}
+            t, r = clock(lambda: client.post("/v1/cor/tripod-statistics", json=body))
+            js = r.json()
+            assert r.status_code == 200, js
+            p = js["mode_counts"].get("sticking", 0) / n
+            rows.append((f"{n:,} tripods", t, math.sqrt(max(p * (1.0 - p), 1e-12) / n), False))
+    return rows
+
+
 PATHS = {
     "certified_locus": ("Certified polygon locus, 16 rays (7.5)", "time (s)", "certified error bound / a",
                         certified_locus_rows),
@@ -146,6 +257,17 @@ PATHS = {
     "simulator": ("Fence simulator (6.4-6.6)", "time per run (s)", "worst final orientation error (rad)",
                   simulator_rows),
     "forward": ("Forward solves, tripods (3.3.3)", "time per tripod (s)", "largest twist error", forward_rows),
+    "part_bound": ("Fence map, the part's own bound (5.1, 7.5)", "time per map (s)",
+                   "largest |B - B_PART_FINE| (rad)", part_bound_rows),
+    "design": ("Design at 1 deg candidates (5.3-5.4)", "time (s)", "largest |B - B_FINE| of its fences (rad)",
+               design_rows),
+    "certified_sketch": ("Certified sketch of a polygon (4.1)", "time (s)", "certified error bound / L",
+                         certified_sketch_rows),
+    "rstar": ("r* table, exact, 100 a, cold (4.5.3)", "time (s)", "widest certified bracket / a", rstar_rows),
+    "schedule": ("Spiral schedule, cold, sweep table (4.5)", "time (s)", "largest |r*_sweep - r*_exact| / a",
+                 schedule_rows),
+    "tripods_http": ("Tripod statistics over HTTP, mu_c 0.5 (3.3.3)", "time per request (s)",
+                     "standard error of the sticking fraction", tripod_http_rows),
 }
 
 
