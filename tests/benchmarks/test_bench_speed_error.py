@@ -320,4 +320,19 @@ def test_bench_speed_error():
             lines.append(f"| {title} | {label}{' (default)' if default else ''} | {t:.3g} s | {err:.2g} | "
                          f"[svg](img/{out.name}) |")
         assert all(math.isfinite(r[1]) and r[2] >= 0.0 for r in rows)
+    lines += ["", *NOTES]
     write_section("Speed against error per path (issue 26)", lines)
+
+
+NOTES = [
+    "Reading the plots:",
+    "- the r* table at bracket 1e-8 ends wider than at 1e-6: far from the disk (r* up to 111 a) the "
+    "outside end cannot be certified that close and is moved out (status \"wide\", "
+    "solver/sketch/sticking_locus.py), so a bracket below 1e-6 costs time and gains nothing;",
+    "- the part's own bound: the error is |B - B_PART_FINE| over the bands, on either side; both "
+    "searches err on the safe side only, the default by more (a wider band, see \"The part's own bound "
+    "against the disk\" above), the disk bound by up to 0.13 rad;",
+    "- the design: the same six fences at every setting; the error is that of its fences' maps;",
+    "- tripod statistics: the error is statistical (the standard error of the sticking fraction), "
+    "halving it costs four times the tripods; the time is the whole request, solver and JSON.",
+]
