@@ -7,6 +7,7 @@ them are public too, for tests, benchmarks and library users. docs/architecture.
 describes the folders.
 """
 
+from solver.core.backends import BACKENDS, close_ledger, open_ledger
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import BackendNotFound, Infeasible, NotConverged, SolverError, TimeLimitReached
 from solver.core.outcome import Outcome
@@ -89,6 +90,9 @@ ENTRY_POINTS = (
 """The workflows the service calls: each ``(problem, budget) -> Outcome``."""
 
 __all__ = [
+    "BACKENDS",
+    "close_ledger",
+    "open_ledger",
     "BeltSpec",
     "angle_count",
     "DEFAULT_FENCE_LENGTH_RADII",

@@ -30,6 +30,7 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
+from solver.core.backends import in_backend
 from solver.core.errors import NotConverged
 from solver.core.threads import PerThreadCache, ignore_inaccurate_solution_warning
 from solver.core.tolerances import SolverTolerances
@@ -106,10 +107,11 @@ class RestrictedMaster:
             # can flip a borderline decision). It costs about 10 % per query; turning the
             # equilibration off instead is as fast and reproducible but leaves some far and
             # borderline candidates undecided.
-            self.problem.solve(
-                solver=cp.CLARABEL, warm_start=False,
-                tol_gap_abs=tol.conic_gap, tol_gap_rel=tol.conic_gap, tol_feas=tol.conic_gap,
-            )
+            with in_backend("clarabel"):
+                self.problem.solve(
+                    solver=cp.CLARABEL, warm_start=False,
+                    tol_gap_abs=tol.conic_gap, tol_gap_rel=tol.conic_gap, tol_feas=tol.conic_gap,
+                )
         except cp.error.SolverError as exc:
             raise NotConverged(f"Clarabel failed on the restricted master: {exc}") from exc
         if self.problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or self.p.value is None:
@@ -165,7 +167,8 @@ class DirectMaster:
         settings.verbose = False
         settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = tol.conic_gap
         try:
-            solution = clarabel.DefaultSolver(sp.csc_matrix((n_x, n_x)), q, a, rhs, cones, settings).solve()
+            with in_backend("clarabel"):
+                solution = clarabel.DefaultSolver(sp.csc_matrix((n_x, n_x)), q, a, rhs, cones, settings).solve()
         except Exception as exc:  # Clarabel's own errors (bad data, a panic) have no common base
             raise NotConverged(f"Clarabel failed on the restricted master: {exc}") from exc
         status = str(solution.status)

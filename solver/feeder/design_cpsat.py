@@ -24,6 +24,7 @@ import time
 from dataclasses import dataclass
 
 from models.feeder.design_graph import DesignGraph
+from solver.core.backends import in_backend
 from solver.core.budget import UNLIMITED, Budget
 
 MIN_TIME_LIMIT_S = 1e-3
@@ -93,7 +94,8 @@ def _solve_depth(graph: DesignGraph, depth: int, alternate: bool, time_limit_s: 
     solver.parameters.num_workers = CP_SAT_WORKERS
     if time_limit_s is not None:
         solver.parameters.max_time_in_seconds = max(float(time_limit_s), MIN_TIME_LIMIT_S)
-    status = solver.solve(model)
+    with in_backend("ortools"):
+        status = solver.solve(model)
     name = solver.status_name(status)
     fences = None
     if status in (cp_model.OPTIMAL, cp_model.FEASIBLE):

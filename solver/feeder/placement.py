@@ -26,6 +26,7 @@ import numpy as np
 
 from models.feeder.layout import PlacedFence, reach_from
 from models.feeder.placed import Belt
+from solver.core.backends import in_backend
 from solver.core.errors import NotConverged
 
 DUAL_ACTIVE = 1e-7
@@ -62,7 +63,8 @@ def place(belt: Belt, angles: list[float], reaches: list[float], gate: bool = Fa
         reach.append(sides[i] * x[i] <= sides[i] * prev - need)
     prob = cp.Problem(cp.Minimize(tans @ (half - cp.multiply(sides, x))), width + reach)
     try:
-        prob.solve(solver=cp.CLARABEL)
+        with in_backend("clarabel"):
+            prob.solve(solver=cp.CLARABEL)
     except cp.error.SolverError as exc:
         raise NotConverged(f"Clarabel failed on the belt's placement: {exc}") from exc
     if prob.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or x.value is None:

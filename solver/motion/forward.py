@@ -38,6 +38,7 @@ from models.core.errors import InvalidInput
 from models.core.mpp import perp
 from models.core.scene import PushScene
 from models.core.support import Support
+from solver.core.backends import in_backend
 from solver.core.errors import BackendNotFound, NotConverged
 from solver.core.threads import PerThreadCache, ignore_inaccurate_solution_warning
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
@@ -281,14 +282,15 @@ class _CvxpyBackend(_Backend):
                 ignore_inaccurate_solution_warning()
                 # warm_start=False: a fresh Clarabel solve, so that the answer does not
                 # depend on the problems this thread solved before
-                prob.solve(
-                    solver=cp.CLARABEL,
-                    warm_start=False,
-                    tol_gap_abs=tol.conic_gap,
-                    tol_gap_rel=tol.conic_gap,
-                    tol_feas=tol.conic_gap,
-                    tol_ktratio=tol.conic_ktratio,
-                )
+                with in_backend("clarabel"):
+                    prob.solve(
+                        solver=cp.CLARABEL,
+                        warm_start=False,
+                        tol_gap_abs=tol.conic_gap,
+                        tol_gap_rel=tol.conic_gap,
+                        tol_feas=tol.conic_gap,
+                        tol_ktratio=tol.conic_ktratio,
+                    )
             except cp.error.SolverError as exc:
                 raise NotConverged(f"Clarabel failed on the minimum-power problem: {exc}") from exc
             if prob.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
@@ -353,7 +355,8 @@ class _CasadiBackend(_Backend):
         for i in range(b):
             par = np.concatenate([perp(w[i]).T.reshape(-1, order="F"), p[i], m[i].reshape(-1, order="F"), q[i]])
             try:
-                res = solver(x0=np.zeros(2 * k + rows), p=par, lbg=lbg, ubg=ubg)
+                with in_backend("casadi"):
+                    res = solver(x0=np.zeros(2 * k + rows), p=par, lbg=lbg, ubg=ubg)
             except RuntimeError as exc:
                 raise NotConverged(f"IPOPT failed on the dual minimum-power problem: {exc}") from exc
             stats = solver.stats()

@@ -61,6 +61,7 @@ from models.core.errors import InvalidInput, ModelError
 from models.core.footprint import Footprint, triangle_areas, triangulate
 from models.core.scene import PushScene
 from models.core.support import Support
+from solver.core.backends import in_backend
 from solver.core.budget import Budget
 from solver.core.errors import NotConverged, SolverError
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
@@ -379,7 +380,8 @@ def _run_start(scene: PushScene, nlp, bounds: tuple, start: tuple, tris: np.ndar
     triangles = tris[tri_idx].reshape(-1) if tris is not None else np.zeros(18)
     par = np.concatenate([[mu, d_loc[0], d_loc[1], support_margin], triangles])
     try:
-        out = nlp(x0=np.concatenate([q0, p0, r0]), p=par, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
+        with in_backend("casadi"):
+            out = nlp(x0=np.concatenate([q0, p0, r0]), p=par, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
         stats = nlp.stats()
     except RuntimeError as exc:
         raise NotConverged(f"IPOPT failed on the tripod NLP: {exc}") from exc

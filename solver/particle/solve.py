@@ -25,6 +25,7 @@ import casadi as ca
 
 from models.core.errors import InvalidInput
 from models.particle import balance as mp
+from solver.core.backends import in_backend
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import NotConverged, SolverError
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
@@ -109,7 +110,8 @@ def minimise_power(scene: mp.ParticleScene, tol: SolverTolerances = SOLVER_DEFAU
     except RuntimeError as exc:
         raise SolverError(f"CasADi could not build the particle power (2.30): {exc}") from exc
     try:
-        out = nlp(x0=1.0)  # tau = 1: the a-priori scale, not the answer
+        with in_backend("casadi"):
+            out = nlp(x0=1.0)  # tau = 1: the a-priori scale, not the answer
         stats = nlp.stats()
     except RuntimeError as exc:
         raise NotConverged(f"IPOPT failed on the particle power (2.30): {exc}") from exc

@@ -26,6 +26,7 @@ from models.spiral.graph import (
     shortest_path_potentials,
 )
 from models.spiral.path import SpiralRecursion, fastest_spiral, spiral_path_length
+from solver.core.backends import in_backend
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import SolverError
 from solver.spiral.critical_radius import envelope_of
@@ -133,7 +134,8 @@ def _solve_min_cost_flow(graph, costs):
     arcs = mcf.add_arcs_with_capacity_and_unit_cost(graph.tails, graph.heads, np.ones(graph.n_arcs, dtype=np.int64),
                                                     costs)
     mcf.set_nodes_supplies(np.array([n - 1, 0]), np.array([1, -1]))
-    status = mcf.solve()
+    with in_backend("ortools"):
+        status = mcf.solve()
     names = {mcf.OPTIMAL: "OPTIMAL", mcf.FEASIBLE: "FEASIBLE", mcf.INFEASIBLE: "INFEASIBLE",
              mcf.UNBALANCED: "UNBALANCED", mcf.NOT_SOLVED: "NOT_SOLVED", mcf.BAD_RESULT: "BAD_RESULT",
              mcf.BAD_COST_RANGE: "BAD_COST_RANGE", mcf.BAD_CAPACITY_RANGE: "BAD_CAPACITY_RANGE"}
@@ -167,7 +169,8 @@ def _solve_cp_sat(graph, costs, hint_arcs, time_limit_s):
     if time_limit_s is not None:
         solver.parameters.max_time_in_seconds = max(float(time_limit_s), 1e-3)
     solver.parameters.num_workers = 1
-    status = solver.solve(model)
+    with in_backend("ortools"):
+        status = solver.solve(model)
     name = solver.status_name(status)
     if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
         return name, None, status == cp_model.UNKNOWN
