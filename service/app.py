@@ -3,17 +3,22 @@
 from __future__ import annotations
 
 import importlib
-import logging
+import os
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
 from fastapi import FastAPI
+from fastapi.middleware.cors import CORSMiddleware
 from fastapi_offline import FastAPIOffline
 
 from service import __version__, errors
 from service.api import ROUTE_MODULES
+from service.runtime import logs
+from service.runtime.access import Access, ApiKeys, KeyRates
+from service.runtime.context import RequestContext
 from service.runtime.intake import Intake
 from service.runtime.jobs import Runner
+from service.runtime.slots import SLOT_DIR_ENV
 from service.settings import Settings
 
 DESCRIPTION = """\
@@ -29,6 +34,7 @@ rendering.
 OPERATION_ORDER = (
     "healthz",
     "readyz",
+    "metrics",
     "cor_locus",
     "cor_solve",
     "cor_membership",
@@ -79,8 +85,11 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     """The app; ``settings`` from the environment when None. Its runner (admission gates
     and solver workers, :mod:`service.runtime`) is made here and closed at shutdown."""
     settings = Settings.from_env() if settings is None else settings
-    logging.getLogger("service").setLevel(settings.log_level.upper().replace("TRACE", "DEBUG"))
+    logs.configure(settings.log_level, settings.log_format)
+    if settings.rate_limit is not None and not settings.api_keys:
+        raise ValueError("PESHKIN_RATE_LIMIT is per API key: set PESHKIN_API_KEYS too")
     runner = Runner.from_settings(settings, preload=ROUTE_MODULES)
+    rates = None if settings.rate_limit is None else KeyRates(*settings.rate_limit, os.environ.get(SLOT_DIR_ENV))
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -89,6 +98,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             yield
         finally:
             runner.close()
+            if rates is not None:
+                rates.close()
 
     # Swagger UI (/docs) and ReDoc (/redoc) from the package's own copies of their
     # scripts and styles (fastapi-offline): the pages work without the internet.
@@ -100,8 +111,17 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     app.state.runner = runner
     errors.install(app)
+    # outermost last: RequestContext (id, log, metrics) > CORS (answers preflights) > Access
+    # (keys, rates) > Intake (arrival, body limit, the gate of requests in flight)
     app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s,
                        max_body_bytes=settings.max_body_bytes)
+    if settings.api_keys:
+        app.add_middleware(Access, keys=ApiKeys(settings.api_keys), rates=rates)
+    if settings.cors_origins:
+        app.add_middleware(CORSMiddleware, allow_origins=list(settings.cors_origins), allow_methods=["GET", "POST"],
+                           allow_headers=["content-type", "x-api-key", "authorization", "x-request-id"],
+                           expose_headers=["x-request-id", "retry-after"], max_age=600)
+    app.add_middleware(RequestContext, expensive=runner.expensive, log_requests=settings.access_log)
     for module in ROUTE_MODULES:
         app.include_router(importlib.import_module(module).router)
     _published(app, settings.max_time_limit_s)

@@ -309,6 +309,28 @@ def busy_response(gate: str, retry_after_s: int, reason: str = "") -> JSONRespon
     )
 
 
+UNAUTHORIZED = 401
+TOO_MANY_REQUESTS = 429
+
+
+def unauthorized_response(key_given: bool) -> JSONResponse:
+    """The 401 of a request without a known API key (service.runtime.access)."""
+    msg = ("the API key is not known" if key_given else
+           "an API key is needed: send it as X-API-Key: <key> or Authorization: Bearer <key>")
+    return JSONResponse(status_code=UNAUTHORIZED, content=error_body(["header", "x-api-key"], msg, "unauthorized"),
+                        headers={"WWW-Authenticate": 'Bearer realm="peshkin"'})
+
+
+def rate_limited_response(retry_after_s: int, count: int, seconds: float) -> JSONResponse:
+    """The 429 of a key past its rate (service.runtime.access): nothing was computed."""
+    return JSONResponse(
+        status_code=TOO_MANY_REQUESTS,
+        content=error_body([], f"this API key's rate of {count} requests per {seconds:g} s is used up; retry after "
+                               f"{retry_after_s} s", "rate_limited"),
+        headers={"Retry-After": str(retry_after_s)},
+    )
+
+
 def response_for(exc: Exception, where: str) -> JSONResponse:
     """The HTTP answer to ``exc`` raised while computing the answer to ``where`` ("POST
     /v1/..."): the same in the web process and in a solver worker (service.runtime)."""

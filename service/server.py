@@ -31,7 +31,8 @@ from gunicorn.app.base import BaseApplication
 from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 from uvicorn_worker import UvicornWorker
 
-from service.runtime.slots import SLOT_DIR_ENV, make_slot_directory
+from service.runtime.logs import JSON_FORMAT
+from service.runtime.slots import METRICS_DIR_ENV, SLOT_DIR_ENV, make_slot_directory
 from service.settings import Settings
 
 log = logging.getLogger("service")
@@ -125,19 +126,50 @@ def ensure_port_free(host: str, port: int) -> None:
 
 
 def share_slots(arbiter: Any) -> None:
-    """gunicorn's ``on_starting``: the slot directory of this server, for its web processes
-    (and the address in the log: with SO_REUSEPORT the supervisor itself listens on none,
-    so gunicorn's own "Listening at" line shows no address)."""
+    """gunicorn's ``on_starting``: the slot directory of this server, for its web processes,
+    with the directory of their metrics' samples in it (before any of them imports
+    prometheus-client, which reads it then; service.runtime.metrics), and the address in
+    the log: with SO_REUSEPORT the supervisor itself listens on none, so gunicorn's own
+    "Listening at" line shows no address."""
     os.environ[SLOT_DIR_ENV] = make_slot_directory()
+    samples = os.path.join(os.environ[SLOT_DIR_ENV], "metrics")
+    os.makedirs(samples)
+    os.environ[METRICS_DIR_ENV] = samples
     arbiter.log.info("each web process listens on %s (SO_REUSEPORT); slots of expensive work in %s",
                      ", ".join(arbiter.cfg.bind), os.environ[SLOT_DIR_ENV])
 
 
+def web_process_ended(arbiter: Any, worker: Any) -> None:
+    """gunicorn's ``child_exit``: the ended web process's live gauges leave the metrics."""
+    from service.runtime.metrics import process_ended
+
+    process_ended(worker.pid)
+
+
 def remove_slots(arbiter: Any) -> None:
     """gunicorn's ``on_exit``."""
+    os.environ.pop(METRICS_DIR_ENV, None)
     directory = os.environ.pop(SLOT_DIR_ENV, "")
     if directory:
         shutil.rmtree(directory, ignore_errors=True)
+
+
+def gunicorn_json_logging(level: str) -> dict[str, Any]:
+    """gunicorn's logging (the supervisor's and uvicorn's own lines) in the service's JSON
+    format (service.runtime.logs), on standard error; no access log, nothing on the root
+    logger (the service's records have their own handler)."""
+    return {
+        "version": 1,
+        "disable_existing_loggers": False,
+        "root": {"level": "WARNING", "handlers": []},
+        "loggers": {
+            "gunicorn.error": {"level": level.upper(), "handlers": ["stderr"], "propagate": False,
+                               "qualname": "gunicorn.error"},
+            "gunicorn.access": {"level": "WARNING", "handlers": [], "propagate": False, "qualname": "gunicorn.access"},
+        },
+        "handlers": {"stderr": {"class": "logging.StreamHandler", "formatter": "json", "stream": "ext://sys.stderr"}},
+        "formatters": {"json": {"()": "pythonjsonlogger.json.JsonFormatter", **JSON_FORMAT}},
+    }
 
 
 class Server(BaseApplication):  # type: ignore[misc]
@@ -182,6 +214,9 @@ class Server(BaseApplication):  # type: ignore[misc]
         # web processes are forked; a reload keeps it), removed when it exits
         options["on_starting"] = share_slots
         options["on_exit"] = remove_slots
+        options["child_exit"] = web_process_ended
+        if s.log_format == "json":
+            options["logconfig_dict"] = gunicorn_json_logging(options["loglevel"])
         for key, value in options.items():
             self.cfg.set(key, value)
 

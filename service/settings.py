@@ -37,6 +37,19 @@ variable                        default     meaning
                                             this instance's own; unset or "" for none (gunicorn's
                                             default, one path in the user's home, would be shared
                                             by every instance on the host)
+``PESHKIN_LOG_FORMAT``          json        ``json``: one JSON object per log line (with the
+                                            request id); ``text`` for people reading a terminal
+``PESHKIN_ACCESS_LOG``          true        a log line per request (route, status, duration, the
+                                            model that answered, the request id)
+``PESHKIN_API_KEYS``            (none)      comma-separated API keys (16-256 printable characters,
+                                            no spaces or commas); when set, every request but the
+                                            probes and the API documents needs one (``X-API-Key``
+                                            or ``Authorization: Bearer``), else 401
+``PESHKIN_RATE_LIMIT``          (none)      ``<requests>/<seconds>`` per API key, shared by the web
+                                            processes (e.g. ``120/60``); past it 429 with
+                                            ``Retry-After``; needs API keys
+``PESHKIN_CORS_ORIGINS``        (none)      comma-separated origins allowed to call from a browser
+                                            (``*`` for any); unset: no CORS headers (closed)
 ==============================  ==========  =====================================================
 
 ``python -m service`` starts the supervisor (gunicorn) with these; ``uvicorn
@@ -80,6 +93,16 @@ class Settings:
     graceful_timeout_s: float = 30.0
     store_path: str = os.path.join(tempfile.gettempdir(), "peshkin-service", "results.sqlite3")
     control_socket: str = ""
+    log_format: str = "json"
+    access_log: bool = True
+    api_keys: tuple[str, ...] = ()
+    rate_limit: tuple[int, float] | None = None
+    cors_origins: tuple[str, ...] = ()
+
+    def __repr__(self) -> str:  # the keys never reach a log
+        shown = {f.name: getattr(self, f.name) for f in fields(self)}
+        shown["api_keys"] = f"<{len(self.api_keys)} keys>"
+        return "Settings(" + ", ".join(f"{k}={v!r}" for k, v in shown.items()) + ")"
 
     @classmethod
     def from_env(cls, environ: Mapping[str, str] | None = None) -> Settings:
@@ -137,6 +160,49 @@ def _log_level(name: str, text: str) -> str:
     return level
 
 
+def _choice(*allowed: str) -> Callable[[str, str], str]:
+    def parse(name: str, text: str) -> str:
+        if text.lower() not in allowed:
+            raise ValueError(f"{name} must be one of {allowed}, got {text!r}")
+        return text.lower()
+
+    return parse
+
+
+def _flag(name: str, text: str) -> bool:
+    value = text.lower()
+    if value not in ("true", "false", "1", "0", "yes", "no", "on", "off"):
+        raise ValueError(f"{name} must be true or false, got {text!r}")
+    return value in ("true", "1", "yes", "on")
+
+
+def _api_keys(name: str, text: str) -> tuple[str, ...]:
+    keys = tuple(k.strip() for k in text.split(",") if k.strip())
+    for i, key in enumerate(keys):
+        if not (16 <= len(key) <= 256 and key.isascii() and key.isprintable() and " " not in key):
+            raise ValueError(f"{name}: key {i + 1} must be 16-256 printable ASCII characters without spaces")
+    return keys
+
+
+def _rate(name: str, text: str) -> tuple[int, float]:
+    count, _, seconds = text.partition("/")
+    try:
+        n, s = int(count), float(seconds)
+    except ValueError:
+        raise ValueError(f"{name} must be <requests>/<seconds>, e.g. 120/60, got {text!r}") from None
+    if not (1 <= n <= 10**9 and math.isfinite(s) and 0.001 <= s <= 86400.0):
+        raise ValueError(f"{name}: 1..1e9 requests per 0.001..86400 s, got {text!r}")
+    return n, s
+
+
+def _origins(name: str, text: str) -> tuple[str, ...]:
+    origins = tuple(o.strip().rstrip("/") for o in text.split(",") if o.strip())
+    for o in origins:
+        if o != "*" and not (o.startswith("http://") or o.startswith("https://")):
+            raise ValueError(f"{name}: {o!r} is not an origin (http[s]://host[:port], or *)")
+    return origins
+
+
 _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "host": lambda name, text: text,
     "port": _integer(1, 65535),
@@ -156,4 +222,9 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "keep_alive_s": _seconds(0.0, 3600.0),
     "graceful_timeout_s": _seconds(0.0, 3600.0),
     "store_path": lambda name, text: text,
+    "log_format": _choice("json", "text"),
+    "access_log": _flag,
+    "api_keys": _api_keys,
+    "rate_limit": _rate,
+    "cors_origins": _origins,
 }

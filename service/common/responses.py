@@ -41,8 +41,13 @@ class ErrorItem(BaseModel):
     ctx: dict[str, Any] | None = Field(default=None, description="Extra context of a schema violation.")
 
 
+REQUEST_ID_FIELD = ("The request's id (its X-Request-ID header, given or made): quote it when reporting a "
+                    "problem; the service's log carries it.")
+
+
 class ErrorResponse(BaseModel):
-    detail: list[ErrorItem]
+    detail: list[ErrorItem] = Field(description="What was wrong, one item per problem.")
+    request_id: str | None = Field(default=None, description=REQUEST_ID_FIELD)
 
 
 class TimeLimitResponse(BaseModel):
@@ -59,6 +64,7 @@ class TimeLimitResponse(BaseModel):
         description="What was completed before, in the shape of the answer's own parts (e.g. POST "
         "/v1/push/align: {\"stages\": [...]}, the stages done); null when nothing was."
     )
+    request_id: str | None = Field(default=None, description=REQUEST_ID_FIELD)
 
 
 INVALID_INPUT = {422: {"model": ErrorResponse, "description": "Invalid input: the body names the field and the reason."}}

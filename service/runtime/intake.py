@@ -3,7 +3,7 @@ notes when the request arrived (its deadline starts then, service.runtime.deadli
 refuses a body longer than the limit (413: at once when ``Content-Length`` says so, else as
 soon as the streamed bytes pass it, without reading further), and admits the request
 through the web process's gate of requests in flight, or answers 503 with ``Retry-After``
-at once. The probes (``/healthz``, ``/readyz``) are never refused. It is also the one
+at once. The probes (``/healthz``, ``/readyz``) and the metrics' scrape are never refused. It is also the one
 catch-all: an exception nothing else answered becomes a JSON 500 here, sent as a normal
 answer, so the connection stays usable (Starlette's own last resort re-raises into the
 server, which then drops the connection)."""
@@ -19,7 +19,7 @@ from service.errors import BodyTooLarge, busy_response, response_for, too_large_
 from service.runtime.admission import Gate
 from service.runtime.deadline import ARRIVAL_KEY
 
-PROBES = frozenset({"/healthz", "/readyz"})
+PROBES = frozenset({"/healthz", "/readyz", "/metrics"})
 log = logging.getLogger("service")
 
 

@@ -18,9 +18,11 @@ from __future__ import annotations
 
 import asyncio
 import concurrent.futures
+import dataclasses
 import logging
 import math
 import signal
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -34,9 +36,11 @@ from starlette.responses import JSONResponse, Response
 from service.errors import BUSY, GATEWAY_TIMEOUT, FieldError, busy_response, error_body, response_for
 from service.runtime.admission import Gate, Refused, RunQueue, Ticket
 from service.runtime.deadline import Deadline, arrival
+from service.runtime.metrics import observe_backends
 from service.runtime.pool import SolverPool
 from service.runtime.slots import Slots
 from service.settings import Settings
+from solver import close_ledger, open_ledger
 
 log = logging.getLogger("service")
 
@@ -51,12 +55,16 @@ CLIENT_GONE = 499
 
 @dataclass(frozen=True)
 class Reply:
-    """An HTTP answer as bytes (what a worker sends back)."""
+    """An HTTP answer as bytes (what a worker sends back), with the model that answered
+    (the answer's ``method``, when it has one) and the job's seconds per numerical back end
+    (:mod:`solver.core.backends`; ``other``: the rest), for the log and the metrics."""
 
     status: int
     media_type: str | None
     body: bytes
     headers: tuple[tuple[str, str], ...] = ()
+    model: str | None = None
+    backends: tuple[tuple[str, float], ...] = ()
 
     def response(self) -> Response:
         return Response(content=self.body, status_code=self.status, media_type=self.media_type,
@@ -68,7 +76,9 @@ def reply_of(answer: Any) -> Reply:
     alias, serialised by pydantic-core (the fields FastAPI would send for the route's
     ``response_model``, ten times faster than the standard library's encoder)."""
     if isinstance(answer, BaseModel):
-        return Reply(200, "application/json", answer.model_dump_json(by_alias=True).encode())
+        model = getattr(answer, "method", None)
+        return Reply(200, "application/json", answer.model_dump_json(by_alias=True).encode(),
+                     model=model if isinstance(model, str) else None)
     if not isinstance(answer, Response):
         raise TypeError(f"a job must answer a pydantic model or a Response, not {type(answer).__name__}")
     headers = tuple((k, v) for k, v in answer.headers.items() if k.lower() not in ("content-length", "content-type"))
@@ -77,11 +87,26 @@ def reply_of(answer: Any) -> Reply:
 
 def execute(job: Job, args: tuple[Any, ...], deadline: Deadline, where: str) -> Reply:
     """Run ``job(*args, deadline)`` and make its answer, or the answer to its error, a
-    Reply. This is what a worker runs; nothing it raises leaves it."""
+    Reply with the job's time per back end. This is what a worker runs; nothing it raises
+    leaves it."""
+    open_ledger()
+    t0 = time.perf_counter()
     try:
-        return reply_of(job(*args, deadline))
+        reply = reply_of(job(*args, deadline))
     except Exception as exc:  # every error becomes its HTTP answer (service.errors)
-        return reply_of(response_for(exc, where))
+        reply = reply_of(response_for(exc, where))
+    spent = close_ledger()
+    spent["other"] = max(time.perf_counter() - t0 - sum(spent.values()), 0.0)
+    return dataclasses.replace(reply, backends=tuple(spent.items()))
+
+
+def delivered(request: Request, reply: Reply) -> Response:
+    """The response of a job's reply; its model and back-end times noted for the log and the
+    metrics."""
+    if reply.model is not None:
+        request.state.model = reply.model
+    observe_backends(dict(reply.backends))
+    return reply.response()
 
 
 def deadline_reply(deadline: Deadline, what: str) -> Reply:
@@ -200,7 +225,8 @@ class Runner:
 
     async def cheap_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None) -> Response:
         """Run a cheap job at once, on the event loop."""
-        return execute(job, args, self.request_deadline(request, args, time_limit_s), where(request)).response()
+        return delivered(request, execute(job, args, self.request_deadline(request, args, time_limit_s),
+                                          where(request)))
 
     async def expensive_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None,
                             cost_key: str = "") -> Response:
@@ -216,7 +242,7 @@ class Runner:
                 reply = await anyio.to_thread.run_sync(execute, job, args, deadline, where(request))
             finally:
                 queue.leave()
-            return reply.response()
+            return delivered(request, reply)
         try:
             ticket = await self.queued(request, queue, f"{where(request)} {cost_key}".rstrip(), deadline)
         except Refused as refused:
@@ -231,7 +257,7 @@ class Runner:
             reply = await self.in_worker(request, job, args, deadline)
         finally:  # only a job that ran to its answer or its deadline tells its cost
             queue.leave(ticket, measured=reply.status in MEASURED_STATUSES)
-        return reply.response()
+        return delivered(request, reply)
 
     async def queued(self, request: Request, queue: RunQueue, kind: str, deadline: Deadline) -> Ticket | None:
         """The request's slot (:class:`Refused` passes through); None when its client went

@@ -30,6 +30,10 @@ import loky
 SLOT_DIR_ENV = "PESHKIN_RUNTIME_SLOT_DIR"
 """The environment variable naming the slot directory of the server (set by the supervisor)."""
 
+METRICS_DIR_ENV = "PROMETHEUS_MULTIPROC_DIR"
+"""prometheus-client's variable naming the directory of a multi-process server's samples
+(service.runtime.metrics), made in the slot directory by the supervisor."""
+
 
 def usable_cpus() -> int:
     """The CPUs this process may really use: the smallest of the machine's count, its CPU

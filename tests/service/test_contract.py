@@ -76,7 +76,7 @@ CHECKS = [
 
 def test_every_operation_is_covered() -> None:
     ids = {op.ok().definition.raw.get("operationId") for op in schema.get_all_operations()}
-    assert ids == {"healthz", "readyz", "cor_locus", "cor_solve", "cor_membership", "cor_tripod_statistics", "mpp_particle",
+    assert ids == {"healthz", "readyz", "metrics", "cor_locus", "cor_solve", "cor_membership", "cor_tripod_statistics", "mpp_particle",
                    "push_quasistatic", "cor_sketch", "push_align", "push_disk_encounter",
                    "spiral_critical_radius", "spiral_schedule", "feeder_map", "feeder_simulate",
                    "feeder_design"}

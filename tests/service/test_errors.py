@@ -95,6 +95,7 @@ def test_a_time_limit_is_504_saying_where(client, monkeypatch):
     r = post(client, BASE)
     assert r.status_code == 504
     body = r.json()
+    assert body.pop("request_id") == r.headers["x-request-id"]
     assert body == {
         "detail": [{"loc": ["body", "time_limit_s"], "type": "time_limit",
                     "msg": "ran out after 2.5 s (time_limit_s = 2 s) before the sketch at beta = 0.5: "

@@ -86,6 +86,7 @@ def test_stable_operation_ids():
     assert ops == {
         ("/healthz", "get"): "healthz",
         ("/readyz", "get"): "readyz",
+        ("/metrics", "get"): "metrics",
         ("/v1/cor/locus", "post"): "cor_locus",
         ("/v1/cor/solve", "post"): "cor_solve",
         ("/v1/cor/membership", "post"): "cor_membership",
@@ -159,13 +160,13 @@ def test_time_limits_are_documented_where_they_can_run_out():
     every operation behind an admission gate; every operation documents 422."""
     ops = {op["operationId"]: op for item in app.openapi()["paths"].values() for op in item.values()}
     with_504 = {name for name, op in ops.items() if "504" in op["responses"]}
-    assert with_504 == set(ops) - {"healthz", "readyz", "push_quasistatic"}
+    assert with_504 == set(ops) - {"healthz", "readyz", "metrics", "push_quasistatic"}
     with_503 = {name for name, op in ops.items() if "503" in op["responses"]}
-    assert with_503 == set(ops) - {"healthz"}
+    assert with_503 == set(ops) - {"healthz", "metrics"}
     for name in with_503 - {"readyz"}:
         assert "Retry-After" in ops[name]["responses"]["503"]["headers"]
     for name in with_504:
         assert ops[name]["responses"]["504"]["content"]["application/json"]["schema"] == {
             "$ref": "#/components/schemas/TimeLimitResponse"
         }
-    assert all("422" in op["responses"] for name, op in ops.items() if name not in ("healthz", "readyz"))
+    assert all("422" in op["responses"] for name, op in ops.items() if name not in ("healthz", "readyz", "metrics"))

@@ -68,3 +68,21 @@ def test_one_cap_of_time_limits_from_the_settings_in_the_schema_and_the_deadline
         if limit is not None and name.endswith("Request"):
             maxima |= {b["maximum"] for b in [limit, *limit.get("anyOf", [])] if "maximum" in b}
     assert maxima == {cap}
+
+
+def test_operations_settings_are_read_and_checked():
+    """Issue 27's settings: log format, access log, API keys, rate limit, CORS origins."""
+    key = "k" * 16
+    s = Settings.from_env({"PESHKIN_LOG_FORMAT": "TEXT", "PESHKIN_ACCESS_LOG": "off",
+                           "PESHKIN_API_KEYS": f" {key}, {key}-2 ", "PESHKIN_RATE_LIMIT": "120/60",
+                           "PESHKIN_CORS_ORIGINS": "https://a.example.org/, http://localhost:3000"})
+    assert (s.log_format, s.access_log, s.api_keys, s.rate_limit) == ("text", False, (key, key + "-2"), (120, 60.0))
+    assert s.cors_origins == ("https://a.example.org", "http://localhost:3000")
+    assert Settings.from_env({}).api_keys == () and Settings.from_env({}).rate_limit is None
+    for bad in ({"PESHKIN_API_KEYS": "short"}, {"PESHKIN_API_KEYS": f"{key} with space"},
+                {"PESHKIN_RATE_LIMIT": "fast"}, {"PESHKIN_RATE_LIMIT": "0/60"}, {"PESHKIN_RATE_LIMIT": "5/inf"},
+                {"PESHKIN_CORS_ORIGINS": "example.org"}, {"PESHKIN_LOG_FORMAT": "xml"},
+                {"PESHKIN_ACCESS_LOG": "maybe"}):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            Settings.from_env(bad)
+    assert key not in repr(s) and "<2 keys>" in repr(s)

@@ -1,14 +1,15 @@
-"""``GET /healthz`` (liveness: the process serves requests) and ``GET /readyz`` (readiness:
-it has room for more work)."""
+"""``GET /healthz`` (liveness: the process serves requests), ``GET /readyz`` (readiness:
+it has room for more work) and ``GET /metrics`` (Prometheus)."""
 
 from __future__ import annotations
 
 from fastapi import APIRouter, Request
-from fastapi.responses import JSONResponse
+from fastapi.responses import JSONResponse, Response
 
 from service import __version__
 from service.api.health.schemas import GateOut, HealthResponse, ReadyResponse
 from service.runtime.jobs import runner
+from service.runtime.metrics import CONTENT_TYPE, exposition, observe_work
 
 router = APIRouter(tags=["health"])
 
@@ -42,3 +43,19 @@ async def readyz(request: Request) -> JSONResponse:
                for g in gates],
     )
     return JSONResponse(body.model_dump(mode="json"), status_code=503 if full else 200)
+
+
+@router.get(
+    "/metrics",
+    operation_id="metrics",
+    summary="Prometheus metrics",
+    response_class=Response,
+    responses={200: {"content": {"text/plain": {"schema": {"type": "string"}}},
+                     "description": "The samples in Prometheus's text exposition format (version 0.0.4)."}},
+)
+async def metrics(request: Request) -> Response:
+    """Requests by route and status, latency histograms, the queue of expensive work, solver
+    slots busy, jobs by state and solver time by numerical back end, for the whole server
+    (every web process; see `service/runtime/metrics.py`). Needs an API key when keys are on."""
+    observe_work(runner(request).expensive)
+    return Response(exposition(), media_type=CONTENT_TYPE)

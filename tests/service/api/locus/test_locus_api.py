@@ -460,7 +460,9 @@ def test_invalid_input_is_422_naming_the_field(client, case):
 
 def test_model_invalid_input_has_fastapi_shape(client):
     r = post(client, {**BASE, "push_direction": HALF_PI})
-    assert r.json() == {"detail": [{
+    body = r.json()
+    assert body.pop("request_id") == r.headers["x-request-id"]
+    assert body == {"detail": [{
         "loc": ["body", "push_direction"],
         "msg": "is parallel to the edge (edge_angle): the pusher would slide along the edge and never push "
                "the workpiece",
