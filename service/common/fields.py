@@ -90,18 +90,23 @@ PUSH_DIRECTION_DESCRIPTION = (
     "Direction in which the pusher advances, radians (0 = +x). Must not be parallel to the edge."
 )
 
-ONE_SHAPE_OF = [
-    {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
-    {"required": ["workpiece"], "properties": {"workpiece": {"type": "array"}}},
-    {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
-]
-"""JSON-schema: exactly one of disk_radius / workpiece / footprint (null counts as absent)."""
+EXACTLY_ONE_OF = "x-exactly-one-of"
+"""The OpenAPI extension listing groups of fields of which a request gives exactly one
+(null counts as absent); the service answers 422 otherwise. Written as an extension, not as
+JSON Schema's ``oneOf`` of partial objects, which client generators cannot turn into a
+model (openapi-python-client dropped every such request and its operation)."""
 
-DISK_OR_FOOTPRINT = [
-    {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
-    {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
-]
-"""JSON-schema: exactly one of disk_radius / footprint."""
+
+def exactly_one_of(*groups: tuple[str, ...]) -> dict[str, list[list[str]]]:
+    """The schema extension saying that of each group of fields exactly one is given."""
+    return {EXACTLY_ONE_OF: [list(g) for g in groups]}
+
+
+ONE_SHAPE_OF = ("disk_radius", "workpiece", "footprint")
+"""Exactly one of disk_radius / workpiece / footprint."""
+
+DISK_OR_FOOTPRINT = ("disk_radius", "footprint")
+"""Exactly one of disk_radius / footprint."""
 
 
 class PushIn(Strict):

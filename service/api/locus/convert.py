@@ -21,11 +21,11 @@ from service.api.locus.schemas import (
     CurvaturesOut,
     DiskCrossingsOut,
     DualOut,
+    LocusTipLineOut,
     MembershipRequest,
     MembershipResponse,
     PerimeterArcOut,
     RMinOut,
-    TipLineOut,
     TipOut,
     WitnessOut,
 )
@@ -68,7 +68,7 @@ def locus_response(prep: PreparedPush, result: LocusResult, time_limit_s: float,
         )
     tip_line = None
     if locus.tip_line is not None:
-        tip_line = TipLineOut(
+        tip_line = LocusTipLineOut(
             point=listed(locus.tip_line.point),
             direction=listed(locus.tip_line.direction),
             distance=locus.tip_line.distance,

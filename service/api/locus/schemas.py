@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import ConfigDict, Field, create_model, field_validator
+from pydantic import ConfigDict, Field, field_validator
 
 from models.locus.cor_disk import OUTPUTS
 from service.common.fields import (
@@ -28,6 +28,7 @@ from service.common.fields import (
     Strict,
     TimeLimit,
     Vec2,
+    exactly_one_of,
 )
 from service.common.responses import Out
 from service.limits import (
@@ -60,7 +61,7 @@ class CorLocusRequest(Strict):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "oneOf": ONE_SHAPE_OF,
+            **exactly_one_of(ONE_SHAPE_OF),
             "examples": [
                 {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966},
             ],
@@ -156,18 +157,13 @@ class TipOut(Out):
     on_disk: bool = Field(description="True when |alpha . c| >= a: the tip lies on the disk perimeter.")
 
 
-# Two published response schemas are called TipLineOut (this one and the spiral's); the
-# OpenAPI document tells them apart by the module they were first defined in, here
-# "service__schemas__TipLineOut". create_model gives the class that module, so the
-# component's name stays what clients know.
-TipLineOut = create_model(
-    "TipLineOut",
-    __base__=Out,
-    __module__="service.schemas",
-    point=(Vec2, Field(description="Foot of the tip line: the point at distance a^2/|c| from the CM, opposite the contact.")),
-    direction=(Vec2, Field(description="Unit direction of the tip line (perpendicular to c).")),
-    distance=(float, Field(description="a^2 / |c|: distance of the tip line from the CM.")),
-)
+class LocusTipLineOut(Out):
+    """The tip line of the locus (3.3.11.1)."""
+
+    point: Vec2 = Field(description="Foot of the tip line: the point at distance a^2/|c| from the CM, opposite the "
+                        "contact (world frame).")
+    direction: Vec2 = Field(description="Unit direction of the tip line (perpendicular to c, world frame).")
+    distance: float = Field(description="a^2 / |c|: distance of the tip line from the CM (the request's length unit).")
 
 
 class RMinOut(Out):
@@ -261,7 +257,7 @@ class CorLocusResponse(Out):
     translation_direction: Vec2 = Field(description="Unit direction of a pure translation (the edge normal, into the part).")
     r_tip: float | None = Field(description="Distance of the tip from the CM; null for translation or when `tip` was not asked for.")
     tip: TipOut | None
-    tip_line: TipLineOut | None
+    tip_line: LocusTipLineOut | None
     r_min: RMinOut | None
     curvatures: CurvaturesOut | None
     disk_crossings: DiskCrossingsOut | None
@@ -305,7 +301,7 @@ class MembershipRequest(PushIn):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "oneOf": DISK_OR_FOOTPRINT,
+            **exactly_one_of(DISK_OR_FOOTPRINT),
             "examples": [
                 {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966,
                  "cor": [0.0, 3.0]},

@@ -21,6 +21,7 @@ from service.common.fields import (
     PushIn,
     Strict,
     Vec2,
+    exactly_one_of,
 )
 from service.common.responses import Out
 from service.limits import (
@@ -87,11 +88,7 @@ class CorSolveRequest(PushIn):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "oneOf": [
-                {"required": ["support"], "properties": {"support": {"type": "object"}}},
-                {"required": ["supports"], "properties": {"supports": {"type": "array"}}},
-                {"required": ["pressure"], "properties": {"pressure": {"type": "object"}}},
-            ],
+            **exactly_one_of(("support", "supports", "pressure")),
             "examples": [
                 {
                     "contact_point": [-0.5, -0.3],
@@ -140,7 +137,7 @@ class TripodStatisticsRequest(PushIn):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "oneOf": DISK_OR_FOOTPRINT,
+            **exactly_one_of(DISK_OR_FOOTPRINT),
             "examples": [
                 {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966,
                  "n_tripods": 1000, "seed": 7},

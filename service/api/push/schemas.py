@@ -29,6 +29,7 @@ from service.common.fields import (
     Polygon,
     Strict,
     TimeLimit,
+    exactly_one_of,
 )
 from service.common.responses import Out
 from service.limits import (
@@ -71,16 +72,7 @@ class PushQuasistaticRequest(Strict):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "allOf": [
-                {"oneOf": [
-                    {"required": ["disk_radius"], "properties": {"disk_radius": {"type": "number"}}},
-                    {"required": ["footprint"], "properties": {"footprint": {"type": "array"}}},
-                ]},
-                {"oneOf": [
-                    {"required": ["g"], "properties": {"g": {"type": "number"}}},
-                    {"required": ["length_unit"], "properties": {"length_unit": {"type": "string"}}},
-                ]},
-            ],
+            **exactly_one_of(("disk_radius", "footprint"), ("g", "length_unit")),
             "examples": [
                 {"speed": 10.0, "mu_s": 0.25, "length_unit": "cm", "disk_radius": 3.5},
             ],
@@ -242,10 +234,7 @@ class QuasiStaticIn(Strict):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "oneOf": [
-                {"required": ["g"], "properties": {"g": {"type": "number"}}},
-                {"required": ["length_unit"], "properties": {"length_unit": {"type": "string"}}},
-            ],
+            **exactly_one_of(("g", "length_unit")),
         },
     )
 
@@ -319,10 +308,7 @@ class PushDiskEncounterRequest(Strict):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "oneOf": [
-                {"required": ["beta_initial"], "properties": {"beta_initial": {"type": "number"}}},
-                {"required": ["offset"], "properties": {"offset": {"type": "number"}}},
-            ],
+            **exactly_one_of(("beta_initial", "offset")),
             "examples": [{"disk_radius": 1.0, "beta_initial": 0.7853981633974483, "mu_c": 0.5}],
         },
     )

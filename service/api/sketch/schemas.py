@@ -30,6 +30,7 @@ from service.common.fields import (
     Strict,
     TimeLimit,
     Vec2,
+    exactly_one_of,
 )
 from service.common.responses import Out
 from service.limits import (
@@ -66,7 +67,7 @@ class CorSketchRequest(Strict):
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            "oneOf": ONE_SHAPE_OF,
+            **exactly_one_of(ONE_SHAPE_OF),
             "examples": [
                 {"disk_radius": 1.0, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966,
                  "mu_c": 0.3},

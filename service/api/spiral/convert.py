@@ -33,7 +33,7 @@ from service.api.spiral.schemas import (
     SpiralScheduleRequest,
     SpiralScheduleResponse,
     TableOut,
-    TipLineOut,
+    TipLineScheduleOut,
 )
 from service.common.numbers import known, listed
 from service.errors import FieldError
@@ -207,7 +207,7 @@ def schedule_response(req: SpiralScheduleRequest, plan: SpiralPlan, elapsed_ms: 
     rec = plan.recursion
     tip_radii = plan.tip_line.radii
     schedule_revs = None if not sched.radii else sched.revolutions
-    tip = TipLineOut(
+    tip = TipLineScheduleOut(
         revolutions=int(tip_radii.size), final_radius=tip_radii[-1],
         reaches_target=bool(tip_radii[-1] <= target), unsafe_revolutions=plan.tip_line.unsafe_revolutions,
         revolutions_difference=None if schedule_revs is None else int(tip_radii.size) - schedule_revs,

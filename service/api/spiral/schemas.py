@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, StrictBool, create_model
+from pydantic import BaseModel, ConfigDict, Field, StrictBool
 
 from service.common.fields import Point, TimeLimit
 from service.common.responses import Out
@@ -310,23 +310,17 @@ class RecursionOut(Out):
     max_step_excess: float
 
 
-# Two published response schemas are called TipLineOut (this one and the locus's); the
-# OpenAPI document tells them apart by the module they were first defined in, here
-# "service__schemas_spiral__TipLineOut". create_model gives the class that module, so the
-# component's name stays what clients know.
-TipLineOut = create_model(
-    "TipLineOut",
-    __base__=Out,
-    __module__="service.schemas_spiral",
-    revolutions=(int, Field(description="Revolutions of (4.26) with the tip line's d* (closed form).")),
-    final_radius=(float, ...),
-    reaches_target=(bool, Field(description="False: the tip line stalls at 2a above the target.")),
-    unsafe_revolutions=(int, Field(
+class TipLineScheduleOut(Out):
+    """The spiral schedule of (4.26) with the book's tip-line approximation of r*."""
+
+    revolutions: int = Field(description="Revolutions of (4.26) with the tip line's d* (closed form).")
+    final_radius: float = Field(description="The radius it ends at (the request's length unit, from the centre).")
+    reaches_target: bool = Field(description="False: the tip line stalls at 2a above the target.")
+    unsafe_revolutions: int = Field(
         description="Its revolutions shown unsafe by the request's r* table: some collision parameter the step "
         "allows has r* above the new radius (no margin)."
-    )),
-    revolutions_difference=(int | None, Field(description="Tip line minus the OR-Tools schedule.")),
-)
+    )
+    revolutions_difference: int | None = Field(description="Tip line minus the OR-Tools schedule.")
 
 
 class FitOut(Out):
@@ -398,7 +392,7 @@ class SpiralScheduleResponse(Out):
     table: TableOut = Field(description="The r* table the plan rests on.")
     schedule: ScheduleOut | None = Field(description="The OR-Tools optimum on a grid of radii.")
     recursion: RecursionOut = Field(description="The book's recursion (4.26) on the same table.")
-    tip_line: TipLineOut = Field(description="The same with the book's tip-line approximation.")
+    tip_line: TipLineScheduleOut = Field(description="The same with the book's tip-line approximation.")
     fit: FitOut | None = Field(description="The approach to the floor (figure 4-21), when >= 3 revolutions lie above it.")
     path: PathOut | None
     simulation: SimulationOut | None
