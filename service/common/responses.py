@@ -41,6 +41,9 @@ class ErrorItem(BaseModel):
     ctx: dict[str, Any] | None = Field(default=None, description="Extra context of a schema violation.")
 
 
+ELAPSED_MS_DESCRIPTION = ("Milliseconds from the request's arrival until its answer was assembled (any wait for a "
+                          "solver worker included).")
+
 REQUEST_ID_FIELD = ("The request's id (its X-Request-ID header, given or made): quote it when reporting a "
                     "problem; the service's log carries it.")
 

@@ -12,7 +12,7 @@ from typing import Annotated, Literal
 from pydantic import ConfigDict, Field
 
 from service.common.fields import OUTLINE_RULES, UNIQUE, Angle, MuC, Point, Strict, TimeLimit
-from service.common.responses import Out
+from service.common.responses import ELAPSED_MS_DESCRIPTION, Out
 from service.limits import (
     FEEDER_MAX_DESIGN_DEPTH,
     FEEDER_MAX_FENCE_LENGTH_RADII,
@@ -123,21 +123,38 @@ class FeederPartBoundOut(Out):
     rays: int = Field(description="Rays of the exact loci traced toward the dipods that bound the slip.")
     rays_bracketed: int = Field(description="Those whose crossing was certified (inside and outside points).")
     solver_failures: int = Field(description="Traces a failed conic solve cut short (the disk bounded there).")
-    seconds: float
+    seconds: float = Field(
+        description="Seconds spent on the part's own bound for this fence."
+    )
 
 
 class FeederFenceMapOut(Out):
-    angle: float
-    mu_c_range: list[float]
+    angle: float = Field(
+        description="Fence angle gamma from the x-axis, radians, in (-pi/2, pi/2); positive when it hangs from the "
+        "belt's right side."
+    )
+    mu_c_range: list[float] = Field(
+        description="[low, high] of the part-fence friction coefficient mapped (both equal to mu_c when one value was "
+        "given)."
+    )
     jams_possible: bool = Field(description="|tan gamma| <= the highest mu_c: a flush part may jam (6.4).")
-    bands: list[FeederFenceBandOut]
+    bands: list[FeederFenceBandOut] = Field(
+        description="One band per hull edge that can come flush: final orientations B_j, their kernel K_j, the edge, "
+        "and the least and most turn off the end (5.2)."
+    )
     jam: list[Arc] = Field(description="Initial orientations that may jam on this fence.")
     reach: float | None = Field(description="The reach asked for (null: not checked).")
     unaligned: list[Arc] = Field(description="Initial orientations from which the reach may be too short for an edge to "
                                              "come flush: the map bounds nothing there (every final orientation may "
                                              "follow). Empty when no reach was given.")
-    notes: list[str]
-    locus_evaluations: int
+    notes: list[str] = Field(
+        description="Remarks on this fence: that a flush part may jam (6.4), or that the reach may be too short for "
+        "some initial orientations (1.8.6)."
+    )
+    locus_evaluations: int = Field(
+        description="Number of COR-locus evaluations spent integrating the turns off the fence's end, over all its "
+        "bands."
+    )
     part_bound: FeederPartBoundOut | None = Field(
         description="What the part's own bound cost on this fence (null with the disk bound).")
 
@@ -147,27 +164,50 @@ class FeederProductBandOut(FeederBandOut):
 
 
 class FeederProductOut(Out):
-    bands: list[FeederProductBandOut]
-    jam: list[Arc]
+    bands: list[FeederProductBandOut] = Field(
+        description="The bands of the whole sequence: final orientations, their kernel of initial orientations, and "
+        "the first fence's kernels that make it up (5.4, 5.5)."
+    )
+    jam: list[Arc] = Field(
+        description="Initial orientations from which the part may jam on some fence of the sequence, as a list of "
+        "arcs [start, width], radians."
+    )
     unaligned: list[Arc] = Field(description="Initial orientations that may meet a fence too short to align them.")
 
 
 class FeederMatrixOut(Out):
-    resolution: int
+    resolution: int = Field(
+        description="Cells of the circle along each axis: the matrix has this many rows (final cells) and columns "
+        "(initial cells)."
+    )
     rows: list[str] = Field(description="Row f (final cell) as a string of 0/1 over the initial cells (5.1).")
 
 
 class FeederMapResponse(Out):
-    fences: list[FeederFenceMapOut]
+    fences: list[FeederFenceMapOut] = Field(
+        description="The map of each fence finished, in the order the part meets them (all of them unless the time "
+        "limit cut the work short)."
+    )
     product: FeederProductOut | None = Field(description="The map of the whole sequence (null unless every fence's map was made).")
-    matrix: FeederMatrixOut | None
+    matrix: FeederMatrixOut | None = Field(
+        description="The product's boolean matrix M[f, i] on `resolution` cells of the circle (5.1); null when "
+        "`resolution` is 0 or not every map was made."
+    )
     bound: str = Field(description="What bounded the turns off the end: `disk` (the part's circumscribing disk) or "
                                    "`part` (its own loci as well; the reach stays bounded by the disk).")
     status: str = Field(description="ok, or time_limit (the maps finished are returned).")
-    complete: bool
-    message: str
-    solve_time_ms: float
-    elapsed_ms: float
+    complete: bool = Field(
+        description="Whether every fence's map and the product were made; false when the time limit cut the work "
+        "short (status 'time_limit')."
+    )
+    message: str = Field(
+        description="The result in words: the maps and product made and how the turns were bounded, or how many maps "
+        "were made before the time limit."
+    )
+    solve_time_ms: float = Field(
+        description="Time the maps, their product and the matrix took in the solver, milliseconds."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
 
 
 class FeederSupportIn(Strict):
@@ -222,31 +262,68 @@ class FeederSimulateRequest(Strict):
 
 class FeederEventOut(Out):
     push: float = Field(description="Belt travel so far in this fence's run.")
-    kind: str
-    detail: str
+    kind: str = Field(
+        description="Kind of event: 'contact', 'vertex', 'end', 'flush', 'left', 'missed', 'jam', 'stalled', "
+        "'time_limit' or 'overlap'."
+    )
+    detail: str = Field(
+        description="The event in words, e.g. 'first contact', 'edge 2 flush on the face, sliding', or the "
+        "orientation at which the part left."
+    )
 
 
 class FeederFenceRunOut(Out):
     status: str = Field(description="left, missed (never touched the fence), jammed, step_limit, stalled (a contact the simulator cannot advance), overlap (the fence passes through the part where the run starts: fences too close) or time_limit.")
     flushed: bool = Field(description="Whether an edge came flush on the fence; the maps assume it does (a fence too "
                                       "short for the part to finish turning lets it leave still turning).")
-    theta_initial: float
-    theta_final: float | None
+    theta_initial: float = Field(
+        description="The part's orientation when its run on this fence starts, radians (the previous fence's final "
+        "orientation, or `theta_initial`)."
+    )
+    theta_final: float | None = Field(
+        description="The part's orientation when it left the fence, radians; null unless the status is 'left' or "
+        "'missed'."
+    )
     in_map: bool | None = Field(description="Whether the outcome lies in the fence's map (null: not checked or not finished).")
-    events: list[FeederEventOut]
+    events: list[FeederEventOut] = Field(
+        description="What happened on the fence, in order: contacts, vertex, end and flush contacts, and how the run "
+        "ended, each with the belt travel at which it occurred."
+    )
     trajectory: list[list[float]] = Field(description="[push, x, y, theta] of the centre of mass: in the world frame for placed fences, else in the fence's frame (its free end at the origin).")
-    steps: int
-    forward_solves: int
+    steps: int = Field(
+        description="Number of steps the simulation took on this fence (moves of the part, drift onto the fence "
+        "included)."
+    )
+    forward_solves: int = Field(
+        description="Number of forward minimum-power solves of the part's motion during this run."
+    )
 
 
 class FeederSimulateResponse(Out):
-    runs: list[FeederFenceRunOut]
-    theta_final: float | None
-    status: str
-    complete: bool
-    message: str
-    solve_time_ms: float
-    elapsed_ms: float
+    runs: list[FeederFenceRunOut] = Field(
+        description="One run per fence the part met (or passed, on a belt), in order; the simulation stops at the "
+        "first fence the part does not leave."
+    )
+    theta_final: float | None = Field(
+        description="The part's orientation after the last fence, radians; null unless it left (or passed) every "
+        "fence."
+    )
+    status: str = Field(
+        description="The last run's status: 'left', 'missed', 'jammed', 'step_limit', 'stalled', 'overlap' or "
+        "'time_limit'."
+    )
+    complete: bool = Field(
+        description="Whether every run finished (left, missed or jammed) and the part either passed every fence or "
+        "jammed; false when cut by a limit, stalled or overlapping."
+    )
+    message: str = Field(
+        description="The result in words: that the part left all fences (and how many it passed untouched), or where "
+        "and why it stopped."
+    )
+    solve_time_ms: float = Field(
+        description="Time the simulation took in the solver, milliseconds."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
 
 
 
@@ -389,7 +466,10 @@ class FeederLayoutOut(Out):
     entry_spread: float = Field(description="The entry lane's half width, in the part's units.")
     belt_length: float = Field(description="From the first root to the last free end (to the gate, with one), along "
                                            "the belt, in the part's units: the shortest for this design and width.")
-    fences: list[FeederPlacedFenceOut]
+    fences: list[FeederPlacedFenceOut] = Field(
+        description="The placed fences in the order the part meets them: angle, side, root, free end, length, reach, "
+        "reach needed, and what binds their length."
+    )
     gate: FeederGateOut | None = Field(description="The reject gate (null: fences only).")
 
 
@@ -424,12 +504,19 @@ class FeederDesignOut(Out):
 class FeederCpSatOut(Out):
     depth_proven: int = Field(description="Every design depth up to this proven impossible.")
     statuses: list[str] = Field(description="CP-SAT's status per depth tried, from 1.")
-    complete: bool
-    solve_time_ms: float
+    complete: bool = Field(
+        description="Whether CP-SAT decided every depth it tried; false when a depth's solve ran out of time (the "
+        "depths after it were not tried)."
+    )
+    solve_time_ms: float = Field(
+        description="Time the CP-SAT proof took, milliseconds."
+    )
 
 
 class FeederValidationOut(Out):
-    parts: int
+    parts: int = Field(
+        description="Number of simulated parts run through the design (the request's `validation_parts`)."
+    )
     in_band: int = Field(description="Parts that ended in the promised band.")
     outside: int = Field(description="Parts that came flush on every fence and ended elsewhere (a failure).")
     unflushed: int = Field(description="Parts that left some fence without an edge flush (too short a fence): a "
@@ -456,14 +543,20 @@ class FeederPushPlanOut(Out):
     pushes: int | None = Field(description="Pushes of the shortest plan (null: none up to max_depth).")
     alphas: list[float] | None = Field(description="Turns of the push direction between pushes, radians.")
     tolerance: float | None = Field(description="How far each turn may err, radians (null: no turn needed).")
-    solve_time_ms: float
+    solve_time_ms: float = Field(
+        description="Time the push-plan baseline search took, milliseconds (it may take a tenth of the time that "
+        "remained)."
+    )
     complete: bool = Field(description="False: the baseline was cut at its share of the time limit (a tenth of "
                                         "what remained), before it found a plan or proved none exists up to "
                                         "max_depth; `pushes` is then null and says nothing.")
 
 
 class FeederDesignResponse(Out):
-    design: FeederDesignOut | None
+    design: FeederDesignOut | None = Field(
+        description="The design found: fences in order with angle and side, final band and edges, margin, and on a "
+        "belt its yield; null when none was found."
+    )
     depth_proven: int = Field(description="No design has this many fences or fewer (complete depths only).")
     exhausted: bool = Field(description="No design exists with these candidate fences at any depth.")
     fences_only_exhausted: bool | None = Field(default=None, description="On a belt with a gate allowed, when no "
@@ -471,17 +564,41 @@ class FeederDesignResponse(Out):
                                                                          "search then ran): whether none exists at "
                                                                          "any depth (false: none up to max_depth).")
     candidates: int = Field(description="Candidate fences whose maps were made.")
-    nodes: int
-    pruned: int
-    cp_sat: FeederCpSatOut | None
-    validation: FeederValidationOut | None
+    nodes: int = Field(
+        description="Search nodes made: states (a fence and the set of orientations the part may have after it) kept "
+        "by the breadth-first search."
+    )
+    pruned: int = Field(
+        description="Search nodes dropped because their orientation set contains one already reached at no greater "
+        "depth with no smaller margin."
+    )
+    cp_sat: FeederCpSatOut | None = Field(
+        description="CP-SAT's proof that no shorter design exists: depth proven, status per depth, time; null unless "
+        "`prove_with_cp_sat` (without a belt)."
+    )
+    validation: FeederValidationOut | None = Field(
+        description="Simulated parts (random tripod, orientation and mu_c) run through the design, by outcome; null "
+        "unless `validation_parts` > 0 and a design was found."
+    )
     layout: FeederLayoutOut | None = Field(description="The design on the belt asked for (null: no belt or no design).")
     push_plan_baseline: FeederPushPlanOut | None = Field(
         description="For comparison: the shortest sensorless plan of a frictionless single pusher for the same part "
                     "(Goldberg 1993), no belt, no friction.")
-    timings_ms: dict[str, float]
+    timings_ms: dict[str, float] = Field(
+        description="Milliseconds per phase that ran: push_plan, maps, reach_profiles, search, cp_sat, layout, "
+        "validation."
+    )
     status: str = Field(description="ok, or time_limit (what was finished is returned).")
-    complete: bool
-    message: str
-    solve_time_ms: float
-    elapsed_ms: float
+    complete: bool = Field(
+        description="Whether the design computation finished; false when the time limit cut it short (status "
+        "'time_limit')."
+    )
+    message: str = Field(
+        description="The result in words: the design's fence count and yield with the nodes searched, that none "
+        "exists, or how far it got before the time limit."
+    )
+    solve_time_ms: float = Field(
+        description="Time the design computation took in the solver (baseline, maps, search, proof, layout, "
+        "validation), milliseconds."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)

@@ -10,8 +10,12 @@ from service.common.responses import Out
 
 
 class HealthResponse(Out):
-    status: Literal["ok"]
-    version: str
+    status: Literal["ok"] = Field(
+        description="Always 'ok' while the process serves requests."
+    )
+    version: str = Field(
+        description="Version of the service, e.g. '0.1.0'."
+    )
 
 
 class GateOut(Out):
@@ -24,7 +28,14 @@ class GateOut(Out):
 
 
 class ReadyResponse(Out):
-    status: Literal["ready", "saturated"]
-    version: str
+    status: Literal["ready", "saturated"] = Field(
+        description="'ready' (200) while both admission gates have room, 'saturated' (503) when one is full."
+    )
+    version: str = Field(
+        description="Version of the service, e.g. '0.1.0'."
+    )
     solver_workers: int = Field(description="Solver worker processes of this web process (0: work runs in its threads).")
-    gates: list[GateOut]
+    gates: list[GateOut] = Field(
+        description="The two admission gates of this web process, `requests` and `expensive`, with their use, "
+        "capacity, admissions and refusals."
+    )

@@ -30,7 +30,7 @@ from service.common.fields import (
     Vec2,
     exactly_one_of,
 )
-from service.common.responses import Out
+from service.common.responses import ELAPSED_MS_DESCRIPTION, Out
 from service.limits import (
     DEFAULT_CERTIFIED_POINTS,
     DEFAULT_N_POINTS,
@@ -180,8 +180,12 @@ class CurvaturesOut(Out):
 class PerimeterArcOut(Out):
     start_angle: float = Field(description="Polar angle about the CM where the arc starts (rad); runs CCW.")
     end_angle: float = Field(description="Polar angle about the CM where the arc ends (rad).")
-    start: Vec2
-    end: Vec2
+    start: Vec2 = Field(
+        description="The point [x, y] where the arc starts on the disk perimeter (at `start_angle`), world frame."
+    )
+    end: Vec2 = Field(
+        description="The point [x, y] where the arc ends on the disk perimeter (at `end_angle`), world frame."
+    )
 
 
 class DiskCrossingsOut(Out):
@@ -204,8 +208,14 @@ class BracketOut(Out):
     )
     inner: Vec2 | None = Field(description="The inner end of the bracket (null when the ray could not be bracketed).")
     outer: Vec2 | None = Field(description="The outer end.")
-    inner_status: Literal["inside", "outside", "undecided"] | None
-    outer_status: Literal["inside", "outside", "undecided"] | None
+    inner_status: Literal["inside", "outside", "undecided"] | None = Field(
+        description="Membership status of the inner end: 'inside', 'outside' or 'undecided'; null when a polygon ray "
+        "had no inner query."
+    )
+    outer_status: Literal["inside", "outside", "undecided"] | None = Field(
+        description="Membership status of the outer end: 'inside', 'outside' or 'undecided'; null when a polygon ray "
+        "had no outer query."
+    )
     verdict: Literal["bracketed", "both_inside", "both_outside", "reversed", "undecided"] = Field(
         description="'bracketed': the true boundary crosses [inner, outer]. 'both_inside' / "
         "'both_outside' / 'reversed' at a disk point: the analytic boundary is wrong there."
@@ -220,7 +230,10 @@ class BracketOut(Out):
 class CertifiedLocusOut(Out):
     """Certified brackets of the COR locus boundary (method 'certified')."""
 
-    region: Literal["disk", "polygon"]
+    region: Literal["disk", "polygon"] = Field(
+        description="What was certified: 'disk' (the analytic boundary of the disk, checked point by point) or "
+        "'polygon' (the exact locus of the footprint, traced along rays)."
+    )
     n_requested: int = Field(description="Boundary points (disk) or rays (polygon) asked for.")
     n_done: int = Field(description="Of them examined before the time limit.")
     n_certified: int = Field(description="Of them bracketed.")
@@ -229,14 +242,21 @@ class CertifiedLocusOut(Out):
         description="Disk: the analytic boundary points examined, CCW from the tip. Polygon: the "
         "certified boundary points, CCW by ray angle (null where a ray was not bracketed)."
     )
-    brackets: list[BracketOut]
+    brackets: list[BracketOut] = Field(
+        description="One certified bracket per boundary point examined (disk) or per ray traced (polygon), in the "
+        "order of `boundary`."
+    )
     bracket_width: float = Field(description="Distance between the two ends of a bracket (length).")
     wrong: list[int] = Field(description="Disk: indices where the analytic boundary is proven wrong.")
     undecided: list[int] = Field(description="Indices not bracketed (undecided ends, or rays that failed).")
     multi_crossing: list[int] = Field(description="Polygon: rays with more than one crossing in the scan.")
     centre: Vec2 | None = Field(description="Polygon: the certified inside point the rays start from.")
-    time_limit_s: float
-    solve_time_ms: float
+    time_limit_s: float = Field(
+        description="The request's time limit (its `time_limit_s` or the route's default), seconds."
+    )
+    solve_time_ms: float = Field(
+        description="Time the certification took in the solver, milliseconds."
+    )
 
 
 class CorLocusResponse(Out):
@@ -256,11 +276,26 @@ class CorLocusResponse(Out):
     axis: Vec2 = Field(description="Unit vector from the CM towards the tip (the locus' symmetry axis).")
     translation_direction: Vec2 = Field(description="Unit direction of a pure translation (the edge normal, into the part).")
     r_tip: float | None = Field(description="Distance of the tip from the CM; null for translation or when `tip` was not asked for.")
-    tip: TipOut | None
-    tip_line: LocusTipLineOut | None
-    r_min: RMinOut | None
-    curvatures: CurvaturesOut | None
-    disk_crossings: DiskCrossingsOut | None
+    tip: TipOut | None = Field(
+        description="The tip, the farthest COR from the CM (3.37): {point, distance, distance_book, on_disk}; null "
+        "for a translation or when `tip` was not asked for."
+    )
+    tip_line: LocusTipLineOut | None = Field(
+        description="The line of tips over all edge angles (3.3.11.1): {point, direction, distance}, world frame; "
+        "null when not asked for or when the contact is at the CM."
+    )
+    r_min: RMinOut | None = Field(
+        description="The boundary point nearest the CM (3.31): {point, distance}; null for a translation or when "
+        "`r_min` was not asked for."
+    )
+    curvatures: CurvaturesOut | None = Field(
+        description="Radii of curvature of the boundary at the tip (3.38 corrected and as printed) and at r_min "
+        "(3.33), length; null for a translation or when not asked for."
+    )
+    disk_crossings: DiskCrossingsOut | None = Field(
+        description="Where the boundary meets the disk (3.32): {cos_eta, points, arcs}; null for a translation or "
+        "when `disk_crossings` was not asked for."
+    )
     boundary: list[Vec2] | None = Field(
         description="Closed boundary polygon of the locus, counter-clockwise, starting at the tip; "
         "the first point is not repeated."
@@ -285,7 +320,7 @@ class CorLocusResponse(Out):
         description="Method 'certified': the answer was computed before for the same request (all but "
         "time_limit_s) and kept in the service's result store; only complete answers are kept.",
     )
-    elapsed_ms: float = Field(description="Time spent computing, milliseconds.")
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
 
 
 
@@ -359,8 +394,14 @@ class DualOut(Out):
 
 
 class MembershipResponse(Out):
-    status: Literal["inside", "outside", "undecided"]
-    certificate_kind: Literal["witness", "dual", "none"]
+    status: Literal["inside", "outside", "undecided"] = Field(
+        description="The decision: 'inside' (r is a COR), 'outside' (it is not), or 'undecided' (time limit or "
+        "iteration caps reached, or r within the tolerances of the boundary)."
+    )
+    certificate_kind: Literal["witness", "dual", "none"] = Field(
+        description="The certificate given: 'witness' (inside: a support), 'dual' (outside: a separating functional "
+        "with a sound lower bound), or 'none'."
+    )
     cor: Vec2 = Field(description="The point decided: the query, or moved onto the outline when within 1e-9 L of it.")
     cor_query: Vec2 = Field(description="The query as given.")
     in_footprint: bool = Field(description="Whether the COR lies in the closed footprint (a point mass there is allowed).")
@@ -372,12 +413,28 @@ class MembershipResponse(Out):
         "when no round ran (time limit)."
     )
     length_scale: float = Field(description="L: the disk radius or the polygon's circumradius.")
-    disk_radius: float
-    center_of_mass: Vec2
+    disk_radius: float = Field(
+        description="Disk radius a used: the request's `disk_radius`, or the footprint's circumradius about the CM "
+        "(request's length unit)."
+    )
+    center_of_mass: Vec2 = Field(
+        description="Centre of mass used, [x, y] in the world frame ([0, 0] with a disk, the footprint's area "
+        "centroid, unless given)."
+    )
     iterations: int = Field(description="Column-generation rounds.")
-    n_columns: int
+    n_columns: int = Field(
+        description="Columns (support points on the outline) in the last restricted master problem of the column "
+        "generation."
+    )
     bnb_intervals: int = Field(description="Branch-and-bound intervals examined.")
-    message: str
-    time_limit_s: float
-    solve_time_ms: float
-    elapsed_ms: float
+    message: str = Field(
+        description="The solver's summary of the decision, e.g. that the witness satisfies (3.8) or that the time "
+        "limit was reached."
+    )
+    time_limit_s: float = Field(
+        description="The request's time limit (its `time_limit_s` or the route's default), seconds."
+    )
+    solve_time_ms: float = Field(
+        description="Time the membership decision took in the solver, milliseconds."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)

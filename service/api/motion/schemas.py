@@ -23,7 +23,7 @@ from service.common.fields import (
     Vec2,
     exactly_one_of,
 )
-from service.common.responses import Out
+from service.common.responses import ELAPSED_MS_DESCRIPTION, Out
 from service.limits import (
     DEFAULT_PRESSURE_RESOLUTION,
     MAX_BATCH,
@@ -244,9 +244,17 @@ class BatchSummaryOut(Out):
 
 
 class PressureSummaryOut(Out):
-    kind: Literal["uniform"]
-    region: Literal["disk", "polygon"]
-    resolution: int
+    kind: Literal["uniform"] = Field(
+        description="Kind of pressure distribution: always 'uniform'."
+    )
+    region: Literal["disk", "polygon"] = Field(
+        description="Where the pressure lies: 'disk' (no `pressure.footprint`: the disk of radius `disk_radius`) or "
+        "'polygon' (the footprint)."
+    )
+    resolution: int = Field(
+        description="The request's `pressure.resolution`: rings of the disk (6 n^2 cells) or subdivisions of each "
+        "triangle of the polygon (n^2 cells per triangle)."
+    )
     n_cells: int = Field(description="Cells of the discretisation (point masses solved).")
 
 
@@ -256,25 +264,40 @@ class CorSolveResponse(Out):
     input: Literal["support", "supports", "pressure"] = Field(description="Which of the three inputs was given.")
     disk_radius: float = Field(description="Disk radius a used (length).")
     center_of_mass: Vec2 = Field(description="Centre of mass used.")
-    mu_c: float
-    method: str
+    mu_c: float = Field(
+        description="Pusher-workpiece friction coefficient used (the request's `mu_c`; 0: frictionless pusher)."
+    )
+    method: str = Field(
+        description="Back end asked for: 'newton', 'cvxpy' or 'casadi' (each motion's `method` says which produced "
+        "it)."
+    )
     motion: MotionOut | None = Field(description="The motion (`support`, `pressure`); null for a batch.")
     impact: ImpactOut | None = Field(description="Impact-limit COR (7.1) (`support`, `pressure`); null for a batch.")
     motions: list[MotionOut] | None = Field(description="One motion per support, in order (`supports`).")
     batch: BatchSummaryOut | None = Field(description="Counts of a batch (`supports`).")
     pressure: PressureSummaryOut | None = Field(description="The discretisation (`pressure`).")
-    warnings: list[str]
+    warnings: list[str] = Field(
+        description="Non-fatal remarks: the contact outside the disk, motions that are not optimal, an impact that is "
+        "null because all the mass is at the CM."
+    )
     solve_time_ms: float = Field(description="Time in the solver, ms.")
-    elapsed_ms: float = Field(description="Time spent computing in all, ms.")
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
 
 
 class HistogramOut(Out):
     edges: list[float] = Field(description="Bin edges: signed distance from the contact along J p (length).")
-    counts: list[int]
+    counts: list[int] = Field(
+        description="Number of sticking CORs in each bin between consecutive `edges` (one count per bin)."
+    )
     sticking_fraction: float = Field(description="Fraction of tripods that stick.")
     outside_range: int = Field(description="Sticking CORs outside [edges[0], edges[-1]].")
-    mu_c: float
-    solve_time_ms: float
+    mu_c: float = Field(
+        description="Pusher friction with which the tripods were solved again for the histogram (the request's "
+        "`histogram_mu_c`)."
+    )
+    solve_time_ms: float = Field(
+        description="Time to draw and solve the histogram's tripods and bin them, milliseconds."
+    )
 
 
 class TripodStatisticsResponse(Out):
@@ -282,16 +305,42 @@ class TripodStatisticsResponse(Out):
         description="'optimal' when every tripod's solve converged (KKT residual within tolerance)."
     )
     max_kkt_residual: float = Field(description="Largest KKT residual over the sample (dimensionless).")
-    n_tripods: int
-    seed: int
-    disk_radius: float
-    center_of_mass: Vec2
-    mu_c: float
+    n_tripods: int = Field(
+        description="Number of random tripods drawn and solved (the request's `n_tripods`)."
+    )
+    seed: int = Field(
+        description="Seed of the random generator (the request's `seed`): the same request gives the same answer."
+    )
+    disk_radius: float = Field(
+        description="Disk radius a used: the request's `disk_radius`, or the footprint's circumradius about the CM "
+        "(request's length unit)."
+    )
+    center_of_mass: Vec2 = Field(
+        description="Centre of mass used, [x, y] in the world frame ([0, 0] or the footprint's area centroid unless "
+        "given)."
+    )
+    mu_c: float = Field(
+        description="Pusher friction coefficient of the COR sample (the request's `mu_c`; figure 3-5 uses 0)."
+    )
     cors: list[Vec2 | None] | None = Field(description="CORs of the tripods (null entries: translations).")
-    converged: int
-    translations: int
-    fallbacks: int
+    converged: int = Field(
+        description="Number of tripods whose solve converged (KKT residual within tolerance and the contact mode "
+        "consistent)."
+    )
+    translations: int = Field(
+        description="Number of tripods whose motion is a translation (the COR at infinity; their entries in `cors`, "
+        "when returned, are null)."
+    )
+    fallbacks: int = Field(
+        description="Number of tripods whose Newton solve failed and was re-done by the conic solver."
+    )
     mode_counts: dict[str, int] = Field(description="Tripods per contact mode.")
-    histogram: HistogramOut | None
-    solve_time_ms: float
-    elapsed_ms: float
+    histogram: HistogramOut | None = Field(
+        description="The sticking-line histogram of figure 7-2: {edges, counts, sticking_fraction, outside_range, "
+        "mu_c, solve_time_ms}; null unless `histogram` was asked for."
+    )
+    solve_time_ms: float = Field(
+        description="Time the solver took for the tripod batch, plus the histogram's second sample when asked for, "
+        "milliseconds."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)

@@ -12,7 +12,7 @@ from typing import Annotated
 from pydantic import ConfigDict, Field
 
 from service.common.fields import Strict
-from service.common.responses import Out
+from service.common.responses import ELAPSED_MS_DESCRIPTION, Out
 from service.limits import (
     PARTICLE_MAX_EXPONENT,
     PARTICLE_MAX_MAGNITUDE,
@@ -59,7 +59,14 @@ class ParticleResponse(Out):
     power_newton: float = Field(description="Power (2.30) at Newton's answer.")
     power_mpp: float = Field(description="Power (2.30) at the minimum-power answer (never larger).")
     status: str = Field(description="IPOPT's return status.")
-    iterations: int
-    message: str
-    solve_time_ms: float
-    elapsed_ms: float
+    iterations: int = Field(
+        description="IPOPT iterations of the numeric minimiser of the power (2.30)."
+    )
+    message: str = Field(
+        description="Human-readable summary: whether Newton's law and the minimum power principle agree, and by how "
+        "much they differ when n > 0."
+    )
+    solve_time_ms: float = Field(
+        description="Time CasADi/IPOPT took to build and minimise the power (2.30), milliseconds."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)

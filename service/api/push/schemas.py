@@ -31,7 +31,7 @@ from service.common.fields import (
     TimeLimit,
     exactly_one_of,
 )
-from service.common.responses import Out
+from service.common.responses import ELAPSED_MS_DESCRIPTION, Out
 from service.limits import (
     ALIGN_DEFAULT_N_NODES,
     DEFAULT_TIME_LIMIT_S,
@@ -118,7 +118,10 @@ class PushQuasistaticRequest(Strict):
 
 
 class PartOut(Out):
-    kind: Literal["disk", "polygon"]
+    kind: Literal["disk", "polygon"] = Field(
+        description="How the part was given: 'disk' (`disk_radius`, a uniform disk) or 'polygon' (`footprint`, a "
+        "uniform lamina)."
+    )
     radius: float = Field(description="a: the disk's radius or the polygon's circumradius about the CM (length).")
     radius_of_gyration: float = Field(description="rho, polar, about the CM (length): a / sqrt 2 for the disk.")
     mean_distance: float = Field(
@@ -143,7 +146,10 @@ class ErrorSpeedOut(Out):
     within_tolerance: bool = Field(description="ratio <= 1: the coasting stays within the permissible error.")
     equation: str = Field(description="The book's equation.")
     section: str = Field(description="The book's section.")
-    formula: str
+    formula: str = Field(
+        description="The characteristic speed's formula as text, e.g. 'v^2 = 2 g mu_s X' (6.6) or 'v^2 = (8/3) mu_s a "
+        "g theta' (6.3) for the disk."
+    )
 
 
 class QuasiStaticParameterOut(Out):
@@ -152,9 +158,15 @@ class QuasiStaticParameterOut(Out):
         description="speed / v_qs, the quasi-static parameter. After release the part coasts "
         "ratio^2 a and turns at most ratio^2 rad."
     )
-    equation: str
-    section: str
-    formula: str
+    equation: str = Field(
+        description="The book's equation of the quasi-static parameter: '(6.7)'."
+    )
+    section: str = Field(
+        description="The book's section of the quasi-static parameter: '6.8.3'."
+    )
+    formula: str = Field(
+        description="The characteristic speed's formula as text: 'v^2 = 2 mu_s a g'."
+    )
 
 
 class ThresholdsOut(Out):
@@ -168,19 +180,37 @@ class PushQuasistaticResponse(Out):
         "<= 0.09 rad), transitional, or inertial (ratio >= 1: inertia as large as friction, 6.8.3; "
         "the impact limit of 7.4 is the better model as it grows)."
     )
-    message: str
-    speed: float
-    mu_s: float
+    message: str = Field(
+        description="The verdict in words, with the ratio speed / v_qs and how far the part slides and turns after "
+        "release at this speed."
+    )
+    speed: float = Field(
+        description="Relative speed v of pusher and part, as given, in the request's length unit per second."
+    )
+    mu_s: float = Field(
+        description="Coefficient of sliding friction between part and table, as given."
+    )
     g: float = Field(description="g used, length unit / s^2.")
     g_source: Literal["g", "length_unit"] = Field(description="Whether g was given or derived from `length_unit`.")
-    length_unit: LengthUnit | None
-    part: PartOut
+    length_unit: LengthUnit | None = Field(
+        description="The request's `length_unit` ('m', 'cm', 'mm', 'um', 'in' or 'ft'); null when `g` was given "
+        "instead."
+    )
+    part: PartOut = Field(
+        description="The part's moments: kind, radius a, radius of gyration, mean distance from the CM, spin factor, "
+        "and the polygon's CM (request's length unit)."
+    )
     angular: ErrorSpeedOut = Field(description="6.8.1, (6.3): the angular-error speed.")
     translational: ErrorSpeedOut = Field(description="6.8.2, (6.6): the translational-error speed.")
     quasi_static: QuasiStaticParameterOut = Field(description="6.8.3, (6.7): the quasi-static parameter.")
-    thresholds: ThresholdsOut
+    thresholds: ThresholdsOut = Field(
+        description="The ratio limits of the verdict: quasi_static_max_ratio (0.3) and inertial_min_ratio (1)."
+    )
     reference: str = Field(description="Where the formulas come from.")
-    elapsed_ms: float
+    elapsed_ms: float = Field(
+        description="Milliseconds from the request's arrival until its answer was assembled (computed in the web "
+        "process, no solver worker)."
+    )
 
 
 # =======================================================================================
@@ -368,13 +398,30 @@ class QuasiStaticCheckOut(Out):
     verdict of POST /v1/push/quasistatic)."""
 
     within_quasi_static: bool = Field(description="verdict == quasi_static: the bounds of this answer apply.")
-    verdict: Literal["quasi_static", "transitional", "inertial"]
-    message: str
-    speed: float
-    mu_s: float
-    g: float
-    g_source: Literal["g", "length_unit"]
-    length_unit: LengthUnit | None
+    verdict: Literal["quasi_static", "transitional", "inertial"] = Field(
+        description="On the ratio speed / v_qs (6.7) against the service's thresholds (`thresholds` of the "
+        "quasi-static answer; 0.3 and 1): 'quasi_static', 'transitional', or 'inertial' (inertia as large as friction)."
+    )
+    message: str = Field(
+        description="The verdict in words, with the ratio speed / v_qs and how far the part slides and turns after "
+        "release at this speed."
+    )
+    speed: float = Field(
+        description="Speed of the pusher, as given in `quasi_static.speed`, in the request's length unit per second."
+    )
+    mu_s: float = Field(
+        description="Friction coefficient between part and table, as given in `quasi_static.mu_s`."
+    )
+    g: float = Field(
+        description="Gravitational acceleration used, in the request's length unit per s^2."
+    )
+    g_source: Literal["g", "length_unit"] = Field(
+        description="Where g came from: 'g' (given) or 'length_unit' (9.81 m/s^2 converted to the named unit)."
+    )
+    length_unit: LengthUnit | None = Field(
+        description="The `quasi_static.length_unit` ('m', 'cm', 'mm', 'um', 'in' or 'ft'); null when `g` was given "
+        "instead."
+    )
     quasi_static: QuasiStaticParameterOut = Field(description="6.8.3, (6.7): speed / v_qs.")
     angular: ErrorSpeedOut = Field(description="6.8.1, (6.3): for the book's 5-degree angular error.")
     translational: ErrorSpeedOut = Field(description="6.8.2, (6.6): for the book's X = a/7.")
@@ -395,14 +442,23 @@ class BoundOut(Out):
 
 
 class FencePieceOut(Out):
-    beta_start: float
-    beta_end: float
+    beta_start: float = Field(
+        description="beta where the stretch begins, radians (the book's fence frame, after the reflection when "
+        "mirrored)."
+    )
+    beta_end: float = Field(
+        description="beta where the stretch ends, radians (the book's fence frame, after the reflection when "
+        "mirrored)."
+    )
     regime: Literal["frictionless", "sticking", "slipping_down", "slipping_up"] = Field(
         description="Slowest COR of the stretch: the tip of {COR}_alpha (3.41); B, the lower end of the "
         "sticking locus (4.7)-(4.8); the tip of {COR}_(alpha+nu) or {COR}_(alpha-nu) ((4.6), corrected)."
     )
     push: float = Field(description="The closed form's push over the stretch (length).")
-    equation: str
+    equation: str = Field(
+        description="The closed form of the stretch's regime: '(3.41)', '(4.8)', or '(4.6) corrected, tip of "
+        "{COR}_(alpha+nu)' / '{COR}_(alpha-nu)'."
+    )
 
 
 class FenceBoundOut(BoundOut):
@@ -448,7 +504,9 @@ class FenceStageOut(Out):
     vertex_edge_angle: float = Field(description="psi: from the ray to the CM clockwise to the flush edge (rad).")
     rotation: float = Field(description="beta_final - beta_initial: the angle the part turns (rad).")
     orientation_initial: float = Field(description="The part's world orientation at the start of the stage (rad).")
-    orientation_final: float
+    orientation_final: float = Field(
+        description="The part's world orientation at the end of the stage, when its edge is flush, radians (CCW)."
+    )
     longest_push: FenceBoundOut = Field(description="Longest push of the fence over the stage (length).")
     shortest_push: FenceBoundOut = Field(description="Shortest push over the stage (length).")
     slip: FenceSlipOut | None = Field(
@@ -463,7 +521,9 @@ class FenceEdgeOut(Out):
 
 class FenceGeometryOut(Out):
     disk_radius: float = Field(description="a: the footprint's circumradius about the CM (3.1.8).")
-    center_of_mass: list[float]
+    center_of_mass: list[float] = Field(
+        description="The part's centre of mass [x, y], world frame (the footprint's area centroid unless given)."
+    )
     alpha: float = Field(
         description="The book's alpha in the fence frame (after the reflection when `mirrored`): the angle "
         "from the push direction to the fence face, in (0, pi)."
@@ -488,11 +548,21 @@ class FenceGeometryOut(Out):
 
 
 class PushAlignResponse(Out):
-    message: str
-    method: GrossMethod
-    mu_c: float
+    message: str = Field(
+        description="What happens, in words: the first contact vertex, the sense and angle turned, the flush edge, "
+        "the longest push; warns of a large quadrature error."
+    )
+    method: GrossMethod = Field(
+        description="The method asked for: 'closed_form', 'exact' or 'both'."
+    )
+    mu_c: float = Field(
+        description="Friction coefficient between fence and part, as given (0: the frictionless fence of 3.4)."
+    )
     nu: float = Field(description="atan(mu_c), half-angle of the friction cone (rad).")
-    geometry: FenceGeometryOut
+    geometry: FenceGeometryOut = Field(
+        description="The alignment's geometry: a, CM, the book's alpha, fence normal, sense, reflection, first "
+        "contact, flush edges, total rotation, final orientation."
+    )
     stages: list[FenceStageOut] = Field(
         description="The turns until a stable edge is flush: the first is the book's problem; more follow "
         "when a flush edge is not stable (the CM's foot is off it). Empty when nothing turns."
@@ -503,14 +573,28 @@ class PushAlignResponse(Out):
         description="Sum over the stages of the slip bounds (every stage slides along the same fence face); null "
         "for method closed_form. exact_time_s is the total."
     )
-    quasi_static: QuasiStaticCheckOut | None
-    note: str
-    reference: str
-    n_nodes: int
-    n_points: int
-    time_limit_s: float
+    quasi_static: QuasiStaticCheckOut | None = Field(
+        description="Whether the fence's speed is quasi-static for this part as a uniform lamina (6.8); null unless "
+        "`quasi_static` was given."
+    )
+    note: str = Field(
+        description="Fixed text on what the bounds mean: circumscribing-disk bounds (3.1.8), closed forms as "
+        "approximations, when a stage ends and the part stops."
+    )
+    reference: str = Field(
+        description="The book's sections and equations the answer rests on, as text."
+    )
+    n_nodes: int = Field(
+        description="Gauss-Legendre nodes of each exact bound, as asked."
+    )
+    n_points: int = Field(
+        description="Boundary points of each elementary locus of the exact sketches, as asked."
+    )
+    time_limit_s: float = Field(
+        description="The request's time limit (its `time_limit_s` or the route's default), seconds."
+    )
     predicted_time_s: float = Field(description="The cost model's prediction for the exact bounds (s).")
-    elapsed_ms: float
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
 
 
 class SketchIOut(Out):
@@ -519,19 +603,37 @@ class SketchIOut(Out):
     occurs: bool = Field(
         description="Sketch i occurs somewhere in [beta_initial, pi/2) (always for finite mu_c: 4.4.1.2)."
     )
-    note: str
+    note: str = Field(
+        description="Sketch i in words: tan beta > 2 mu_c (4.17), (4.16) then overestimates, and where it begins (or "
+        "that the whole encounter is in it)."
+    )
 
 
 class PushDiskEncounterResponse(Out):
-    message: str
-    method: GrossMethod
-    disk_radius: float
-    beta_initial: float
+    message: str = Field(
+        description="The encounter in words: a, beta, offset, mu_c, the greatest length, the greatest rotation pi/2 - "
+        "beta, where sketch i begins; warns of a large quadrature error."
+    )
+    method: GrossMethod = Field(
+        description="The method asked for: 'closed_form', 'exact' or 'both'."
+    )
+    disk_radius: float = Field(
+        description="Radius a of the disk, as given (request's length unit)."
+    )
+    beta_initial: float = Field(
+        description="Collision parameter at first contact, radians: as given, or derived from `offset` by (4.24)."
+    )
     beta_final: float = Field(description="pi/2: the disk is left tangent to the pusher's path.")
     offset: float = Field(description="d = a (1 - sin beta_initial) (4.24).")
-    beta_source: Literal["beta_initial", "offset"]
-    mu_c: float
-    nu: float
+    beta_source: Literal["beta_initial", "offset"] = Field(
+        description="Which request field gave the collision parameter: 'beta_initial' or 'offset'."
+    )
+    mu_c: float = Field(
+        description="Friction coefficient between pusher and disk, as given."
+    )
+    nu: float = Field(
+        description="atan(mu_c), half-angle of the friction cone, radians."
+    )
     length_greatest: BoundOut = Field(description="Greatest length of the encounter; closed form (4.16).")
     length_least: BoundOut = Field(description="Least length of the encounter (no closed form, 4.4.1.3).")
     length_frictionless: float = Field(
@@ -539,12 +641,32 @@ class PushDiskEncounterResponse(Out):
     )
     rotation_greatest: BoundOut = Field(description="Greatest rotation of the disk (rad); (4.18) = pi/2 - beta_initial.")
     rotation_least: BoundOut = Field(description="Least rotation of the disk (rad; 4.4.2.2, numerical only).")
-    sketch_i: SketchIOut
-    quasi_static: QuasiStaticCheckOut | None
-    note: str
-    reference: str
-    n_nodes: int
-    n_points: int
-    time_limit_s: float
-    predicted_time_s: float
-    elapsed_ms: float
+    sketch_i: SketchIOut = Field(
+        description="Where the COR sketch is of type i (tan beta > 2 mu_c, 4.17): onset_beta, at_start, occurs and a "
+        "note."
+    )
+    quasi_static: QuasiStaticCheckOut | None = Field(
+        description="Whether the pusher's speed is quasi-static for this disk (6.8); null unless `quasi_static` was "
+        "given."
+    )
+    note: str = Field(
+        description="Fixed text on the bounds: the disk is the book's exact case, where (4.16) errs, and (4.18) "
+        "re-derived as pi/2 - beta_initial."
+    )
+    reference: str = Field(
+        description="The book's sections and equations the answer rests on, as text."
+    )
+    n_nodes: int = Field(
+        description="Gauss-Legendre nodes of each exact bound, as asked."
+    )
+    n_points: int = Field(
+        description="Boundary points of each elementary locus of the exact sketches, as asked."
+    )
+    time_limit_s: float = Field(
+        description="The request's time limit (its `time_limit_s` or the route's default), seconds."
+    )
+    predicted_time_s: float = Field(
+        description="The cost model's prediction for the exact bounds, seconds (0 for method closed_form); a request "
+        "predicted over its time limit is refused."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)

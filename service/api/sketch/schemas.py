@@ -32,7 +32,7 @@ from service.common.fields import (
     Vec2,
     exactly_one_of,
 )
-from service.common.responses import Out
+from service.common.responses import ELAPSED_MS_DESCRIPTION, Out
 from service.limits import (
     DEFAULT_TIME_LIMIT_S,
     MAX_CERTIFIED_POINTS,
@@ -250,15 +250,23 @@ class SketchCertificationOut(Out):
     sticking_status: Literal["found", "empty", "incomplete"] | None = Field(
         description="The exact sticking locus: 'found', 'empty' (no sticking COR), 'incomplete'; null for a translation."
     )
-    sticking_lower: StickingEndOut | None
-    sticking_upper: StickingEndOut | None
+    sticking_lower: StickingEndOut | None = Field(
+        description="The exact sticking locus's lower end (smallest t along J p) with its certified bracket; null for "
+        "a translation or when no sticking locus was found."
+    )
+    sticking_upper: StickingEndOut | None = Field(
+        description="The exact sticking locus's upper end (largest t along J p) with its certified bracket; null for "
+        "a translation or when no sticking locus was found."
+    )
     sticking_multiple_intervals: bool = Field(
         description="The exact locus has gaps; `sticking` is then the hull of its intervals."
     )
     n_rays: int | None = Field(description="Rays per traced locus (polygon); null for a disk (analytic loci).")
     plus_certified_rays: int | None = Field(description="Rays of {COR}_(alpha+nu) certified; null when not traced.")
     minus_certified_rays: int | None = Field(description="Rays of {COR}_(alpha-nu) certified; null when not traced.")
-    solve_time_s: float
+    solve_time_s: float = Field(
+        description="Time the certification took in the solver, seconds."
+    )
 
 
 class CorSketchResponse(Out):
@@ -334,7 +342,7 @@ class CorSketchResponse(Out):
         description="With a polygon: distance from the contact to its outline (length); else null."
     )
     warnings: list[str] = Field(description="Non-fatal remarks about the input.")
-    elapsed_ms: float = Field(description="Time spent computing (scene and sketch), milliseconds.")
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
 
 
 def _check_modes() -> None:

@@ -17,7 +17,7 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Field, StrictBool
 
 from service.common.fields import Point, TimeLimit
-from service.common.responses import Out
+from service.common.responses import ELAPSED_MS_DESCRIPTION, Out
 from service.limits import (
     MAX_DISK_RADIUS,
     MAX_MU_C,
@@ -107,7 +107,10 @@ class CriticalPointOut(Out):
     midpoint: float | None = Field(description="'exact': the bracket's midpoint.")
     lower_bound: float | None = Field(description="'exact': the certified inside end of the bracket.")
     bracket_width: float | None = Field(description="'exact': the bracket width.")
-    certified: bool
+    certified: bool = Field(
+        description="Whether r_star carries its certificate (method 'exact', both bracket ends certified); always "
+        "false for 'sweep' and 'tip_line'."
+    )
     status: str = Field(description="'bracketed', 'wide', ... (exact), or 'approximate'.")
     tip_line_radius: float = Field(description="The book's tip-line approximation 2a / sin(beta).")
     tip_line_error: float | None = Field(description="tip_line_radius - r_star (negative: the tip line is unsafe here).")
@@ -137,11 +140,20 @@ class InverseOut(Out):
 
 
 class SpiralCriticalRadiusResponse(Out):
-    message: str
-    disk_radius: float
-    mu_c: float
+    message: str = Field(
+        description="The table in words (collision parameters done, time limit, dropped points, increases of r*) and "
+        "b_inf numerically against (4.25)."
+    )
+    disk_radius: float = Field(
+        description="Radius a of the disk, as given (request's length unit)."
+    )
+    mu_c: float = Field(
+        description="Pusher-disk friction coefficient, as given."
+    )
     nu: float = Field(description="atan(mu_c).")
-    method: SpiralMethod
+    method: SpiralMethod = Field(
+        description="How r* was found, as asked: 'sweep', 'exact' or 'tip_line'."
+    )
     points: list[CriticalPointOut] = Field(description="r*(beta) at each collision parameter, ascending in beta.")
     b_inf: LimitOut = Field(description="The limiting radius (4.5.4).")
     inverse: list[InverseOut] | None = Field(description="beta*(r), d*(r) at the requested `radii`.")
@@ -151,13 +163,24 @@ class SpiralCriticalRadiusResponse(Out):
     )
     sketch_change_beta: float = Field(description="atan(2 mu_c): above it the sketch is type i (4.17).")
     monotone: bool = Field(description="r* never increases with beta on this table (the envelope's assumption).")
-    complete: bool
-    time_limited: bool
-    stopped_at_beta: float | None
+    complete: bool = Field(
+        description="Whether every planned collision parameter of the table was evaluated."
+    )
+    time_limited: bool = Field(
+        description="Whether the time limit stopped the table early (it then covers beta >= `stopped_at_beta` only)."
+    )
+    stopped_at_beta: float | None = Field(
+        description="The smallest collision parameter the table reached before the time limit, radians (it covers "
+        "beta >= this); null when not time-limited."
+    )
     from_cache: bool = Field(description="The table came from the service's cache (computed for a = 1, scaled).")
-    reference: str
-    time_limit_s: float
-    elapsed_ms: float
+    reference: str = Field(
+        description="The book's sections, equations and figures the answer rests on, as text."
+    )
+    time_limit_s: float = Field(
+        description="The request's time limit (its `time_limit_s` or the route's default), seconds."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
 
 
 # ---------------------------------------------------------------------------------------
@@ -254,9 +277,15 @@ class CertificateOut(Out):
     certified: bool = Field(description="Dual feasible potentials whose bound equals the schedule's cost: optimal.")
     primal_cost: int = Field(description="The schedule's cost in integer units (see cost_unit).")
     dual_bound: int = Field(description="The shortest-path potentials' lower bound on every schedule's cost.")
-    gap: int
+    gap: int = Field(
+        description="primal_cost - dual_bound, in integer cost units (see cost_unit); 0 when the schedule is "
+        "certified optimal."
+    )
     min_reduced_cost: int = Field(description=">= 0: the potentials are dual feasible.")
-    n_arcs_checked: int
+    n_arcs_checked: int = Field(
+        description="Number of arcs (revolutions of the grid from radii reachable from b_1) whose reduced cost was "
+        "checked."
+    )
     cost_unit: float = Field(description="Length per cost unit ('length'), or 1 revolution.")
     revolution_weight: int | None = Field(
         description="Objective 'revolutions': the cost of one revolution, in units of cost_unit (a revolution costs "
@@ -276,38 +305,98 @@ class ScheduleOut(Out):
         description="What 'optimal' is relative to: the schedules whose radii lie on the grid (n_nodes radii, "
         "holding the recursion's, so never worse than the recursion (4.26)) and that are safe by the table's r*."
     )
-    stopped_early: bool
-    objective: Objective
-    objective_value: float | None
-    backend: Backend
+    stopped_early: bool = Field(
+        description="Whether the time limit stopped the search before optimality was proven: CP-SAT 'FEASIBLE' or "
+        "'UNKNOWN', or 'TIME_LIMIT' before solving."
+    )
+    objective: Objective = Field(
+        description="The objective asked for: 'revolutions' (fewest, ties by length), 'length' (shortest path) or "
+        "'time' (length / speed)."
+    )
+    objective_value: float | None = Field(
+        description="The objective's value: revolutions, path length (request's length unit) or time (seconds); null "
+        "when no schedule was found."
+    )
+    backend: Backend = Field(
+        description="OR-Tools solver used: 'min_cost_flow' (SimpleMinCostFlow) or 'cp_sat'."
+    )
     radii: list[float] = Field(description="b_1 ... b_N, one per revolution (grid radii).")
     steps: list[float] = Field(description="b_{n-1} - b_n.")
-    revolutions: int
-    path_length: float | None
-    path_length_error: float | None
-    time_s: float | None
-    certificate: CertificateOut | None
+    revolutions: int = Field(
+        description="Number of revolutions N, one per radius b_1 ... b_N (the last is the final circle); 0 when no "
+        "schedule was found."
+    )
+    path_length: float | None = Field(
+        description="Length of the pusher's path along the schedule, final circle included (request's length unit); "
+        "null when no schedule was found."
+    )
+    path_length_error: float | None = Field(
+        description="Upper bound on the quadrature error of path_length (request's length unit); null when no "
+        "schedule was found."
+    )
+    time_s: float | None = Field(
+        description="Time to run the path at `speed`, path_length / speed, seconds; null without a speed or without a "
+        "schedule."
+    )
+    certificate: CertificateOut | None = Field(
+        description="The optimality certificate by shortest-path potentials, in integer arc costs; null when no "
+        "schedule was found."
+    )
     greedy_revolutions: int | None = Field(description="The greedy recursion on the same grid.")
-    greedy_path_length: float | None
+    greedy_path_length: float | None = Field(
+        description="Path length of the greedy recursion on the same grid (request's length unit); null when the "
+        "greedy recursion finds no path."
+    )
     max_step_excess: float | None = Field(description="max_n (b_{n-1} - b_n - d*(b_n)) <= 0: every revolution safe.")
-    n_nodes: int
-    n_arcs: int
-    grid_kind: str
-    min_spacing: float
-    max_spacing: float
-    solve_time_s: float
-    total_time_s: float
-    message: str
+    n_nodes: int = Field(
+        description="Number of grid radii (nodes of the OR-Tools graph), the recursion's radii included."
+    )
+    n_arcs: int = Field(
+        description="Number of arcs of the graph: safe revolutions between grid radii within the step limits."
+    )
+    grid_kind: str = Field(
+        description="How the grid of radii was made: 'adaptive' (`resolution` radii per safe step) or 'uniform' (a "
+        "fixed spacing)."
+    )
+    min_spacing: float = Field(
+        description="Smallest gap between neighbouring grid radii (request's length unit)."
+    )
+    max_spacing: float = Field(
+        description="Largest gap between neighbouring grid radii (request's length unit)."
+    )
+    solve_time_s: float = Field(
+        description="Time OR-Tools took to solve the shortest path, seconds (0 when it did not run)."
+    )
+    total_time_s: float = Field(
+        description="Time for the whole schedule: the recursion, the grid, the graph, its costs and the solve, "
+        "seconds."
+    )
+    message: str = Field(
+        description="The solve in words: status, grid size and safe revolutions, whether stopped early or certified "
+        "optimal, or why there is no schedule."
+    )
 
 
 class RecursionOut(Out):
     radii: list[float] = Field(description="The book's (4.26), b_n = b_{n-1} - d*(b_n), exactly on the envelope.")
-    revolutions: int
+    revolutions: int = Field(
+        description="Number of revolutions N of the recursion, one per radius b_1 ... b_N (the last is the final "
+        "circle)."
+    )
     stop_reason: str = Field(description="'target', 'stalled' (at the table's floor) or 'max_revolutions'.")
-    reached_target: bool
-    path_length: float
-    time_s: float | None
-    max_step_excess: float
+    reached_target: bool = Field(
+        description="Whether the recursion reached a radius at or below the target (stop_reason 'target')."
+    )
+    path_length: float = Field(
+        description="Length of the pusher's path along the recursion's radii, final circle included (request's length "
+        "unit)."
+    )
+    time_s: float | None = Field(
+        description="Time to run that path at `speed`, path_length / speed, seconds; null without a speed."
+    )
+    max_step_excess: float = Field(
+        description="max_n (b_{n-1} - b_n - d*(b_n)) (request's length unit): <= 0 when every revolution is safe."
+    )
 
 
 class TipLineScheduleOut(Out):
@@ -329,38 +418,78 @@ class FitOut(Out):
         "book reads ~1.6 at mu_c 0.25 from b_1 = 100 a; the exponent drifts towards 1 as n grows)."
     )
     coefficient: float = Field(description="C (length).")
-    n_min: int
-    n_max: int
-    n_points: int
-    rms_residual: float
-    local_exponent_min: float
-    local_exponent_max: float
+    n_min: int = Field(
+        description="First revolution of the fit range (revolutions counted from 1 at b_1)."
+    )
+    n_max: int = Field(
+        description="Last revolution of the fit range (revolutions counted from 1 at b_1)."
+    )
+    n_points: int = Field(
+        description="Number of revolutions fitted (those in [n_min, n_max] above the floor)."
+    )
+    rms_residual: float = Field(
+        description="Root mean square residual of the least-squares fit of log(b_n - b_floor), natural-log units."
+    )
+    local_exponent_min: float = Field(
+        description="Smallest local exponent -d log(b_n - b_floor) / d log n between consecutive fitted revolutions."
+    )
+    local_exponent_max: float = Field(
+        description="Largest local exponent -d log(b_n - b_floor) / d log n between consecutive fitted revolutions."
+    )
 
 
 class PathOut(Out):
     points: list[list[float]] = Field(description="The pusher path [[x, y], ...], world frame.")
     points_per_revolution: int = Field(description="Used (lowered for very long schedules).")
     max_chord_deviation: float = Field(description="Upper bound on the distance between the path and its chords.")
-    polyline_length: float
-    clockwise: bool
+    polyline_length: float = Field(
+        description="Length of the returned polyline, the sum of its chords (request's length unit)."
+    )
+    clockwise: bool = Field(
+        description="Whether the pusher travels clockwise about the centre (the request's `clockwise`)."
+    )
 
 
 class SimulationOut(Out):
-    n: int
+    n: int = Field(
+        description="Number of simulated disks (the request's `simulate.n_supports`), run or not."
+    )
     all_inside: bool = Field(description="Every run completed, none pushed out, all inside the promised radius.")
-    escaped: int
-    escaped_runs: list[int]
-    outside_promise_runs: list[int]
+    escaped: int = Field(
+        description="Number of runs in which the disk was pushed out of the spiral."
+    )
+    escaped_runs: list[int] = Field(
+        description="Indices of the runs in which the disk was pushed out."
+    )
+    outside_promise_runs: list[int] = Field(
+        description="Indices of the runs that ran but did not end completed with the disk inside the promised radius "
+        "(escaped or cut short included)."
+    )
     promised_radius: float = Field(description="The final revolution's radius: the disk must end inside it.")
     max_final_extent: float | None = Field(description="max over runs of |CM - centre| + a at the end.")
     margin: float | None = Field(description="promised_radius - max_final_extent.")
-    contacts: int
-    statuses: dict[str, int]
-    forward_solves: int
-    solver_failures: int
-    wall_time_s: float
-    seed: int
-    kind: SupportKind
+    contacts: int = Field(
+        description="Number of pusher-disk contacts (collisions) over all runs."
+    )
+    statuses: dict[str, int] = Field(
+        description="Runs per status: 'completed', 'in_contact_at_end', 'escaped', 'time_limit', 'step_limit', "
+        "'solver_error', 'not_run' (skipped by the time limit)."
+    )
+    forward_solves: int = Field(
+        description="Number of forward minimum-power solves of the disk's motion over all runs."
+    )
+    solver_failures: int = Field(
+        description="Number of runs ended by a solver error (status 'solver_error')."
+    )
+    wall_time_s: float = Field(
+        description="Wall-clock time the simulation took, seconds."
+    )
+    seed: int = Field(
+        description="Seed of the random supports and starts (the request's `simulate.seed`)."
+    )
+    kind: SupportKind = Field(
+        description="Kind of random support simulated, as asked: 'tripod', 'rim', 'dipod' or 'cloud'."
+    )
 
 
 class TableOut(Out):
@@ -370,22 +499,45 @@ class TableOut(Out):
         description="r*(beta) at each (request units; null where none was found). The schedule is safe by these."
     )
     certified: list[bool] = Field(description="Whether each r* carries its certificate (method 'exact').")
-    complete: bool
-    time_limited: bool
+    complete: bool = Field(
+        description="Whether every planned collision parameter of the r* table was evaluated."
+    )
+    time_limited: bool = Field(
+        description="Whether the time limit stopped the table early (it then covers only the collision parameters "
+        "nearest grazing)."
+    )
     covers_radius: float = Field(
         description="The largest pusher radius the table covers: above it d* is that of its smallest beta (safe, "
         "slower than necessary)."
     )
-    from_cache: bool
-    monotone: bool
-    message: str
+    from_cache: bool = Field(
+        description="Whether the table came from the service's in-memory cache of complete tables (computed for a = 1 "
+        "and scaled)."
+    )
+    monotone: bool = Field(
+        description="Whether r* never increases with beta on the table (the envelope's assumption); false when the "
+        "table has no usable point."
+    )
+    message: str = Field(
+        description="The table in words: collision parameters done of those planned, the method, the safety margin, "
+        "time limit, dropped points, increases of r*."
+    )
 
 
 class SpiralScheduleResponse(Out):
-    message: str
-    disk_radius: float
-    mu_c: float
-    method: SpiralMethod
+    message: str = Field(
+        description="The plan in words: revolutions of the schedule and of (4.26), the tip line's, the table's reach, "
+        "and the simulation's outcome."
+    )
+    disk_radius: float = Field(
+        description="Radius a of the disk, as given (request's length unit)."
+    )
+    mu_c: float = Field(
+        description="Pusher-disk friction coefficient, as given."
+    )
+    method: SpiralMethod = Field(
+        description="How r* was found, as asked: 'sweep', 'exact' or 'tip_line'."
+    )
     safety_margin: float = Field(description="Added to r* (units of a).")
     b_inf: float = Field(description="(4.25).")
     b_floor: float = Field(description="The table's smallest radius with a guarantee (its b_inf, plus the margin).")
@@ -394,8 +546,18 @@ class SpiralScheduleResponse(Out):
     recursion: RecursionOut = Field(description="The book's recursion (4.26) on the same table.")
     tip_line: TipLineScheduleOut = Field(description="The same with the book's tip-line approximation.")
     fit: FitOut | None = Field(description="The approach to the floor (figure 4-21), when >= 3 revolutions lie above it.")
-    path: PathOut | None
-    simulation: SimulationOut | None
-    reference: str
-    time_limit_s: float
-    elapsed_ms: float
+    path: PathOut | None = Field(
+        description="The pusher's path as a world-frame polyline: points, points per revolution, chord deviation, "
+        "length, sense; null when `include_path` is false."
+    )
+    simulation: SimulationOut | None = Field(
+        description="The simulation check: random disks pushed along the path by the forward solver; null unless "
+        "`simulate` was given."
+    )
+    reference: str = Field(
+        description="The book's sections, equations and figures the answer rests on, as text."
+    )
+    time_limit_s: float = Field(
+        description="The request's time limit (its `time_limit_s` or the route's default), seconds."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
