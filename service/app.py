@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import importlib
 import os
+import shutil
+import tempfile
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
@@ -16,6 +18,7 @@ from service.api import ROUTE_MODULES
 from service.runtime import logs
 from service.runtime.access import Access, ApiKeys, KeyRates
 from service.runtime.context import RequestContext
+from service.runtime.deferred import DeferredRunner, JobStore
 from service.runtime.intake import Intake
 from service.runtime.jobs import Runner
 from service.runtime.slots import SLOT_DIR_ENV
@@ -49,6 +52,10 @@ OPERATION_ORDER = (
     "feeder_map",
     "feeder_simulate",
     "feeder_design",
+    "jobs_submit",
+    "jobs_get",
+    "jobs_cancel",
+    "jobs_list",
 )
 """The order of the operations in the OpenAPI document (openapi.yaml, stable for clients
 who diff it): the order in which they were published, not the resources' order."""
@@ -90,16 +97,31 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         raise ValueError("PESHKIN_RATE_LIMIT is per API key: set PESHKIN_API_KEYS too")
     runner = Runner.from_settings(settings, preload=ROUTE_MODULES)
     rates = None if settings.rate_limit is None else KeyRates(*settings.rate_limit, os.environ.get(SLOT_DIR_ENV))
+    routes = [importlib.import_module(module) for module in ROUTE_MODULES]
+    # jobs_path "": a file of the server's own (in its slot directory, shared by its web
+    # processes, removed when it stops), or of this process when it runs alone
+    server_dir = os.environ.get(SLOT_DIR_ENV)
+    own_jobs_dir = None if settings.jobs_path or server_dir else tempfile.mkdtemp(prefix="peshkin-jobs-")
+    deferred = DeferredRunner(
+        JobStore(settings.jobs_path or os.path.join(server_dir or str(own_jobs_dir), "jobs.sqlite3")),
+        runner, {op: spec for module in routes for op, spec in getattr(module, "DEFERRABLE", {}).items()},
+        concurrency=settings.job_concurrency(),
+        max_time_s=settings.job_max_time_s, ttl_s=settings.job_ttl_s,
+    )
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         await runner.start()
+        deferred.start()
         try:
             yield
         finally:
+            await deferred.stop()
             runner.close()
             if rates is not None:
                 rates.close()
+            if own_jobs_dir is not None:
+                shutil.rmtree(own_jobs_dir, ignore_errors=True)
 
     # Swagger UI (/docs) and ReDoc (/redoc) from the package's own copies of their
     # scripts and styles (fastapi-offline): the pages work without the internet.
@@ -110,6 +132,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         lifespan=lifespan,
     )
     app.state.runner = runner
+    app.state.deferred = deferred
     errors.install(app)
     # outermost last: RequestContext (id, log, metrics) > CORS (answers preflights) > Access
     # (keys, rates) > Intake (arrival, body limit, the gate of requests in flight)
@@ -122,8 +145,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                            allow_headers=["content-type", "x-api-key", "authorization", "x-request-id"],
                            expose_headers=["x-request-id", "retry-after"], max_age=600)
     app.add_middleware(RequestContext, expensive=runner.expensive, log_requests=settings.access_log)
-    for module in ROUTE_MODULES:
-        app.include_router(importlib.import_module(module).router)
+    for module in routes:
+        app.include_router(module.router)
     _published(app, settings.max_time_limit_s)
     return app
 

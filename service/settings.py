@@ -50,6 +50,15 @@ variable                        default     meaning
                                             ``Retry-After``; needs API keys
 ``PESHKIN_CORS_ORIGINS``        (none)      comma-separated origins allowed to call from a browser
                                             (``*`` for any); unset: no CORS headers (closed)
+``PESHKIN_JOBS_PATH``           (tmp)       SQLite file of the jobs (``POST /v1/jobs``), shared by
+                                            the web processes and kept across restarts; default
+                                            <tmp>/peshkin-service/jobs.sqlite3; "" a file of the
+                                            server's own (lost when it stops)
+``PESHKIN_JOB_TTL_S``           86400       how long a finished job and its answer are kept
+``PESHKIN_JOB_MAX_TIME_S``      3600        the longest time limit of a job (its default)
+``PESHKIN_JOB_WORKERS``         auto        jobs a web process runs at once (auto: its share of the
+                                            server's slots); 0: this server queues jobs but runs
+                                            none (another server on the same file does)
 ==============================  ==========  =====================================================
 
 ``python -m service`` starts the supervisor (gunicorn) with these; ``uvicorn
@@ -67,6 +76,11 @@ from typing import Any
 
 from service.limits import MAX_TIME_LIMIT_S, TIME_LIMIT_HARD_MAX_S
 from service.runtime.slots import usable_cpus
+
+DEFAULT_JOBS_PATH = os.path.join(tempfile.gettempdir(), "peshkin-service", "jobs.sqlite3")
+"""The jobs file of a server whose environment names none (shared by its web processes and
+kept across its restarts). A ``Settings`` made in code without one, and "" in the
+environment, give each app a file of its own in a new temporary directory."""
 
 LOG_LEVELS = ("critical", "error", "warning", "info", "debug", "trace")
 AUTO = -1
@@ -98,6 +112,16 @@ class Settings:
     api_keys: tuple[str, ...] = ()
     rate_limit: tuple[int, float] | None = None
     cors_origins: tuple[str, ...] = ()
+    jobs_path: str = ""  # from the environment: DEFAULT_JOBS_PATH unless set (Settings() in code: its own)
+    job_ttl_s: float = 86400.0
+    job_max_time_s: float = 3600.0
+    job_workers: int = AUTO
+
+    def job_concurrency(self) -> int:
+        """Jobs a web process runs at once: the setting, or (auto) its share of the slots."""
+        if self.job_workers != AUTO:
+            return self.job_workers
+        return max(1, -(-self.solver_processes() // self.web_workers))
 
     def __repr__(self) -> str:  # the keys never reach a log
         shown = {f.name: getattr(self, f.name) for f in fields(self)}
@@ -114,6 +138,8 @@ class Settings:
             if text is None or (not text.strip() and f.name != "store_path"):  # "" turns the store off
                 continue
             values[f.name] = _PARSERS[f.name](name, text.strip())
+        if env.get("PESHKIN_JOBS_PATH") is None:
+            values["jobs_path"] = DEFAULT_JOBS_PATH
         return cls(**values)
 
     def solver_processes(self, cpus: int | None = None) -> int:
@@ -227,4 +253,8 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "api_keys": _api_keys,
     "rate_limit": _rate,
     "cors_origins": _origins,
+    "jobs_path": lambda name, text: text,
+    "job_ttl_s": _seconds(0.0, 365 * 86400.0),
+    "job_max_time_s": _seconds(0.0, TIME_LIMIT_HARD_MAX_S),
+    "job_workers": _integer(0, 1024, auto=True),
 }

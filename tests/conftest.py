@@ -21,6 +21,7 @@ import pytest
 os.environ.setdefault("PESHKIN_SOLVER_WORKERS", "0")
 # No result store unless a test makes one: every test computes what it checks.
 os.environ.setdefault("PESHKIN_STORE_PATH", "")
+os.environ.setdefault("PESHKIN_JOBS_PATH", "")  # a jobs file of each app's own, never a server's
 
 # ---------------------------------------------------------------------------
 # Benchmarks: tests marked ``@pytest.mark.benchmark`` are skipped unless the

@@ -12,7 +12,8 @@ the tests) keeps its samples in memory.
 * ``peshkin_http_request_duration_seconds{route}``: from arrival to the last byte;
 * ``peshkin_queue_depth``: expensive requests waiting for a solver slot;
 * ``peshkin_workers_busy``: solver slots running a job;
-* ``peshkin_jobs{state}``: expensive jobs ``queued`` and ``running`` (the same two, by state);
+* ``peshkin_jobs{state}``: the jobs of ``POST /v1/jobs`` by state (queued, running,
+  succeeded, failed, cancelled), read from the server's jobs file at the scrape;
 * ``peshkin_solver_seconds{backend}``: each job's time in each numerical back end
   (``clarabel``, ``casadi``, ``ortools``; ``other``: the rest, numpy and Python;
   :mod:`solver.core.backends`).
@@ -49,7 +50,8 @@ LATENCY = Histogram("peshkin_http_request_duration_seconds", "Time from a reques
 QUEUE_DEPTH = Gauge("peshkin_queue_depth", "Expensive requests waiting for a solver slot.",
                     multiprocess_mode="livesum")
 WORKERS_BUSY = Gauge("peshkin_workers_busy", "Solver slots running a job.", multiprocess_mode="livesum")
-JOBS = Gauge("peshkin_jobs", "Expensive jobs by state.", ["state"], multiprocess_mode="livesum")
+JOBS = Gauge("peshkin_jobs", "Jobs (POST /v1/jobs) by state, in the server's jobs file.", ["state"],
+             multiprocess_mode="mostrecent")
 SOLVER_SECONDS = Histogram("peshkin_solver_seconds", "A job's time in each numerical back end (other: numpy "
                            "and Python).", ["backend"], buckets=LATENCY_BUCKETS)
 
@@ -66,7 +68,6 @@ def observe_backends(spent: dict[str, float]) -> None:
         SOLVER_SECONDS.labels(backend).observe(seconds)
 
 
-_QUEUED, _RUNNING = JOBS.labels("queued"), JOBS.labels("running")
 _last_work: list[tuple[int, int] | None] = [None]
 
 
@@ -82,8 +83,12 @@ def observe_work(expensive: Gate | RunQueue) -> None:
     _last_work[0] = now
     QUEUE_DEPTH.set(now[0])
     WORKERS_BUSY.set(now[1])
-    _QUEUED.set(now[0])
-    _RUNNING.set(now[1])
+
+
+def observe_jobs(counts: dict[str, int], states: tuple[str, ...]) -> None:
+    """The jobs by state (read from the jobs file when scraped)."""
+    for state in states:
+        JOBS.labels(state).set(counts.get(state, 0))
 
 
 def exposition() -> bytes:

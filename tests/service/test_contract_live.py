@@ -32,7 +32,7 @@ SENT: list[int] = []
 
 @pytest.fixture(scope="session")
 def live_schema():
-    with live_server(web_workers="2", solver_workers="1", solver_queue="64") as url:
+    with live_server(web_workers="2", solver_workers="1", solver_queue="64", job_workers="0") as url:
         schema = schemathesis.openapi.from_url(f"{url}/openapi.json")
         schema.config.generation.update(
             modes=[schemathesis.GenerationMode.POSITIVE, schemathesis.GenerationMode.NEGATIVE],

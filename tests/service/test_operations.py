@@ -132,7 +132,7 @@ def test_metrics_move_when_requests_are_served():
     assert delta("peshkin_solver_seconds_sum", backend="clarabel") > 0.0
     for gauge in ("peshkin_queue_depth", "peshkin_workers_busy"):
         assert after[(gauge, ())] == 0.0  # nothing waits or runs once the answers are in
-    assert after[("peshkin_jobs", (("state", "running"),))] == 0.0
+    assert after[("peshkin_jobs", (("state", "running"),))] == 0.0  # no job submitted
 
 
 # --- API keys, rate limits, CORS ---------------------------------------------------------------

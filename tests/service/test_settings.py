@@ -7,7 +7,7 @@ import warnings
 import pytest
 
 from service.app import create_app
-from service.settings import Settings
+from service.settings import DEFAULT_JOBS_PATH, Settings
 
 with warnings.catch_warnings():
     warnings.simplefilter("ignore")
@@ -15,9 +15,10 @@ with warnings.catch_warnings():
 
 
 def test_settings_defaults_and_env():
-    assert Settings.from_env({}) == Settings("127.0.0.1", 8000, "info")
+    assert Settings.from_env({}) == Settings("127.0.0.1", 8000, "info", jobs_path=DEFAULT_JOBS_PATH)
+    assert Settings.from_env({"PESHKIN_JOBS_PATH": ""}).jobs_path == "" == Settings().jobs_path
     s = Settings.from_env({"PESHKIN_HOST": "0.0.0.0", "PESHKIN_PORT": "9001", "PESHKIN_LOG_LEVEL": "DEBUG"})
-    assert s == Settings("0.0.0.0", 9001, "debug")
+    assert s == Settings("0.0.0.0", 9001, "debug", jobs_path=DEFAULT_JOBS_PATH)
     for bad in ({"PESHKIN_PORT": "http"}, {"PESHKIN_PORT": "70000"}, {"PESHKIN_LOG_LEVEL": "loud"}):
         with pytest.raises(ValueError):
             Settings.from_env(bad)

@@ -34,6 +34,7 @@ from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.errors import nothing_computed
 from service.runtime.deadline import Deadline
+from service.runtime.deferred import Deferrable, json_answer
 from service.runtime.jobs import runner
 from solver import feeder_design, feeder_map, feeder_simulate
 
@@ -156,3 +157,16 @@ def design_job(req: FeederDesignRequest, svg: bool, deadline: Deadline) -> Feede
         return Response(content=render_maps_svg(problem.part, maps, result.product, title, belt),
                         media_type=SVG_MEDIA_TYPE)
     return design_response(result, budget.elapsed() * 1e3)
+
+
+def _map_limit(req: FeederMapRequest) -> float | None:
+    return req.deadline_s
+
+
+DEFERRABLE = {
+    "feeder_map": Deferrable("POST /v1/feeder/map", FeederMapRequest, map_job, json_answer, limit=_map_limit,
+                             cost=lambda req: req.bound),
+    "feeder_simulate": Deferrable("POST /v1/feeder/simulate", FeederSimulateRequest, simulate_job, json_answer),
+    "feeder_design": Deferrable("POST /v1/feeder/design", FeederDesignRequest, design_job, json_answer),
+}
+"""The operations ``POST /v1/jobs`` runs later (service.runtime.deferred)."""

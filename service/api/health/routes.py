@@ -3,13 +3,15 @@ it has room for more work) and ``GET /metrics`` (Prometheus)."""
 
 from __future__ import annotations
 
+import anyio
 from fastapi import APIRouter, Request
 from fastapi.responses import JSONResponse, Response
 
 from service import __version__
 from service.api.health.schemas import GateOut, HealthResponse, ReadyResponse
+from service.runtime.deferred import STATES, DeferredRunner
 from service.runtime.jobs import runner
-from service.runtime.metrics import CONTENT_TYPE, exposition, observe_work
+from service.runtime.metrics import CONTENT_TYPE, exposition, observe_jobs, observe_work
 
 router = APIRouter(tags=["health"])
 
@@ -55,7 +57,9 @@ async def readyz(request: Request) -> JSONResponse:
 )
 async def metrics(request: Request) -> Response:
     """Requests by route and status, latency histograms, the queue of expensive work, solver
-    slots busy, jobs by state and solver time by numerical back end, for the whole server
+    slots busy, jobs (`/v1/jobs`) by state and solver time by numerical back end, for the whole server
     (every web process; see `service/runtime/metrics.py`). Needs an API key when keys are on."""
     observe_work(runner(request).expensive)
+    jobs: DeferredRunner = request.app.state.deferred
+    observe_jobs(await anyio.to_thread.run_sync(jobs.store.counts), STATES)
     return Response(exposition(), media_type=CONTENT_TYPE)

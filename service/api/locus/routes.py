@@ -35,6 +35,7 @@ from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.errors import FieldError, nothing_computed
 from service.runtime.deadline import Deadline
+from service.runtime.deferred import Deferrable, json_answer, request_only
 from service.runtime.jobs import runner
 from service.store import result_store
 from solver import cor_locus as locus_of
@@ -144,3 +145,14 @@ def membership_job(req: MembershipRequest, deadline: Deadline) -> MembershipResp
     with located():
         res = decide_membership(problem, budget)
     return membership_response(req, problem, res, budget.elapsed() * 1e3)
+
+
+def _locus_cost(req: CorLocusRequest) -> str:
+    return f"certified {req.n_certified}" if req.method == "certified" else ""
+
+
+DEFERRABLE = {
+    "cor_locus": Deferrable("POST /v1/cor/locus", CorLocusRequest, locus_job, json_answer, cost=_locus_cost),
+    "cor_membership": Deferrable("POST /v1/cor/membership", MembershipRequest, membership_job, request_only),
+}
+"""The operations ``POST /v1/jobs`` runs later (service.runtime.deferred)."""

@@ -28,6 +28,7 @@ from service.api.motion.schemas import (
 from service.common.inputs import located
 from service.common.responses import IN_WORKER
 from service.runtime.deadline import Deadline
+from service.runtime.deferred import Deferrable, request_only
 from service.runtime.jobs import runner
 from solver import solve_motion, tripod_statistics
 
@@ -77,3 +78,11 @@ def tripod_statistics_job(req: TripodStatisticsRequest, deadline: Deadline) -> T
     with located():
         stats = tripod_statistics(problem, budget)
     return tripod_statistics_response(req, stats, budget.elapsed() * 1e3)
+
+
+DEFERRABLE = {
+    "cor_solve": Deferrable("POST /v1/cor/solve", CorSolveRequest, solve_job, request_only),
+    "cor_tripod_statistics": Deferrable("POST /v1/cor/tripod-statistics", TripodStatisticsRequest,
+                                        tripod_statistics_job, request_only),
+}
+"""The operations ``POST /v1/jobs`` runs later (service.runtime.deferred)."""

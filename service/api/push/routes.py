@@ -39,6 +39,7 @@ from service.common.inputs import located
 from service.common.responses import BUSY, IN_WORKER, INVALID_INPUT
 from service.errors import time_limited
 from service.runtime.deadline import Deadline
+from service.runtime.deferred import Deferrable, request_only
 from service.runtime.jobs import runner
 from solver import align, disk_encounter
 
@@ -121,3 +122,10 @@ def encounter_job(req: PushDiskEncounterRequest, deadline: Deadline) -> PushDisk
     with time_limited(encounter_partial(req), GROSS_TIME_LIMIT_HINT), located(rename=ENCOUNTER_FIELDS):
         result = disk_encounter(problem, budget)
     return encounter_response(req, result, budget.elapsed() * 1e3)
+
+
+DEFERRABLE = {
+    "push_align": Deferrable("POST /v1/push/align", PushAlignRequest, align_job, request_only),
+    "push_disk_encounter": Deferrable("POST /v1/push/disk-encounter", PushDiskEncounterRequest, encounter_job, request_only),
+}
+"""The operations ``POST /v1/jobs`` runs later (service.runtime.deferred)."""

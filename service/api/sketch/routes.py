@@ -17,6 +17,7 @@ from service.api.sketch.schemas import CorSketchRequest, CorSketchResponse
 from service.common.fields import ResponseFormat
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.runtime.deadline import Deadline
+from service.runtime.deferred import Deferrable, json_answer
 from service.runtime.jobs import runner
 from solver import cor_sketch
 
@@ -63,3 +64,7 @@ def sketch_job(req: CorSketchRequest, svg: bool, deadline: Deadline) -> CorSketc
     if svg:
         return Response(content=render_sketch_svg(prep, result.sketch, result.tip_line), media_type=SVG_MEDIA_TYPE)
     return body
+
+
+DEFERRABLE = {"cor_sketch": Deferrable("POST /v1/cor/sketch", CorSketchRequest, sketch_job, json_answer)}
+"""The operations ``POST /v1/jobs`` runs later (service.runtime.deferred)."""

@@ -38,6 +38,7 @@ from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.errors import nothing_computed, time_limited
 from service.runtime.deadline import Deadline
+from service.runtime.deferred import Deferrable, json_answer
 from service.runtime.jobs import runner
 from service.store import result_store
 from solver import critical_radii, plan_spiral
@@ -130,3 +131,11 @@ def schedule_job(req: SpiralScheduleRequest, svg: bool, deadline: Deadline) -> S
         )
         return Response(content=svg, media_type=SVG_MEDIA_TYPE)
     return body
+
+
+DEFERRABLE = {
+    "spiral_critical_radius": Deferrable("POST /v1/spiral/critical-radius", SpiralCriticalRadiusRequest,
+                                         critical_radius_job, json_answer),
+    "spiral_schedule": Deferrable("POST /v1/spiral/schedule", SpiralScheduleRequest, schedule_job, json_answer),
+}
+"""The operations ``POST /v1/jobs`` runs later (service.runtime.deferred)."""

@@ -1,0 +1,325 @@
+"""Jobs for long work (``POST /v1/jobs``): an expensive operation's body run later, its
+state and answer kept in a SQLite file so that a restart loses nothing queued or finished.
+
+* :class:`JobStore` — the jobs table (the standard library's ``sqlite3``, one connection per
+  process and thread, WAL, a busy timeout; every change one statement or one immediate
+  transaction, so the web processes of a server, or a restarted server, share it safely).
+  States: ``queued`` → ``running`` → ``succeeded`` | ``failed`` | ``cancelled``. A job's
+  answer is the operation's own: its status code and JSON body (a 504 with what was
+  finished, a 422, ...), kept until ``expires_at``.
+* :class:`DeferredRunner` — in every web process, a loop that claims queued jobs while the
+  process has room (at most its share of the server's slots), runs each like an expensive
+  request (it waits for a slot of the server, runs in a solver worker under its time limit,
+  counted from when it starts), writes a heartbeat every second and looks for a
+  cancellation four times a second: a cancelled job's worker is ended (Pebble) and replaced,
+  so its slot is free within half a second. A running job whose heartbeat stops (its
+  server or web process died) is queued again, at most ``MAX_ATTEMPTS`` times, then failed.
+
+Which operations can be deferred, and how, each route module says (``DEFERRABLE``, a
+mapping of operation ids to :class:`Deferrable`); the app gathers them.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures
+import json
+import logging
+import os
+import sqlite3
+import threading
+import time
+import uuid
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import anyio
+from pebble import ProcessExpired
+from pydantic import BaseModel
+
+from service.runtime.admission import Gate, Refused
+from service.runtime.deadline import Deadline
+from service.runtime.jobs import MEASURED_STATUSES, Job, Reply, Runner, crash_reply, deadline_reply, execute
+
+log = logging.getLogger("service")
+
+STATES = ("queued", "running", "succeeded", "failed", "cancelled")
+FINISHED = ("succeeded", "failed", "cancelled")
+BUSY_TIMEOUT_S = 5.0
+POLL_S = 0.25
+"""How often a web process looks for queued jobs and for cancellations of its own."""
+HEARTBEAT_S = 1.0
+STALE_S = 10.0
+"""A running job whose heartbeat is older than this has lost its process: queued again."""
+MAX_ATTEMPTS = 3
+"""Times a job is started before a lost one is failed."""
+
+
+def json_answer(req: Any) -> tuple[Any, bool]:
+    """A route job's arguments ``(req, svg)`` for a job: its answer is JSON."""
+    return req, False
+
+
+def request_only(req: Any) -> tuple[Any]:
+    """A route job's arguments when the request is all it takes."""
+    return (req,)
+
+
+def _time_limit(req: Any) -> float | None:
+    limit = getattr(req, "time_limit_s", None)
+    return None if limit is None else float(limit)
+
+
+def _no_cost_key(req: Any) -> str:
+    return ""
+
+
+@dataclass(frozen=True)
+class Deferrable:
+    """How to run an operation as a job: its ``route`` ("POST /v1/..."; the job's run time
+    counts in the same cost model as the route's requests), its request ``model``, its
+    route's ``job`` function (``job(*args, deadline)``), the ``args`` before the deadline
+    made from the validated request, the request's own time limit (``limit``; None: the
+    jobs' cap) and the key of its cost (``cost``, as the route's)."""
+
+    route: str
+    model: type[BaseModel]
+    job: Job
+    args: Callable[[Any], tuple[Any, ...]]
+    limit: Callable[[Any], float | None] = _time_limit
+    cost: Callable[[Any], str] = _no_cost_key
+
+
+class JobStore:
+    """The jobs table in the SQLite file ``path`` (module docstring)."""
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = Path(path)
+        self._local = threading.local()
+
+    def _conn(self) -> sqlite3.Connection:
+        conn: sqlite3.Connection | None = getattr(self._local, "conn", None)
+        if conn is not None and getattr(self._local, "pid", None) == os.getpid():
+            return conn
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        conn = sqlite3.connect(self.path, timeout=BUSY_TIMEOUT_S, isolation_level=None, check_same_thread=False)
+        conn.row_factory = sqlite3.Row
+        conn.execute("PRAGMA journal_mode=WAL")
+        conn.execute(
+            "CREATE TABLE IF NOT EXISTS jobs (id TEXT PRIMARY KEY, owner TEXT NOT NULL, operation TEXT NOT NULL, "
+            "body TEXT NOT NULL, state TEXT NOT NULL, created REAL NOT NULL, started REAL, finished REAL, "
+            "expires REAL, attempts INTEGER NOT NULL DEFAULT 0, runner TEXT, heartbeat REAL, "
+            "cancel INTEGER NOT NULL DEFAULT 0, status INTEGER, media_type TEXT, result BLOB, message TEXT)"
+        )
+        conn.execute("CREATE INDEX IF NOT EXISTS jobs_state ON jobs (state, created)")
+        self._local.conn, self._local.pid = conn, os.getpid()
+        return conn
+
+    def submit(self, operation: str, body: dict[str, Any], owner: str) -> str:
+        job_id = uuid.uuid4().hex
+        self._conn().execute("INSERT INTO jobs (id, owner, operation, body, state, created) VALUES (?, ?, ?, ?, ?, ?)",
+                             (job_id, owner, operation, json.dumps(body), "queued", time.time()))
+        return job_id
+
+    def get(self, job_id: str, owner: str | None = None) -> dict[str, Any] | None:
+        """The job (None when unknown, or when ``owner`` is given and is not its owner)."""
+        row = self._conn().execute("SELECT * FROM jobs WHERE id = ?", (job_id,)).fetchone()
+        if row is None or (owner is not None and row["owner"] != owner):
+            return None
+        return dict(row)
+
+    def list(self, owner: str | None, limit: int) -> list[dict[str, Any]]:
+        sql = "SELECT * FROM jobs" + (" WHERE owner = ?" if owner is not None else "") + " ORDER BY created DESC LIMIT ?"
+        args: tuple[Any, ...] = (owner, limit) if owner is not None else (limit,)
+        return [dict(r) for r in self._conn().execute(sql, args).fetchall()]
+
+    def cancel(self, job_id: str) -> None:
+        """A queued job is cancelled at once; a running one is asked to stop."""
+        conn = self._conn()
+        conn.execute("UPDATE jobs SET state = 'cancelled', finished = ?, message = 'cancelled before it started' "
+                     "WHERE id = ? AND state = 'queued'", (time.time(), job_id))
+        conn.execute("UPDATE jobs SET cancel = 1 WHERE id = ? AND state = 'running'", (job_id,))
+
+    def claim(self, runner: str) -> dict[str, Any] | None:
+        """The oldest queued job, now running under ``runner`` (None when there is none)."""
+        now = time.time()
+        row = self._conn().execute(
+            "UPDATE jobs SET state = 'running', runner = ?, started = ?, heartbeat = ?, attempts = attempts + 1 "
+            "WHERE id = (SELECT id FROM jobs WHERE state = 'queued' ORDER BY created LIMIT 1) AND state = 'queued' "
+            "RETURNING *", (runner, now, now)).fetchone()
+        return None if row is None else dict(row)
+
+    def beat(self, job_ids: list[str]) -> set[str]:
+        """Heartbeat of running jobs; the ids among them whose cancellation was asked."""
+        if not job_ids:
+            return set()
+        marks = ",".join("?" * len(job_ids))
+        conn = self._conn()
+        conn.execute(f"UPDATE jobs SET heartbeat = ? WHERE id IN ({marks}) AND state = 'running'",
+                     (time.time(), *job_ids))
+        rows = conn.execute(f"SELECT id FROM jobs WHERE id IN ({marks}) AND cancel = 1", job_ids).fetchall()
+        return {r["id"] for r in rows}
+
+    def finish(self, job_id: str, state: str, ttl_s: float, reply: Reply | None, message: str) -> None:
+        now = time.time()
+        self._conn().execute(
+            "UPDATE jobs SET state = ?, finished = ?, expires = ?, status = ?, media_type = ?, result = ?, "
+            "message = ? WHERE id = ? AND state = 'running'",
+            (state, now, now + ttl_s, None if reply is None else reply.status,
+             None if reply is None else reply.media_type, None if reply is None else reply.body, message, job_id))
+
+    def recover(self, ttl_s: float) -> int:
+        """Queue again the running jobs whose process was lost (stale heartbeat), fail those
+        started MAX_ATTEMPTS times; drop the finished jobs past their expiry. How many were
+        queued again."""
+        now = time.time()
+        conn = self._conn()
+        conn.execute("BEGIN IMMEDIATE")
+        try:
+            conn.execute("UPDATE jobs SET state = 'failed', finished = ?, expires = ?, message = ? WHERE "
+                         "state = 'running' AND heartbeat < ? AND attempts >= ?",
+                         (now, now + ttl_s, f"its process was lost {MAX_ATTEMPTS} times", now - STALE_S, MAX_ATTEMPTS))
+            again = conn.execute("UPDATE jobs SET state = 'queued', runner = NULL, message = 'started again: its "
+                                 "process was lost' WHERE state = 'running' AND heartbeat < ?",
+                                 (now - STALE_S,)).rowcount
+            conn.execute("DELETE FROM jobs WHERE expires IS NOT NULL AND expires < ?", (now,))
+            conn.execute("COMMIT")
+        except BaseException:
+            conn.execute("ROLLBACK")
+            raise
+        return int(again)
+
+    def counts(self) -> dict[str, int]:
+        rows = self._conn().execute("SELECT state, COUNT(*) AS n FROM jobs GROUP BY state").fetchall()
+        return {r["state"]: int(r["n"]) for r in rows}
+
+
+@dataclass
+class Running:
+    job_id: str
+    task: asyncio.Task[None] | None = None
+    cancelled: bool = False
+
+
+RECOVER_S = 2.0
+"""How often a web process queues lost jobs again and drops expired ones."""
+
+
+@dataclass
+class DeferredRunner:
+    """The loop of one web process (module docstring): ``runner`` runs the jobs as it runs
+    expensive requests; at most ``concurrency`` of this process's jobs at once; each job's
+    time limit at most ``max_time_s``; answers kept ``ttl_s``."""
+
+    store: JobStore
+    runner: Runner
+    operations: dict[str, Deferrable]
+    concurrency: int
+    max_time_s: float
+    ttl_s: float
+    name: str = field(default_factory=lambda: f"{os.getpid()}-{uuid.uuid4().hex[:8]}")
+    running: dict[str, Running] = field(default_factory=dict)
+    _loop_task: asyncio.Task[None] | None = None
+
+    def start(self) -> None:
+        """Start the loop on the running event loop (an app started again, as tests do,
+        forgets what ran on an earlier loop)."""
+        self.running.clear()
+        self._loop_task = asyncio.get_running_loop().create_task(self._loop())
+
+    async def stop(self) -> None:
+        """Stop claiming and end the jobs running here (not cancelled: their heartbeat
+        stops, so another web process, or the server when it starts again, runs them)."""
+        loop = asyncio.get_running_loop()
+        tasks = [t for t in [self._loop_task, *(r.task for r in self.running.values())]
+                 if t is not None and t.get_loop() is loop and not t.done()]
+        for task in tasks:
+            task.cancel()
+        await asyncio.gather(*tasks, return_exceptions=True)
+        self._loop_task = None
+
+    async def _loop(self) -> None:
+        recovered = 0.0
+        while True:
+            try:
+                if time.monotonic() - recovered >= RECOVER_S:
+                    await anyio.to_thread.run_sync(self.store.recover, self.ttl_s)
+                    recovered = time.monotonic()
+                while len(self.running) < self.concurrency:
+                    row = await anyio.to_thread.run_sync(self.store.claim, self.name)
+                    if row is None:
+                        break
+                    run = self.running[row["id"]] = Running(row["id"])
+                    run.task = asyncio.get_running_loop().create_task(self._run(run, row))
+                if self.running:
+                    for job_id in await anyio.to_thread.run_sync(self.store.beat, list(self.running)):
+                        run = self.running.get(job_id)
+                        if run is not None and not run.cancelled and run.task is not None:
+                            run.cancelled = True
+                            run.task.cancel()  # its worker is ended (the pebble future is cancelled)
+            except asyncio.CancelledError:
+                raise
+            except Exception:  # the loop must outlive a locked or broken file
+                log.exception("the jobs loop failed a round; trying again")
+            await asyncio.sleep(POLL_S)
+
+    async def _run(self, run: Running, row: dict[str, Any]) -> None:
+        state, reply, message = "failed", None, ""
+        try:
+            spec = self.operations[row["operation"]]
+            req = spec.model.model_validate(json.loads(row["body"]))
+            asked = spec.limit(req)
+            limit = self.max_time_s if asked is None else min(float(asked), self.max_time_s)
+            reply = await self._execute(spec, req, limit, f"job {run.job_id} ({spec.route})")
+            state = "succeeded" if reply.status == 200 else "failed"
+            message = "" if reply.status == 200 else f"the operation answered {reply.status}"
+        except asyncio.CancelledError:
+            if not run.cancelled:  # the process stops: the job is run again elsewhere
+                self.running.pop(run.job_id, None)
+                raise
+            state, reply, message = "cancelled", None, "cancelled while it ran; its worker was ended"
+        except Exception as exc:  # a job that cannot run fails, saying why
+            message = f"could not run: {exc}"
+        self.running.pop(run.job_id, None)
+        await anyio.to_thread.run_sync(self.store.finish, run.job_id, state, self.ttl_s, reply, message)
+        log.info("job %s %s: %s", run.job_id, state, message or "done")
+
+    async def _execute(self, spec: Deferrable, req: Any, limit_s: float, where: str) -> Reply:
+        """Run the job like an expensive request: for a slot of the server (waiting while
+        the server is full; a job is never refused), in a solver worker, under its limit
+        counted from its start. Without solver workers (tests), in a thread."""
+        queue = self.runner.expensive
+        args = spec.args(req)
+        if isinstance(queue, Gate):
+            while not queue.try_enter():
+                await asyncio.sleep(POLL_S)
+            try:
+                deadline = Deadline.starting(time.monotonic(), limit_s)
+                reply: Reply = await anyio.to_thread.run_sync(execute, spec.job, args, deadline, where)
+                return reply
+            finally:
+                queue.leave()
+        kind = f"{spec.route} {spec.cost(req)}".rstrip()
+        while True:
+            try:
+                ticket = await queue.enter(kind, Deadline.starting(time.monotonic(), limit_s))
+                break
+            except Refused:
+                await asyncio.sleep(1.0)
+        reply = deadline_reply(Deadline.starting(time.monotonic(), limit_s), "the job did not start")
+        try:
+            deadline = Deadline.starting(time.monotonic(), limit_s)
+            assert self.runner.pool is not None
+            future = self.runner.pool.schedule(execute, (spec.job, args, deadline, where),
+                                               timeout=deadline.remaining() + self.runner.grace_s)
+            try:
+                reply = await asyncio.wrap_future(future)
+            except ProcessExpired as exc:
+                reply = crash_reply(exc, self.runner.retry_after_s)
+            except (TimeoutError, concurrent.futures.TimeoutError):
+                reply = deadline_reply(deadline, "the solver worker was stopped at the deadline")
+            return reply
+        finally:
+            queue.leave(ticket, measured=reply.status in MEASURED_STATUSES)
