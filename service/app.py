@@ -141,7 +141,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     if settings.api_keys:
         app.add_middleware(Access, keys=ApiKeys(settings.api_keys), rates=rates)
     if settings.cors_origins:
-        app.add_middleware(CORSMiddleware, allow_origins=list(settings.cors_origins), allow_methods=["GET", "POST"],
+        app.add_middleware(CORSMiddleware, allow_origins=list(settings.cors_origins), allow_methods=["GET", "POST", "DELETE"],
                            allow_headers=["content-type", "x-api-key", "authorization", "x-request-id"],
                            expose_headers=["x-request-id", "retry-after"], max_age=600)
     app.add_middleware(RequestContext, expensive=runner.expensive, log_requests=settings.access_log)

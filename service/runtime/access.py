@@ -17,11 +17,14 @@ from __future__ import annotations
 
 import hashlib
 import hmac
+import logging
 import math
 import os
 import shutil
 import tempfile
+import threading
 
+import anyio
 from pyrate_limiter import Rate, RateItem, SQLiteBucket
 from starlette.types import ASGIApp, Receive, Scope, Send
 
@@ -32,6 +35,8 @@ PUBLIC_PATHS = frozenset({"/healthz", "/readyz", "/docs", "/redoc", "/openapi.js
 
 PUBLIC_PREFIXES = ("/static-offline-docs/",)
 """The documents' own scripts and styles (fastapi-offline)."""
+
+log = logging.getLogger("service")
 
 RATE_FILE = "rate-limits.sqlite3"
 
@@ -88,6 +93,7 @@ class KeyRates:
         self.path = os.path.join(directory or self._own or "", RATE_FILE)
         self._buckets: dict[str, SQLiteBucket] = {}
         self._puts: dict[str, int] = {}
+        self._lock = threading.Lock()  # one thread of this process at a time; the file lock for the others
 
     def _bucket(self, ident: str) -> SQLiteBucket:
         bucket = self._buckets.get(ident)
@@ -100,6 +106,10 @@ class KeyRates:
     def admit(self, ident: str) -> float | None:
         """None when key ``ident`` may make a request now (it is counted), else the
         seconds until it may."""
+        with self._lock:
+            return self._admit(ident)
+
+    def _admit(self, ident: str) -> float | None:
         bucket = self._bucket(ident)
         now = bucket.now()
         decision = bucket.put_decision(RateItem(ident, now))
@@ -144,7 +154,11 @@ class Access:
             return
         scope.setdefault("state", {})["client"] = ident
         if self.rates is not None:
-            wait_s = self.rates.admit(ident)
+            try:
+                wait_s = await anyio.to_thread.run_sync(self.rates.admit, ident)
+            except Exception:  # a broken counts file must not refuse every request: counted as admitted
+                log.exception("the rate limit could not be read; the request goes on")
+                wait_s = None
             if wait_s is not None:
                 await rate_limited_response(math.ceil(wait_s), self.rates.rate.limit,
                                             self.rates.rate.interval / 1000.0)(scope, receive, send)

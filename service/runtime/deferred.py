@@ -10,8 +10,8 @@ state and answer kept in a SQLite file so that a restart loses nothing queued or
 * :class:`DeferredRunner` — in every web process, a loop that claims queued jobs while the
   process has room (at most its share of the server's slots), runs each like an expensive
   request (it waits for a slot of the server, runs in a solver worker under its time limit,
-  counted from when it starts), writes a heartbeat every second and looks for a
-  cancellation four times a second: a cancelled job's worker is ended (Pebble) and replaced,
+  counted from when it starts; its run time is not counted in the routes' cost model),
+  writes a heartbeat and looks for a cancellation four times a second: a cancelled job's worker is ended (Pebble) and replaced,
   so its slot is free within half a second. A running job whose heartbeat stops (its
   server or web process died) is queued again, at most ``MAX_ATTEMPTS`` times, then failed.
 
@@ -41,7 +41,8 @@ from pydantic import BaseModel
 
 from service.runtime.admission import Gate, Refused
 from service.runtime.deadline import Deadline
-from service.runtime.jobs import MEASURED_STATUSES, Job, Reply, Runner, crash_reply, deadline_reply, execute
+from service.runtime.jobs import Job, Reply, Runner, crash_reply, deadline_reply, execute
+from service.runtime.metrics import observe_backends
 
 log = logging.getLogger("service")
 
@@ -50,11 +51,14 @@ FINISHED = ("succeeded", "failed", "cancelled")
 BUSY_TIMEOUT_S = 5.0
 POLL_S = 0.25
 """How often a web process looks for queued jobs and for cancellations of its own."""
-HEARTBEAT_S = 1.0
 STALE_S = 10.0
 """A running job whose heartbeat is older than this has lost its process: queued again."""
 MAX_ATTEMPTS = 3
 """Times a job is started before a lost one is failed."""
+MAX_QUEUED_PER_CLIENT = 100
+"""Jobs one client (API key, or everyone with keys off) may have queued at once."""
+COST_WEIGHT = 0.3
+"""Weight of a job's run time in its operation's running estimate (progress)."""
 
 
 def json_answer(req: Any) -> tuple[Any, bool]:
@@ -68,8 +72,11 @@ def request_only(req: Any) -> tuple[Any]:
 
 
 def _time_limit(req: Any) -> float | None:
-    limit = getattr(req, "time_limit_s", None)
-    return None if limit is None else float(limit)
+    """The request's ``time_limit_s`` when it gave one (its model's default is a request's,
+    not a job's: None, the jobs' cap)."""
+    if "time_limit_s" not in req.model_fields_set or req.time_limit_s is None:
+        return None
+    return float(req.time_limit_s)
 
 
 def _no_cost_key(req: Any) -> str:
@@ -135,12 +142,25 @@ class JobStore:
         args: tuple[Any, ...] = (owner, limit) if owner is not None else (limit,)
         return [dict(r) for r in self._conn().execute(sql, args).fetchall()]
 
-    def cancel(self, job_id: str) -> None:
-        """A queued job is cancelled at once; a running one is asked to stop."""
+    def cancel(self, job_id: str, ttl_s: float) -> None:
+        """A queued job is cancelled at once (and expires ``ttl_s`` later); a running one is
+        asked to stop. One transaction: a job requeued meanwhile is not missed."""
+        now = time.time()
         conn = self._conn()
-        conn.execute("UPDATE jobs SET state = 'cancelled', finished = ?, message = 'cancelled before it started' "
-                     "WHERE id = ? AND state = 'queued'", (time.time(), job_id))
-        conn.execute("UPDATE jobs SET cancel = 1 WHERE id = ? AND state = 'running'", (job_id,))
+        conn.execute("BEGIN IMMEDIATE")
+        try:
+            conn.execute("UPDATE jobs SET state = 'cancelled', finished = ?, expires = ?, message = 'cancelled before "
+                         "it started' WHERE id = ? AND state = 'queued'", (now, now + ttl_s, job_id))
+            conn.execute("UPDATE jobs SET cancel = 1 WHERE id = ? AND state = 'running'", (job_id,))
+            conn.execute("COMMIT")
+        except BaseException:
+            conn.execute("ROLLBACK")
+            raise
+
+    def queued_of(self, owner: str) -> int:
+        row = self._conn().execute("SELECT COUNT(*) AS n FROM jobs WHERE owner = ? AND state = 'queued'",
+                                   (owner,)).fetchone()
+        return int(row["n"])
 
     def claim(self, runner: str) -> dict[str, Any] | None:
         """The oldest queued job, now running under ``runner`` (None when there is none)."""
@@ -151,24 +171,29 @@ class JobStore:
             "RETURNING *", (runner, now, now)).fetchone()
         return None if row is None else dict(row)
 
-    def beat(self, job_ids: list[str]) -> set[str]:
-        """Heartbeat of running jobs; the ids among them whose cancellation was asked."""
+    def beat(self, runner: str, job_ids: list[str]) -> set[str]:
+        """Heartbeat of ``runner``'s running jobs; the ids among them whose cancellation was
+        asked, or that are no longer its own (queued again and claimed elsewhere: it stops
+        them too)."""
         if not job_ids:
             return set()
         marks = ",".join("?" * len(job_ids))
         conn = self._conn()
-        conn.execute(f"UPDATE jobs SET heartbeat = ? WHERE id IN ({marks}) AND state = 'running'",
-                     (time.time(), *job_ids))
-        rows = conn.execute(f"SELECT id FROM jobs WHERE id IN ({marks}) AND cancel = 1", job_ids).fetchall()
+        conn.execute(f"UPDATE jobs SET heartbeat = ? WHERE id IN ({marks}) AND state = 'running' AND runner = ?",
+                     (time.time(), *job_ids, runner))
+        rows = conn.execute(f"SELECT id FROM jobs WHERE id IN ({marks}) AND (cancel = 1 OR state != 'running' OR "
+                            "runner IS NOT ?)", (*job_ids, runner)).fetchall()
         return {r["id"] for r in rows}
 
-    def finish(self, job_id: str, state: str, ttl_s: float, reply: Reply | None, message: str) -> None:
+    def finish(self, runner: str, job_id: str, state: str, ttl_s: float, reply: Reply | None, message: str) -> None:
+        """The end of a job that ``runner`` ran (a job it lost to another is left alone)."""
         now = time.time()
         self._conn().execute(
             "UPDATE jobs SET state = ?, finished = ?, expires = ?, status = ?, media_type = ?, result = ?, "
-            "message = ? WHERE id = ? AND state = 'running'",
+            "message = ? WHERE id = ? AND state = 'running' AND runner = ?",
             (state, now, now + ttl_s, None if reply is None else reply.status,
-             None if reply is None else reply.media_type, None if reply is None else reply.body, message, job_id))
+             None if reply is None else reply.media_type, None if reply is None else reply.body, message, job_id,
+             runner))
 
     def recover(self, ttl_s: float) -> int:
         """Queue again the running jobs whose process was lost (stale heartbeat), fail those
@@ -221,6 +246,7 @@ class DeferredRunner:
     ttl_s: float
     name: str = field(default_factory=lambda: f"{os.getpid()}-{uuid.uuid4().hex[:8]}")
     running: dict[str, Running] = field(default_factory=dict)
+    costs: dict[str, float] = field(default_factory=dict)  # operation route -> running estimate of its run time, s
     _loop_task: asyncio.Task[None] | None = None
 
     def start(self) -> None:
@@ -254,7 +280,7 @@ class DeferredRunner:
                     run = self.running[row["id"]] = Running(row["id"])
                     run.task = asyncio.get_running_loop().create_task(self._run(run, row))
                 if self.running:
-                    for job_id in await anyio.to_thread.run_sync(self.store.beat, list(self.running)):
+                    for job_id in await anyio.to_thread.run_sync(self.store.beat, self.name, list(self.running)):
                         run = self.running.get(job_id)
                         if run is not None and not run.cancelled and run.task is not None:
                             run.cancelled = True
@@ -273,6 +299,7 @@ class DeferredRunner:
             asked = spec.limit(req)
             limit = self.max_time_s if asked is None else min(float(asked), self.max_time_s)
             reply = await self._execute(spec, req, limit, f"job {run.job_id} ({spec.route})")
+            observe_backends(dict(reply.backends))
             state = "succeeded" if reply.status == 200 else "failed"
             message = "" if reply.status == 200 else f"the operation answered {reply.status}"
         except asyncio.CancelledError:
@@ -283,7 +310,11 @@ class DeferredRunner:
         except Exception as exc:  # a job that cannot run fails, saying why
             message = f"could not run: {exc}"
         self.running.pop(run.job_id, None)
-        await anyio.to_thread.run_sync(self.store.finish, run.job_id, state, self.ttl_s, reply, message)
+        try:
+            await anyio.to_thread.run_sync(self.store.finish, self.name, run.job_id, state, self.ttl_s, reply, message)
+        except Exception:  # the job stays running, its heartbeat stops: it is run again
+            log.exception("job %s: its end could not be written", run.job_id)
+            return
         log.info("job %s %s: %s", run.job_id, state, message or "done")
 
     async def _execute(self, spec: Deferrable, req: Any, limit_s: float, where: str) -> Reply:
@@ -309,6 +340,7 @@ class DeferredRunner:
             except Refused:
                 await asyncio.sleep(1.0)
         reply = deadline_reply(Deadline.starting(time.monotonic(), limit_s), "the job did not start")
+        started = time.monotonic()
         try:
             deadline = Deadline.starting(time.monotonic(), limit_s)
             assert self.runner.pool is not None
@@ -320,6 +352,10 @@ class DeferredRunner:
                 reply = crash_reply(exc, self.runner.retry_after_s)
             except (TimeoutError, concurrent.futures.TimeoutError):
                 reply = deadline_reply(deadline, "the solver worker was stopped at the deadline")
+            if reply.status == 200:
+                ran, old = time.monotonic() - started, self.costs.get(spec.route)
+                self.costs[spec.route] = ran if old is None else old + COST_WEIGHT * (ran - old)
             return reply
         finally:
-            queue.leave(ticket, measured=reply.status in MEASURED_STATUSES)
+            # a job's run time is not a request's: the routes' cost model is left alone
+            queue.leave(ticket, measured=False)

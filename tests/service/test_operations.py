@@ -207,6 +207,8 @@ def test_cors_is_closed_unless_configured():
         r = c.post("/v1/cor/locus", json=LOCUS, headers={**origin, "X-API-Key": KEY_A})
         assert r.headers["access-control-allow-origin"] == "https://hmi.example.org"
         assert "x-request-id" in r.headers["access-control-expose-headers"]
+        cancel = c.options("/v1/jobs/x", headers={**preflight, "Access-Control-Request-Method": "DELETE"})
+        assert cancel.status_code == 200 and "DELETE" in cancel.headers["access-control-allow-methods"]
         other = c.options("/v1/cor/locus", headers={**preflight, "Origin": "https://evil.example.com"})
         assert "access-control-allow-origin" not in other.headers
 

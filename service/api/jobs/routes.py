@@ -20,8 +20,7 @@ from pydantic import ValidationError
 from service.api.jobs.schemas import JobListOut, JobOut, JobProgressOut, JobRequest
 from service.common.responses import BUSY, INVALID_INPUT, ErrorResponse
 from service.errors import error_body
-from service.runtime.admission import RunQueue
-from service.runtime.deferred import FINISHED, DeferredRunner
+from service.runtime.deferred import FINISHED, MAX_QUEUED_PER_CLIENT, DeferredRunner
 
 router = APIRouter(tags=["jobs"])
 NOT_FOUND = {404: {"model": ErrorResponse, "description": "No such job (or not yours, with API keys on)."}}
@@ -47,9 +46,7 @@ def _progress(run: DeferredRunner, row: dict[str, Any]) -> JobProgressOut:
         return JobProgressOut(stage="finished", fraction=1.0, eta_s=0.0, estimated=False)
     if row["state"] == "queued":
         return JobProgressOut(stage="queued", fraction=None, eta_s=None, estimated=True)
-    queue = run.runner.expensive
-    spec = run.operations[row["operation"]]
-    cost = queue.cost_s.get(spec.route) if isinstance(queue, RunQueue) else None
+    cost = run.costs.get(run.operations[row["operation"]].route)
     if not cost:
         return JobProgressOut(stage="running", fraction=None, eta_s=None, estimated=True)
     ran = max(time.time() - float(row["started"]), 0.0)
@@ -77,7 +74,8 @@ def _not_found(job_id: str) -> JSONResponse:
              summary="Run an expensive operation later", responses={**ANSWERS, 202: {"headers": {"Location": {
                  "description": "/v1/jobs/<id>", "schema": {"type": "string"}}}}})
 async def submit(req: JobRequest, request: Request) -> JSONResponse:
-    """Checks the operation's body at once (422 at `body.body.<field>`), queues the job
+    """Checks the operation's body at once (422 at `body.body.<field>`; 429 when 100 of your
+    jobs are queued already), queues the job
     (kept in the server's SQLite file: a restart loses nothing queued or finished) and
     answers 202 with its id and where to ask. It runs when a solver slot is free, under the
     operation's own time limit counted from its start (up to the jobs' cap), with the same
@@ -88,7 +86,12 @@ async def submit(req: JobRequest, request: Request) -> JSONResponse:
     except ValidationError as exc:
         raise RequestValidationError([{**e, "loc": ("body", "body", *e["loc"])}
                                       for e in exc.errors(include_url=False)]) from None
-    job_id = await anyio.to_thread.run_sync(run.store.submit, req.operation, req.body, owner_of(request))
+    owner = owner_of(request)
+    if await anyio.to_thread.run_sync(run.store.queued_of, owner) >= MAX_QUEUED_PER_CLIENT:
+        return JSONResponse(error_body([], f"{MAX_QUEUED_PER_CLIENT} of your jobs are queued already; retry when "
+                                           "some have started", "too_many_jobs"), status_code=429,
+                            headers={"Retry-After": "10"})
+    job_id = await anyio.to_thread.run_sync(run.store.submit, req.operation, req.body, owner)
     row = await anyio.to_thread.run_sync(run.store.get, job_id)
     assert row is not None
     out = job_out(run, row)
@@ -116,7 +119,7 @@ async def cancel_job(job_id: str, request: Request) -> JobOut | JSONResponse:
     row = await anyio.to_thread.run_sync(run.store.get, job_id, owner)
     if row is None:
         return _not_found(job_id)
-    await anyio.to_thread.run_sync(run.store.cancel, job_id)
+    await anyio.to_thread.run_sync(run.store.cancel, job_id, run.ttl_s)
     row = await anyio.to_thread.run_sync(run.store.get, job_id, owner)
     return _not_found(job_id) if row is None else job_out(run, row)
 

@@ -44,8 +44,8 @@ class JobRequest(Strict):
 class JobProgressOut(Out):
     stage: Literal["queued", "running", "finished"] = Field(description="Where the job is.")
     fraction: float | None = Field(description="Estimated fraction done while running (its time so far over the "
-                                   "run time of this operation measured by this web process, at most 0.99); 1 when "
-                                   "finished; null when queued or with nothing measured yet.")
+                                   "run time of this operation's jobs measured by the answering web process, at most "
+                                   "0.99); 1 when finished; null when queued or with nothing measured yet.")
     eta_s: float | None = Field(description="Estimated seconds to the end while running (same estimate); null when "
                                 "unknown.")
     estimated: bool = Field(description="True: fraction and eta_s come from past run times of the operation, not "

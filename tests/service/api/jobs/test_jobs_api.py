@@ -69,7 +69,7 @@ def test_a_queued_job_is_cancelled_at_once(tmp_path):
         job_id = c.post("/v1/jobs", json={"operation": "push_disk_encounter", "body": ENCOUNTER}).json()["id"]
         assert c.get(f"/v1/jobs/{job_id}").json()["progress"]["stage"] == "queued"
         gone = c.delete(f"/v1/jobs/{job_id}").json()
-        assert gone["state"] == "cancelled" and gone["result"] is None and gone["finished_at"]
+        assert gone["state"] == "cancelled" and gone["result"] is None and gone["finished_at"] and gone["expires_at"]
         run.concurrency = 1
         time.sleep(0.5)
         assert c.get(f"/v1/jobs/{job_id}").json()["state"] == "cancelled"  # never run
@@ -85,3 +85,17 @@ def test_with_keys_on_a_client_sees_only_its_own_jobs(tmp_path):
         assert c.get("/v1/jobs", headers=b).json()["jobs"] == []
         assert [j["id"] for j in c.get("/v1/jobs", headers=a).json()["jobs"]] == [job_id]
         assert c.get(f"/v1/jobs/{job_id}").status_code == 401
+
+
+def test_a_job_without_a_time_limit_gets_the_jobs_cap_and_a_client_at_most_100_queued(tmp_path):
+    """A request's default time limit is a request's: a job that gives none runs up to the
+    jobs' cap (PESHKIN_JOB_MAX_TIME_S); one that gives one keeps it."""
+    with client_of(tmp_path) as c:
+        run = c.app.state.deferred
+        spec = run.operations["push_disk_encounter"]
+        assert spec.limit(spec.model.model_validate(ENCOUNTER)) is None
+        assert spec.limit(spec.model.model_validate({**ENCOUNTER, "time_limit_s": 7})) == 7.0
+        run.concurrency = 0
+        codes = [c.post("/v1/jobs", json={"operation": "push_disk_encounter", "body": ENCOUNTER}).status_code
+                 for _ in range(101)]
+        assert codes[:100] == [202] * 100 and codes[100] == 429
