@@ -547,7 +547,29 @@ class FenceGeometryOut(Out):
     )
 
 
-class PushAlignResponse(Out):
+class ExactBoundsRun(Out):
+    """How the exact bounds of a gross-motion answer were computed (the end of both answers)."""
+
+    reference: str = Field(
+        description="The book's sections and equations the answer rests on, as text."
+    )
+    n_nodes: int = Field(
+        description="Gauss-Legendre nodes of each exact bound, as asked."
+    )
+    n_points: int = Field(
+        description="Boundary points of each elementary locus of the exact sketches, as asked."
+    )
+    time_limit_s: float = Field(
+        description="The request's time limit (its `time_limit_s` or the route's default), seconds."
+    )
+    predicted_time_s: float = Field(
+        description="The cost model's prediction for the exact bounds, seconds (0 for method closed_form); a request "
+        "predicted over its time limit is refused."
+    )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
+
+
+class PushAlignResponse(ExactBoundsRun):
     message: str = Field(
         description="What happens, in words: the first contact vertex, the sense and angle turned, the flush edge, "
         "the longest push; warns of a large quadrature error."
@@ -581,20 +603,6 @@ class PushAlignResponse(Out):
         description="Fixed text on what the bounds mean: circumscribing-disk bounds (3.1.8), closed forms as "
         "approximations, when a stage ends and the part stops."
     )
-    reference: str = Field(
-        description="The book's sections and equations the answer rests on, as text."
-    )
-    n_nodes: int = Field(
-        description="Gauss-Legendre nodes of each exact bound, as asked."
-    )
-    n_points: int = Field(
-        description="Boundary points of each elementary locus of the exact sketches, as asked."
-    )
-    time_limit_s: float = Field(
-        description="The request's time limit (its `time_limit_s` or the route's default), seconds."
-    )
-    predicted_time_s: float = Field(description="The cost model's prediction for the exact bounds (s).")
-    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
 
 
 class SketchIOut(Out):
@@ -609,7 +617,7 @@ class SketchIOut(Out):
     )
 
 
-class PushDiskEncounterResponse(Out):
+class PushDiskEncounterResponse(ExactBoundsRun):
     message: str = Field(
         description="The encounter in words: a, beta, offset, mu_c, the greatest length, the greatest rotation pi/2 - "
         "beta, where sketch i begins; warns of a large quadrature error."
@@ -653,20 +661,3 @@ class PushDiskEncounterResponse(Out):
         description="Fixed text on the bounds: the disk is the book's exact case, where (4.16) errs, and (4.18) "
         "re-derived as pi/2 - beta_initial."
     )
-    reference: str = Field(
-        description="The book's sections and equations the answer rests on, as text."
-    )
-    n_nodes: int = Field(
-        description="Gauss-Legendre nodes of each exact bound, as asked."
-    )
-    n_points: int = Field(
-        description="Boundary points of each elementary locus of the exact sketches, as asked."
-    )
-    time_limit_s: float = Field(
-        description="The request's time limit (its `time_limit_s` or the route's default), seconds."
-    )
-    predicted_time_s: float = Field(
-        description="The cost model's prediction for the exact bounds, seconds (0 for method closed_form); a request "
-        "predicted over its time limit is refused."
-    )
-    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
