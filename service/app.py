@@ -16,7 +16,7 @@ from fastapi_offline import FastAPIOffline
 from service import __version__, errors
 from service.api import ROUTE_MODULES
 from service.runtime import logs
-from service.runtime.access import Access, ApiKeys, KeyRates
+from service.runtime.access import PUBLIC_PATHS, Access, ApiKeys, KeyRates
 from service.runtime.context import RequestContext
 from service.runtime.deferred import DeferredRunner, JobStore
 from service.runtime.intake import Intake
@@ -83,9 +83,42 @@ def _published(app: FastAPI, time_limit_cap_s: float) -> None:
                     branch["maximum"] = time_limit_cap_s
             if isinstance(limit, dict) and isinstance(limit.get("default"), (int, float)):
                 limit["default"] = min(limit["default"], time_limit_cap_s)  # what the runner does
+        _access_answers(schema)
         return schema
 
     app.openapi = openapi  # type: ignore[method-assign]
+
+
+SECURITY_SCHEMES = {
+    "ApiKey": {"type": "apiKey", "in": "header", "name": "X-API-Key",
+               "description": "One of the deployment's API keys (PESHKIN_API_KEYS), when it has any."},
+    "Bearer": {"type": "http", "scheme": "bearer",
+               "description": "The same key as a bearer token: Authorization: Bearer <key>."},
+}
+"""How a client shows its key (service.runtime.access)."""
+
+ERROR_JSON = {"application/json": {"schema": {"$ref": "#/components/schemas/ErrorResponse"}}}
+ACCESS_ANSWERS = {
+    "401": {"description": "Only when the deployment has API keys: no key, or an unknown one (type "
+                           "\"unauthorized\").", "content": ERROR_JSON},
+    "429": {"description": "Only when the deployment has API keys: the key's rate is used up (type "
+                           "\"rate_limited\"; POST /v1/jobs also when 100 of the key's jobs are queued); retry "
+                           "after the `Retry-After` header's seconds.", "content": ERROR_JSON,
+            "headers": {"Retry-After": {"description": "Seconds to wait before retrying.",
+                                        "schema": {"type": "integer"}}}},
+}
+
+
+def _access_answers(schema: dict) -> None:
+    """The API keys in the document: the two ways to show one, optional (keys are on only
+    when the deployment has some), and the 401 and 429 of every operation but the probes."""
+    schema.setdefault("components", {})["securitySchemes"] = SECURITY_SCHEMES
+    for path, item in schema["paths"].items():
+        if path in PUBLIC_PATHS:
+            continue
+        for op in item.values():
+            op["security"] = [{}, {"ApiKey": []}, {"Bearer": []}]
+            op["responses"].update(ACCESS_ANSWERS)
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:

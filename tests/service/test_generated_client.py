@@ -96,3 +96,22 @@ def test_the_generated_client_calls_every_operation_of_a_live_server(client_pack
                 assert answer.content, op_id
             called.append(op_id)
     assert len(called) == len(operations(doc)) == 21
+
+
+def test_the_generated_client_shows_its_key(client_package):
+    """With API keys on: the generated AuthenticatedClient (bearer token) is served, the
+    plain client is answered 401, parsed as the documented ErrorResponse."""
+    key = "k" * 24
+    healthz = importlib.import_module(f"{PACKAGE}.api.health.healthz")
+    locus = importlib.import_module(f"{PACKAGE}.api.cor.cor_locus")
+    client_module = importlib.import_module(f"{PACKAGE}.client")
+    models = importlib.import_module(f"{PACKAGE}.models")
+    doc = yaml.safe_load(DOCUMENT.read_text(encoding="utf-8"))
+    body = models.CorLocusRequest.from_dict(doc["components"]["schemas"]["CorLocusRequest"]["examples"][0])
+    with live_server(web_workers="1", solver_workers="1", api_keys=key) as url:
+        keyed = client_module.AuthenticatedClient(base_url=url, token=key, timeout=60.0)
+        plain = client_module.Client(base_url=url, timeout=60.0)
+        assert healthz.sync_detailed(client=plain).status_code == 200  # the probes stay open
+        assert locus.sync_detailed(client=keyed, body=body).status_code == 200
+        refused = locus.sync_detailed(client=plain, body=body)
+        assert refused.status_code == 401 and type(refused.parsed).__name__ == "ErrorResponse"

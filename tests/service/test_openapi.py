@@ -207,3 +207,20 @@ def test_every_response_field_says_what_it_is():
     bare = [f"{n}.{f}" for n in sorted(seen) for f, spec in schemas[n].get("properties", {}).items()
             if not spec.get("description")]
     assert len(seen) > 70 and bare == []
+
+
+def test_the_api_keys_are_in_the_document():
+    """Issue 27: how to show a key (X-API-Key or a bearer token), optional (keys are on only
+    when the deployment has some), and the 401 and 429 of every operation but the probes."""
+    doc = app.openapi()
+    assert doc["components"]["securitySchemes"]["ApiKey"] == {
+        "type": "apiKey", "in": "header", "name": "X-API-Key",
+        "description": doc["components"]["securitySchemes"]["ApiKey"]["description"]}
+    assert doc["components"]["securitySchemes"]["Bearer"]["scheme"] == "bearer"
+    for path, item in doc["paths"].items():
+        for op in item.values():
+            if path in ("/healthz", "/readyz"):
+                assert "401" not in op["responses"] and "security" not in op
+                continue
+            assert op["security"] == [{}, {"ApiKey": []}, {"Bearer": []}]
+            assert {"401", "429"} <= set(op["responses"]) and "Retry-After" in op["responses"]["429"]["headers"]
