@@ -28,10 +28,11 @@ DESCRIPTION = """\
 Planning service for pushed sliding workpieces, after M. A. Peshkin, *Robotic Manipulation
 Strategies* (1990), chapters 2-5. World frame: x right, y up, angles in radians CCW;
 lengths in any consistent unit. Errors share one body, `{"detail": [{"loc": [...], "msg":
-..., "type": ...}]}`: 422 invalid input (naming the field), 413 a body over the limit, 408
-a request not sent in time, 503 busy (retry after `Retry-After` seconds), 504 the time
-limit ran out (with what was finished). A time limit covers waiting, solving and
-rendering.
+..., "type": ...}], "request_id": ...}`: 422 invalid input (naming the field), 413 a body
+over the limit, 408 a request not sent in time, 503 busy (retry after `Retry-After`
+seconds), 504 the time limit ran out (with what was finished); with API keys on, 401
+without a known key and 429 past the key's rate. A time limit covers waiting, solving and
+rendering. Long work can run as a job (`POST /v1/jobs`).
 """
 
 OPERATION_ORDER = (
