@@ -38,6 +38,7 @@ from typing import Any
 import anyio
 from pebble import ProcessExpired
 from pydantic import BaseModel
+from starlette.requests import Request
 
 from service.runtime.admission import Gate, Refused
 from service.runtime.deadline import Deadline
@@ -221,6 +222,12 @@ class JobStore:
         return {r["state"]: int(r["n"]) for r in rows}
 
 
+def deferred_runner(request: Request) -> DeferredRunner:
+    """The app's jobs loop of this web process (made by :func:`service.app.create_app`)."""
+    run: DeferredRunner = request.app.state.deferred
+    return run
+
+
 @dataclass
 class Running:
     job_id: str
@@ -339,7 +346,6 @@ class DeferredRunner:
                 break
             except Refused:
                 await asyncio.sleep(1.0)
-        reply = deadline_reply(Deadline.starting(time.monotonic(), limit_s), "the job did not start")
         started = time.monotonic()
         try:
             deadline = Deadline.starting(time.monotonic(), limit_s)

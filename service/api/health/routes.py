@@ -9,7 +9,7 @@ from fastapi.responses import JSONResponse, Response
 
 from service import __version__
 from service.api.health.schemas import GateOut, HealthResponse, ReadyResponse
-from service.runtime.deferred import STATES, DeferredRunner
+from service.runtime.deferred import STATES, deferred_runner
 from service.runtime.jobs import runner
 from service.runtime.metrics import CONTENT_TYPE, exposition, observe_jobs, observe_work
 
@@ -60,6 +60,5 @@ async def metrics(request: Request) -> Response:
     slots busy, jobs (`/v1/jobs`) by state and solver time by numerical back end, for the whole server
     (every web process; see `service/runtime/metrics.py`). Needs an API key when keys are on."""
     observe_work(runner(request).expensive)
-    jobs: DeferredRunner = request.app.state.deferred
-    observe_jobs(await anyio.to_thread.run_sync(jobs.store.counts), STATES)
+    observe_jobs(await anyio.to_thread.run_sync(deferred_runner(request).store.counts), STATES)
     return Response(exposition(), media_type=CONTENT_TYPE)

@@ -20,16 +20,11 @@ from pydantic import ValidationError
 from service.api.jobs.schemas import JobListOut, JobOut, JobProgressOut, JobRequest
 from service.common.responses import BUSY, INVALID_INPUT, ErrorResponse
 from service.errors import error_body
-from service.runtime.deferred import FINISHED, MAX_QUEUED_PER_CLIENT, DeferredRunner
+from service.runtime.deferred import FINISHED, MAX_QUEUED_PER_CLIENT, DeferredRunner, deferred_runner
 
 router = APIRouter(tags=["jobs"])
 NOT_FOUND = {404: {"model": ErrorResponse, "description": "No such job (or not yours, with API keys on)."}}
 ANSWERS = {**INVALID_INPUT, **BUSY}
-
-
-def deferred(request: Request) -> DeferredRunner:
-    runner: DeferredRunner = request.app.state.deferred
-    return runner
 
 
 def owner_of(request: Request) -> str:
@@ -80,7 +75,7 @@ async def submit(req: JobRequest, request: Request) -> JSONResponse:
     answers 202 with its id and where to ask. It runs when a solver slot is free, under the
     operation's own time limit counted from its start (up to the jobs' cap), with the same
     answer as the operation's route (JSON)."""
-    run = deferred(request)
+    run = deferred_runner(request)
     try:
         run.operations[req.operation].model.model_validate(req.body)
     except ValidationError as exc:
@@ -103,7 +98,7 @@ async def submit(req: JobRequest, request: Request) -> JSONResponse:
 async def get_job(job_id: str, request: Request) -> JobOut | JSONResponse:
     """State, progress (stage, an estimated fraction and time to go) and, once it ended, the
     operation's answer (`result`, with its `status_code`)."""
-    run = deferred(request)
+    run = deferred_runner(request)
     row = await anyio.to_thread.run_sync(run.store.get, job_id, owner_of(request))
     return _not_found(job_id) if row is None else job_out(run, row)
 
@@ -114,7 +109,7 @@ async def cancel_job(job_id: str, request: Request) -> JobOut | JSONResponse:
     """A queued job is cancelled at once; a running one within half a second (its solver
     worker is ended and replaced, its slot freed); an ended one stays as it is. Answers the
     job as it is now (`GET` again to see a running one cancelled)."""
-    run = deferred(request)
+    run = deferred_runner(request)
     owner = owner_of(request)
     row = await anyio.to_thread.run_sync(run.store.get, job_id, owner)
     if row is None:
@@ -128,6 +123,6 @@ async def cancel_job(job_id: str, request: Request) -> JobOut | JSONResponse:
 async def list_jobs(request: Request, limit: int = Query(100, ge=1, le=1000, description="Most jobs listed.")
                     ) -> JobListOut:
     """Your jobs (every job, with API keys off), newest first, without their results."""
-    run = deferred(request)
+    run = deferred_runner(request)
     rows = await anyio.to_thread.run_sync(run.store.list, owner_of(request) or None, limit)
     return JobListOut(jobs=[job_out(run, r, with_result=False) for r in rows])

@@ -2,20 +2,12 @@
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 from pydantic import Field
 
 from service.common.fields import Strict
 from service.common.responses import Out
-
-DEFERRABLE_OPERATIONS = (
-    "cor_locus", "cor_membership", "cor_solve", "cor_tripod_statistics", "cor_sketch", "push_align",
-    "push_disk_encounter", "spiral_critical_radius", "spiral_schedule", "feeder_map", "feeder_simulate",
-    "feeder_design",
-)
-"""The operations a job can run (each route module's ``DEFERRABLE``; a test checks the two
-agree)."""
 
 Operation = Literal[
     "cor_locus", "cor_membership", "cor_solve", "cor_tripod_statistics", "cor_sketch", "push_align",
@@ -23,6 +15,10 @@ Operation = Literal[
     "feeder_design",
 ]
 State = Literal["queued", "running", "succeeded", "failed", "cancelled"]
+
+DEFERRABLE_OPERATIONS: tuple[str, ...] = get_args(Operation)
+"""The operations a job can run (each route module's ``DEFERRABLE``; a test checks the two
+agree)."""
 
 
 class JobRequest(Strict):
