@@ -159,12 +159,8 @@ def design_job(req: FeederDesignRequest, svg: bool, deadline: Deadline) -> Feede
     return design_response(result, budget.elapsed() * 1e3)
 
 
-def _map_limit(req: FeederMapRequest) -> float | None:
-    return req.deadline_s
-
-
 DEFERRABLE = {
-    "feeder_map": Deferrable("POST /v1/feeder/map", FeederMapRequest, map_job, json_answer, limit=_map_limit,
+    "feeder_map": Deferrable("POST /v1/feeder/map", FeederMapRequest, map_job, json_answer,
                              cost=lambda req: req.bound),
     "feeder_simulate": Deferrable("POST /v1/feeder/simulate", FeederSimulateRequest, simulate_job, json_answer),
     "feeder_design": Deferrable("POST /v1/feeder/design", FeederDesignRequest, design_job, json_answer),

@@ -32,7 +32,7 @@ class JobRequest(Strict):
     operation: Operation = Field(description="The operation to run, by its operation id (e.g. `feeder_design` "
                                  "is POST /v1/feeder/design).")
     body: dict[str, Any] = Field(description="The operation's request body, as its route takes it; checked at once "
-                                 "(422 at body.body.<field>). Its `time_limit_s` (the map's `deadline_s`) may go up "
+                                 "(422 at body.body.<field>). Its `time_limit_s` may go up "
                                  "to the jobs' cap (PESHKIN_JOB_MAX_TIME_S, 3600 s) and counts from the job's start; "
                                  "left out, the cap. The answer is JSON.")
 

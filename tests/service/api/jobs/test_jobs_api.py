@@ -99,3 +99,14 @@ def test_a_job_without_a_time_limit_gets_the_jobs_cap_and_a_client_at_most_100_q
         codes = [c.post("/v1/jobs", json={"operation": "push_disk_encounter", "body": ENCOUNTER}).status_code
                  for _ in range(101)]
         assert codes[:100] == [202] * 100 and codes[100] == 429
+
+
+def test_a_part_bound_map_job_without_a_time_limit_gets_the_jobs_cap_too(tmp_path):
+    """The map's request default for the part's own bound (FEEDER_PART_DEFAULT_TIME_LIMIT_S)
+    is a request's too: a job that gives no time_limit_s runs up to the jobs' cap."""
+    with client_of(tmp_path) as c:
+        spec = c.app.state.deferred.operations["feeder_map"]
+        body = {"part": {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]],
+                         "center_of_mass": [1.4, 1.0]}, "fences": [{"angle": 0.7, "mu_c": 0.25}], "bound": "part"}
+        assert spec.limit(spec.model.model_validate(body)) is None
+        assert spec.limit(spec.model.model_validate({**body, "time_limit_s": 40})) == 40.0
