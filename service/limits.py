@@ -67,6 +67,9 @@ MAX_BATCH_SLOW = 16
 MAX_BATCH_POINTS = 200_000
 """Total points over all supports of one batch."""
 
+MAX_COLUMN_POINTS = 400_000
+"""Total points of one columnar batch (``batch``: 100,000 tripods or quadpods)."""
+
 DEFAULT_PRESSURE_RESOLUTION = 32
 MAX_PRESSURE_RESOLUTION = 64
 """Rings of the uniform disk discretisation (6 n^2 cells) or subdivisions per triangle of a
@@ -120,7 +123,8 @@ MAX_TRIPODS = 100_000
 """Random tripods of one tripod-statistics request."""
 
 MAX_TRIPOD_CORS = 20_000
-"""Largest sample whose CORs are returned one by one (``include_cors``)."""
+"""Largest sample whose CORs are returned one by one (``include_cors`` with layout
+"rows"); as columns, all of them (up to MAX_TRIPODS)."""
 
 MIN_FOOTPRINT_FILL = 0.01
 """Smallest area / bounding-box area of a tripod-statistics footprint: tripods are drawn

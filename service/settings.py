@@ -24,7 +24,7 @@ variable                        default     meaning
 ``PESHKIN_DEADLINE_GRACE_S``    0.25        how long past its deadline a worker's answer is awaited
                                             before the worker is stopped and the answer is a 504
 ``PESHKIN_RETRY_AFTER_S``       1           ``Retry-After`` of a 503 (seconds)
-``PESHKIN_MAX_BODY_BYTES``      16777216    longest request body read (longer: 413, unread)
+``PESHKIN_MAX_BODY_BYTES``      33554432    longest request body read (longer: 413, unread)
 ``PESHKIN_WORKER_MAX_TASKS``    0           replace a solver worker after this many tasks (0: never)
 ``PESHKIN_HEADER_TIMEOUT_S``    10          a client must send a request's headers within this
 ``PESHKIN_BODY_TIMEOUT_S``      30          ... and its body within this after the headers
@@ -99,7 +99,7 @@ class Settings:
     max_time_limit_s: float = MAX_TIME_LIMIT_S
     deadline_grace_s: float = 0.25
     retry_after_s: int = 1
-    max_body_bytes: int = 16 * 1024 * 1024
+    max_body_bytes: int = 32 * 1024 * 1024
     worker_max_tasks: int = 0
     header_timeout_s: float = 10.0
     body_timeout_s: float = 30.0

@@ -81,6 +81,57 @@ class Support:
         return cls.create(w, p, cm, tol)
 
 
+@dataclass(frozen=True)
+class SupportBatch:
+    """Many supports of one size k as arrays (a columnar batch): points (B, k, 2) in the
+    world frame and weights (B, k), each row positive, summing to 1, with its centroid at
+    the common centre of mass (3.1.5). Unlike :meth:`Support.create` nothing is merged or
+    dropped: row j of every answer is support j as given."""
+
+    points: np.ndarray
+    weights: np.ndarray
+    center_of_mass: np.ndarray
+
+    @classmethod
+    def create(cls, points: ArrayLike, weights: ArrayLike, center_of_mass: ArrayLike,
+               tol: CentroidTolerance = SUPPORT_DEFAULT) -> "SupportBatch":
+        """Check every support at once; an error names the first bad support's index."""
+        w = np.asarray(points, dtype=float)
+        p = np.asarray(weights, dtype=float)
+        if w.ndim != 3 or w.shape[2] != 2 or w.shape[0] == 0 or w.shape[1] == 0 or p.shape != w.shape[:2]:
+            raise InvalidInput("points", "need points of shape (batch, k, 2) and weights (batch, k)")
+        if not np.all(np.isfinite(w)):
+            raise InvalidInput("points", "must be finite numbers")
+        if not np.all(np.isfinite(p)) or np.any(p <= 0.0):
+            raise InvalidInput("weights", f"support {_first(~np.all(np.isfinite(p) & (p > 0.0), axis=1))}: "
+                               "every weight of a batch must be positive (drop the point instead)")
+        p = p / p.sum(axis=1, keepdims=True)
+        cm = np.asarray(center_of_mass, dtype=float)
+        rel = w - cm
+        size = np.max(np.linalg.norm(rel, axis=2), axis=1)
+        off = np.linalg.norm(np.einsum("bk,bki->bi", p, rel), axis=1)
+        scale = np.maximum(np.maximum(size, float(np.linalg.norm(cm)) * 1e-3), 1e-300)
+        bad = off > tol.centroid_rel * scale
+        if np.any(bad):
+            raise InvalidInput("weights", f"support {_first(bad)}: cannot put its centroid at the centre of "
+                               "mass (3.1.5)")
+        if w.shape[1] > 1:
+            order = np.lexsort((w[..., 1], w[..., 0]), axis=-1)
+            s = np.take_along_axis(w, order[..., None], axis=1)
+            same = np.any(np.all(s[:, 1:, :] == s[:, :-1, :], axis=2), axis=1)
+            if np.any(same):
+                raise InvalidInput("points", f"support {_first(same)}: two points coincide (merge them into one "
+                                   "point with the sum of their weights)")
+        return cls(points=w, weights=p, center_of_mass=cm)
+
+    def __len__(self) -> int:
+        return int(self.points.shape[0])
+
+
+def _first(mask: np.ndarray) -> int:
+    return int(np.flatnonzero(mask)[0])
+
+
 def uniform_disk_support(radius: float, center_of_mass: ArrayLike = (0.0, 0.0), rings: int = 32) -> Support:
     """Uniform pressure on a disk (figure 7-1), as annular-sector cells.
 

@@ -216,9 +216,9 @@ class Runner:
         return Deadline.starting(arrival(request.scope), limit)
 
     def request_deadline(self, request: Request, args: tuple[Any, ...], time_limit_s: float | None) -> Deadline:
-        """:meth:`deadline` of a job whose first argument is the request's model (a limit
+        """:meth:`deadline` of a job one of whose arguments is the request's model (a limit
         the client left out is the route's default)."""
-        model = args[0] if args else None
+        model = next((arg for arg in args if isinstance(arg, BaseModel)), None)
         asked = not isinstance(model, BaseModel) or (
             "time_limit_s" in model.model_fields_set and getattr(model, "time_limit_s", None) is not None)
         return self.deadline(request, time_limit_s, asked)

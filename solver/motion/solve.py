@@ -24,7 +24,7 @@ from models.core.inertia import (
     support_radius_of_gyration,
 )
 from models.core.scene import PushScene
-from models.core.support import Support
+from models.core.support import Support, SupportBatch
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import BackendNotFound
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
@@ -50,20 +50,24 @@ class UniformPressure:
 @dataclass(frozen=True)
 class MotionProblem:
     """The push ``scene`` with pusher friction ``mu_c`` on exactly one of: ``support`` (one
-    motion), ``supports`` (a batch, one motion each) or ``pressure``; solved by ``method``
+    motion), ``supports`` (a batch, one motion each), ``batch`` (supports of one size as
+    arrays, solved by "newton" as one batch) or ``pressure``; solved by ``method``
     ("newton", "cvxpy" or "casadi")."""
 
     scene: PushScene
     support: Support | None = None
     supports: tuple[Support, ...] | None = None
     pressure: UniformPressure | None = None
+    batch: SupportBatch | None = None
     mu_c: float = 0.0
     method: str = "newton"
     tol: SolverTolerances = SOLVER_DEFAULT
 
     def __post_init__(self) -> None:
-        if sum(x is not None for x in (self.support, self.supports, self.pressure)) != 1:
-            raise InvalidInput("support", "give exactly one of support, supports or pressure")
+        if sum(x is not None for x in (self.support, self.supports, self.pressure, self.batch)) != 1:
+            raise InvalidInput("support", "give exactly one of support, supports, batch or pressure")
+        if self.batch is not None and self.method != "newton":
+            raise InvalidInput("method", "a columnar batch is solved by newton only")
         if self.supports is not None and not self.supports:
             raise InvalidInput("supports", "must hold at least one support")
         if self.method not in METHODS:
@@ -71,7 +75,9 @@ class MotionProblem:
 
     @property
     def kind(self) -> str:
-        """"support", "supports" or "pressure"."""
+        """"support", "supports", "batch" or "pressure"."""
+        if self.batch is not None:
+            return "batch"
         return "support" if self.support is not None else ("supports" if self.supports is not None else "pressure")
 
 
@@ -167,6 +173,11 @@ def solve_motion(problem: MotionProblem, budget: Budget = UNLIMITED) -> MotionRe
         rho = support_radius_of_gyration(problem.support.points, problem.support.weights)
         impact = _impact(scene, rho, "support")
         solve_s = motion.solve_time_s
+    elif problem.batch is not None:
+        b = problem.batch
+        result = solve_forward_batch(scene, b.points, b.weights, mu_c=mu_c, tol=tol, check_centroid=False)
+        groups = (BatchGroup(tuple(range(len(b))), result),)
+        solve_s = result.solve_time_s
     elif method != "newton":
         out = []
         for i, support in enumerate(problem.supports):

@@ -23,6 +23,7 @@ from __future__ import annotations
 import os
 
 import hypothesis
+import msgpack
 import pytest
 import schemathesis
 from schemathesis.checks import not_a_server_error
@@ -59,6 +60,17 @@ CONTRACT_FEEDER_MAX_STEPS = 200
 TIME_LIMIT_STATUS = "504"
 """A time limit that runs out (on a busy machine, within the capped budgets below) is
 answered 504 with what was reached: documented, so not a server error."""
+
+@schemathesis.serializer("application/msgpack")
+def msgpack_body(ctx, value):
+    """The batch routes take msgpack bodies (service.common.binary)."""
+    return msgpack.packb(value)
+
+
+@schemathesis.deserializer("application/msgpack")
+def msgpack_answer(ctx, response):
+    return msgpack.unpackb(response.content)
+
 
 app.state.deferred.concurrency = 0  # jobs are queued and answered, never run here (they would load the suite)
 schema = schemathesis.openapi.from_asgi("/openapi.json", app)

@@ -15,6 +15,7 @@ from service.limits import (
     MAX_ABS_ANGLE,
     MAX_ABS_COORDINATE,
     MAX_BATCH,
+    MAX_COLUMN_POINTS,
     MAX_DISK_RADIUS,
     MAX_MU_C,
     MAX_N_POINTS,
@@ -145,13 +146,16 @@ def test_minimum_power_limits_are_in_the_schema():
     schemas = app.openapi()["components"]["schemas"]
     solve = schemas["CorSolveRequest"]
     assert solve["additionalProperties"] is False
-    assert solve["x-exactly-one-of"] == [["support", "supports", "pressure"]]
+    assert solve["x-exactly-one-of"] == [["support", "supports", "batch", "pressure"]]
     assert solve["properties"]["mu_c"]["minimum"] == 0 and solve["properties"]["mu_c"]["maximum"] == MAX_MU_C
     assert solve["properties"]["method"]["enum"] == ["newton", "cvxpy", "casadi"]
     assert solve["properties"]["supports"]["anyOf"][0]["maxItems"] == MAX_BATCH
     support = schemas["SupportIn"]["properties"]
     assert support["points"]["minItems"] == 1 and support["points"]["maxItems"] == MAX_SUPPORT_POINTS
     assert support["weights"]["items"]["minimum"] == 0 and support["weights"]["items"]["maximum"] == MAX_WEIGHT
+    columns = schemas["SupportColumnsIn"]["properties"]
+    assert columns["x"]["maxItems"] == columns["weights"]["maxItems"] == MAX_COLUMN_POINTS
+    assert columns["weights"]["items"]["exclusiveMinimum"] == 0
     assert schemas["MembershipRequest"]["properties"]["time_limit_s"]["maximum"] == MAX_TIME_LIMIT_S
     for op in ("/v1/cor/solve", "/v1/cor/membership", "/v1/cor/tripod-statistics", "/v1/mpp/particle"):
         responses = app.openapi()["paths"][op]["post"]["responses"]

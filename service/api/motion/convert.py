@@ -20,13 +20,15 @@ import numpy as np
 from models.core.footprint import Footprint, area_centroid
 from models.core.mpp import mason_sense
 from models.core.scene import PushScene
-from models.core.support import Support
+from models.core.support import Support, SupportBatch
 from service.api.motion.schemas import (
     BatchSummaryOut,
+    CorColumnsOut,
     CorSolveRequest,
     CorSolveResponse,
     HistogramOut,
     ImpactOut,
+    MotionColumnsOut,
     MotionOut,
     PressureSummaryOut,
     SupportIn,
@@ -38,6 +40,7 @@ from service.common.numbers import listed
 from service.common.scene import contact_warnings, disk_or_footprint, push_scene
 from service.errors import FieldError
 from service.limits import (
+    MAX_BATCH,
     MAX_BATCH_POINTS,
     MAX_BATCH_SLOW,
     MAX_SUPPORT_POINTS,
@@ -132,17 +135,55 @@ def _require_length_scale(scene: PushScene, extent: float, loc: Loc) -> None:
 class MotionRequest:
     """A /v1/cor/solve request as a problem, with what the answer needs of the request:
     ``which`` input was given, the request's supports (their index maps), the pressure's
-    cell count."""
+    cell count, a batch's ``layout`` ("rows" or "columns"; None for one motion)."""
 
     problem: MotionProblem
     which: str
     supports: tuple[RequestSupport, ...]
     n_cells: int | None
+    layout: str | None = None
+
+
+def _layout(req: CorSolveRequest, which: str, n: int) -> str | None:
+    """The layout of a batch's answer (None for one motion), checked against its size."""
+    if which not in ("supports", "batch"):
+        if req.layout is not None:
+            raise FieldError(("layout",), "applies to a batch only (`supports` or `batch`)")
+        return None
+    layout = req.layout or ("columns" if which == "batch" else "rows")
+    if layout == "rows" and n > MAX_BATCH:
+        raise FieldError(("layout",), f"'rows' answers at most {MAX_BATCH} motions and this batch has {n}: use 'columns'")
+    return layout
+
+
+def _batch_problem(req: CorSolveRequest, cm: np.ndarray) -> MotionRequest:
+    """A columnar batch (``batch``): its arrays checked and shaped (B, k, 2), (B, k)."""
+    if req.method != "newton":
+        raise FieldError(("method",), f"is {req.method}: a columnar `batch` is solved by newton only")
+    cols = req.batch
+    k, n = cols.support_size, len(cols.x)
+    for name in ("y", "weights"):
+        if len(getattr(cols, name)) != n:
+            raise FieldError(("batch", name), f"has {len(getattr(cols, name))} entries and x has {n}: one per point")
+    if n % k:
+        raise FieldError(("batch", "x"), f"has {n} entries, not a whole number of supports of support_size {k}")
+    points = np.column_stack((np.asarray(cols.x, dtype=float), np.asarray(cols.y, dtype=float))).reshape(-1, k, 2)
+    with located(("batch",)):
+        supports = SupportBatch.create(points, np.asarray(cols.weights, dtype=float).reshape(-1, k), cm)
+    reach = np.max(np.linalg.norm(points - cm, axis=2), axis=1)
+    scene = push_scene(req, _disk_radius(req, cm, float(np.max(reach))), cm)
+    if not float(np.linalg.norm(scene.contact_rel)) > 0.0 and not np.all(reach > 0.0):
+        _require_length_scale(scene, 0.0, ("batch", "x"))
+    problem = MotionProblem(scene, batch=supports, mu_c=float(req.mu_c), method="newton")
+    return MotionRequest(problem, "batch", (), None, _layout(req, "batch", len(supports)))
 
 
 def motion_problem(req: CorSolveRequest) -> MotionRequest:
     """Check the service's limits and build the problem of ``req``."""
-    which = exactly_one(req, ("support", "supports", "pressure"))
+    which = exactly_one(req, ("support", "supports", "batch", "pressure"))
+    if which == "batch":
+        return _batch_problem(req, np.asarray(req.center_of_mass or (0.0, 0.0), dtype=float))
+    _layout(req, which, len(req.supports) if which == "supports" else 1)
     slow = req.method != "newton"
     max_points = MAX_SUPPORT_POINTS_SLOW if slow else MAX_SUPPORT_POINTS
     mu_c = float(req.mu_c)
@@ -191,7 +232,7 @@ def motion_problem(req: CorSolveRequest) -> MotionRequest:
     for i, u in enumerate(users):
         _require_length_scale(scene, u.extent, ("supports", i, "points"))
     problem = MotionProblem(scene, supports=tuple(u.support for u in users), mu_c=mu_c, method=req.method)
-    return MotionRequest(problem, which, users, None)
+    return MotionRequest(problem, which, users, None, _layout(req, which, len(users)))
 
 
 def motion_errors_located(mr: MotionRequest):
@@ -200,8 +241,8 @@ def motion_errors_located(mr: MotionRequest):
     path (a member of a batch solved one by one at ``supports[i]``)."""
     if mr.which == "pressure":
         return located(rename=PRESSURE_FIELDS)
-    if mr.which == "supports" and mr.problem.method == "newton":
-        return located(("supports",), rename={"mu_c": ("mu_c",)})
+    if mr.which in ("supports", "batch") and mr.problem.method == "newton":
+        return located((mr.which,), rename={"mu_c": ("mu_c",)})
     return located()
 
 
@@ -280,10 +321,92 @@ def _impact_out(impact: Impact | None) -> ImpactOut | None:
     )
 
 
+def _original(mr: MotionRequest, i: int, j: int | None) -> int | None:
+    """The request's index of point ``j`` of support ``i`` (a columnar batch keeps its points)."""
+    if mr.which == "batch":
+        return None if j is None or j < 0 else int(j)
+    return mr.supports[i].original(j)
+
+
+def batch_motion_rows(mr: MotionRequest, result: MotionResult, mu_c: float) -> list[MotionOut]:
+    """A batch's motions, one object each, in request order."""
+    scene = mr.problem.scene
+    out: list[MotionOut | None] = [None] * result.n_motions
+    if result.motions is not None:
+        for i, res in enumerate(result.motions):
+            out[i] = motion_out(scene, res, mu_c, _original(mr, i, res.cor_on_support))
+    else:
+        for group in result.groups:
+            br = group.result
+            for j, i in enumerate(group.indices):
+                out[i] = batch_motion_out(scene, br, j, mu_c, _original(mr, i, int(br.cor_on_support[j])))
+    return out
+
+
+def _nullable(values: np.ndarray) -> list[float | None]:
+    """Floats with NaN (undefined: a translation's COR) as None."""
+    return [None if v != v else v for v in values.tolist()]
+
+
+def motion_columns(mr: MotionRequest, result: MotionResult, mu_c: float) -> MotionColumnsOut:
+    """A batch's motions as columns, in request order: Newton groups scattered back to their
+    supports' places, motions solved one by one stacked."""
+    n = result.n_motions
+    vec = {name: np.full((n, 2), np.nan) for name in ("cor", "velocity_cm", "contact_force")}
+    num = {name: np.full(n, np.nan) for name in ("omega", "slip", "power", "kkt_residual", "gap")}
+    text = {name: np.empty(n, dtype=object) for name in ("status", "mode", "sense")}
+    iterations, on = np.zeros(n, dtype=int), np.full(n, -1)
+    if result.groups is not None:
+        for group in result.groups:
+            br, i = group.result, np.asarray(group.indices, dtype=int)
+            for name in (*vec, *num):
+                (vec if name in vec else num)[name][i] = getattr(br, name)
+            iterations[i], on[i] = br.iterations, br.cor_on_support
+            text["status"][i] = np.where(br.converged, "optimal", "not_converged")
+            text["mode"][i] = np.asarray(BatchResult.MODES, dtype=object)[br.mode]
+        translation = ~np.all(np.isfinite(vec["cor"]), axis=1)
+        text["sense"] = np.where(translation, "none", np.where(num["omega"] > 0.0, "ccw", "cw")).astype(object)
+    else:
+        for i, res in enumerate(result.motions):
+            for name in (*vec, *num):
+                value = getattr(res, name)
+                (vec if name in vec else num)[name][i] = np.nan if value is None else value
+            iterations[i], on[i] = res.iterations, -1 if res.cor_on_support is None else res.cor_on_support
+            text["status"][i], text["mode"][i], text["sense"][i] = res.status, res.mode, res.sense
+    scene = mr.problem.scene
+    return MotionColumnsOut(
+        status=text["status"].tolist(), mode=text["mode"].tolist(),
+        cor_x=_nullable(vec["cor"][:, 0]), cor_y=_nullable(vec["cor"][:, 1]),
+        velocity_cm_x=vec["velocity_cm"][:, 0].tolist(), velocity_cm_y=vec["velocity_cm"][:, 1].tolist(),
+        rotation_per_push=num["omega"].tolist(), slip_per_push=num["slip"].tolist(),
+        sense=text["sense"].tolist(),
+        mason_sense=mason_sense(scene.contact_rel, scene.normal, scene.push_hat, mu_c, MASON_TRANSLATION),
+        power=num["power"].tolist(),
+        contact_force_x=vec["contact_force"][:, 0].tolist(), contact_force_y=vec["contact_force"][:, 1].tolist(),
+        kkt_residual=num["kkt_residual"].tolist(), gap=_nullable(num["gap"]),
+        cor_on_support=[_original(mr, i, j) for i, j in enumerate(on.tolist())],
+        iterations=iterations.tolist(),
+    )
+
+
+def _batch_summary(mr: MotionRequest, result: MotionResult, statuses: list[str], cors: list) -> BatchSummaryOut:
+    if mr.which == "batch":
+        sizes = [mr.problem.batch.points.shape[1]]
+    else:
+        sizes = sorted({len(u.support.points) for u in mr.supports})
+    return BatchSummaryOut(
+        n=len(statuses),
+        converged=sum(status == "optimal" for status in statuses),
+        translations=sum(c is None for c in cors),
+        fallbacks=sum(int(g.result.fallbacks) for g in result.groups or ()),
+        support_sizes=sizes,
+    )
+
+
 def solve_response(req: CorSolveRequest, mr: MotionRequest, result: MotionResult, elapsed_ms: float) -> CorSolveResponse:
     scene = mr.problem.scene
     mu_c = float(req.mu_c)
-    motion = motions = batch = pressure = None
+    motion = motions = columns = batch = pressure = None
     notes: list[str] = []
     if mr.which == "pressure":
         motion = motion_out(scene, result.motion, mu_c, result.motion.cor_on_support)
@@ -295,33 +418,17 @@ def solve_response(req: CorSolveRequest, mr: MotionRequest, result: MotionResult
         motion = motion_out(scene, result.motion, mu_c, us.original(result.motion.cor_on_support))
         if result.impact is None:
             notes.append("impact is null: the whole support is at the centre of mass (radius of gyration 0)")
+    elif mr.layout == "columns":
+        columns = motion_columns(mr, result, mu_c)
+        batch = _batch_summary(mr, result, columns.status, columns.cor_x)
     else:
-        users = mr.supports
-        out: list[MotionOut | None] = [None] * len(users)
-        if result.motions is not None:
-            for i, res in enumerate(result.motions):
-                out[i] = motion_out(scene, res, mu_c, users[i].original(res.cor_on_support))
-            fallbacks = 0
-        else:
-            fallbacks = 0
-            for group in result.groups:
-                br = group.result
-                fallbacks += int(br.fallbacks)
-                for j, i in enumerate(group.indices):
-                    out[i] = batch_motion_out(scene, br, j, mu_c, users[i].original(int(br.cor_on_support[j])))
-        motions = out
-        batch = BatchSummaryOut(
-            n=len(out),
-            converged=sum(m.status == "optimal" for m in out),
-            translations=sum(m.kind == "translation" for m in out),
-            fallbacks=fallbacks,
-            support_sizes=sorted({len(u.support.points) for u in users}),
-        )
-    all_motions = motions if motions is not None else [motion]
-    bad = sum(m.status != "optimal" for m in all_motions)
+        motions = batch_motion_rows(mr, result, mu_c)
+        batch = _batch_summary(mr, result, [m.status for m in motions], [m.cor for m in motions])
+    statuses = columns.status if columns is not None else [m.status for m in (motions or [motion])]
+    bad = sum(status != "optimal" for status in statuses)
     if bad:
         notes.append(
-            f"{bad} of {len(all_motions)} motions are not optimal (status not_converged or inconsistent): "
+            f"{bad} of {len(statuses)} motions are not optimal (status not_converged or inconsistent): "
             "see their kkt_residual; another method may do better"
         )
     return CorSolveResponse(
@@ -331,8 +438,9 @@ def solve_response(req: CorSolveRequest, mr: MotionRequest, result: MotionResult
         mu_c=mu_c,
         method=req.method,
         motion=motion,
-        impact=None if mr.which == "supports" else _impact_out(result.impact),
+        impact=None if mr.which in ("supports", "batch") else _impact_out(result.impact),
         motions=motions,
+        columns=columns,
         batch=batch,
         pressure=pressure,
         warnings=contact_warnings(scene) + notes,
@@ -382,11 +490,11 @@ def _check_samplable(scene: PushScene, footprint: Footprint | None, explicit_cm:
 
 def tripod_problem(req: TripodStatisticsRequest) -> TripodStatisticsProblem:
     """Check the service's limits and build the problem of ``req``."""
-    if req.include_cors and req.n_tripods > MAX_TRIPOD_CORS:
+    if req.include_cors and req.layout == "rows" and req.n_tripods > MAX_TRIPOD_CORS:
         raise FieldError(
             ("include_cors",),
-            f"the CORs of at most {MAX_TRIPOD_CORS} tripods are returned; set include_cors false "
-            "for larger samples",
+            f"the CORs of at most {MAX_TRIPOD_CORS} tripods are returned as rows; set layout 'columns' "
+            "(or include_cors false) for larger samples",
         )
     scene, footprint = disk_or_footprint(req)
     _check_samplable(scene, footprint, req.center_of_mass is not None)
@@ -403,9 +511,12 @@ def tripod_statistics_response(req: TripodStatisticsRequest, stats: TripodStatis
     scene = stats.problem.scene
     b = stats.sample.batch
     ok = np.all(np.isfinite(b.cor), axis=1)
-    cors = None
-    if req.include_cors:
+    cors = cor_columns = None
+    if req.include_cors and req.layout == "rows":
         cors = [(listed(c) if good else None) for c, good in zip(b.cor, ok)]
+    elif req.include_cors:
+        cor_columns = CorColumnsOut(x=_nullable(np.where(ok, b.cor[:, 0], np.nan)),
+                                    y=_nullable(np.where(ok, b.cor[:, 1], np.nan)))
     modes = {name: int(np.sum(b.mode == i)) for i, name in enumerate(BatchResult.MODES)}
     hist = None
     if stats.histogram is not None:
@@ -427,6 +538,7 @@ def tripod_statistics_response(req: TripodStatisticsRequest, stats: TripodStatis
         center_of_mass=listed(scene.center_of_mass),
         mu_c=float(req.mu_c),
         cors=cors,
+        cor_columns=cor_columns,
         converged=int(np.sum(b.converged)),
         translations=int(np.sum(~ok)),
         fallbacks=int(b.fallbacks),

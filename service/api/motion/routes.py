@@ -25,6 +25,7 @@ from service.api.motion.schemas import (
     TripodStatisticsRequest,
     TripodStatisticsResponse,
 )
+from service.common.binary import in_msgpack, msgpack_openapi, wants_msgpack
 from service.common.inputs import located
 from service.common.responses import IN_WORKER
 from service.runtime.deadline import Deadline
@@ -41,12 +42,22 @@ router = APIRouter(tags=["cor"])
     summary="Motion of a pushed workpiece for a known pressure distribution",
     response_model=CorSolveResponse,
     responses=IN_WORKER,
+    openapi_extra=msgpack_openapi("CorSolveRequest", "CorSolveResponse"),
 )
 async def cor_solve(req: CorSolveRequest, request: Request) -> Response:
     """The motion (COR, rotation and slip per unit push, contact mode, forces) that
     minimises the frictional power (book 3.2-3.3.3; with pusher friction mu_c, 4.1), for
-    one support, a batch of supports, or a modelled uniform pressure (figure 7-1)."""
-    return await runner(request).expensive_job(request, solve_job, req)
+    one support, a batch of supports (as objects or as columns), or a modelled uniform
+    pressure (figure 7-1). The body and the answer may be msgpack (`Content-Type`,
+    `Accept: application/msgpack`)."""
+    return await _answered(request, solve_job, req)
+
+
+async def _answered(request: Request, job, req) -> Response:
+    """The job's answer in the encoding the client accepts (JSON or msgpack)."""
+    if wants_msgpack(request):
+        return await runner(request).expensive_job(request, in_msgpack, job, req)
+    return await runner(request).expensive_job(request, job, req)
 
 
 def solve_job(req: CorSolveRequest, deadline: Deadline) -> CorSolveResponse:
@@ -63,13 +74,14 @@ def solve_job(req: CorSolveRequest, deadline: Deadline) -> CorSolveResponse:
     summary="CORs of random tripod supports (figures 3-5, 7-2)",
     response_model=TripodStatisticsResponse,
     responses=IN_WORKER,
+    openapi_extra=msgpack_openapi("TripodStatisticsRequest", "TripodStatisticsResponse"),
 )
 async def cor_tripod_statistics(req: TripodStatisticsRequest, request: Request) -> Response:
     """Random balanced tripods (3.3.3) on the disk or a polygon, seeded: their CORs
     (figure 3-5) and optionally where the sticking CORs fall along the sticking line for a
     large mu_c (figure 7-2). Statistics of a model of pressure distributions, not of the
-    locus (7.7)."""
-    return await runner(request).expensive_job(request, tripod_statistics_job, req)
+    locus (7.7). The body and the answer may be msgpack."""
+    return await _answered(request, tripod_statistics_job, req)
 
 
 def tripod_statistics_job(req: TripodStatisticsRequest, deadline: Deadline) -> TripodStatisticsResponse:

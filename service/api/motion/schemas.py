@@ -29,12 +29,14 @@ from service.limits import (
     MAX_BATCH,
     MAX_BATCH_POINTS,
     MAX_BATCH_SLOW,
+    MAX_COLUMN_POINTS,
     MAX_HISTOGRAM_BINS,
     MAX_MU_C,
     MAX_PRESSURE_FOOTPRINT_VERTICES,
     MAX_PRESSURE_RESOLUTION,
     MAX_SUPPORT_POINTS,
     MAX_SUPPORT_POINTS_SLOW,
+    MAX_TRIPOD_CORS,
     MAX_TRIPODS,
     MAX_WEIGHT,
 )
@@ -44,6 +46,7 @@ from service.limits import (
 # ---------------------------------------------------------------------------------------
 
 Weight = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=MAX_WEIGHT)]
+PositiveWeight = Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=MAX_WEIGHT)]
 ForwardMethod = Literal["newton", "cvxpy", "casadi"]
 
 
@@ -57,6 +60,26 @@ class SupportIn(Strict):
     weights: Annotated[list[Weight], Field(min_length=1, max_length=MAX_SUPPORT_POINTS)] = Field(
         description=f"One weight >= 0 (at most {MAX_WEIGHT:g}) per point, not all zero; they are "
         "normalised to sum 1. Their weighted centroid must be the centre of mass."
+    )
+
+
+Coordinate = Annotated[float, Field(strict=True, allow_inf_nan=False)]
+Column = Annotated[list[Coordinate], Field(min_length=1, max_length=MAX_COLUMN_POINTS)]
+Layout = Literal["rows", "columns"]
+
+
+class SupportColumnsIn(Strict):
+    """A batch of supports of one size as columns: flat arrays, support after support
+    (the points of support j are entries j*k .. j*k+k-1)."""
+
+    support_size: Annotated[int, Field(strict=True, ge=1, le=MAX_SUPPORT_POINTS)] = Field(
+        description="k, the number of points of every support (3 for tripods)."
+    )
+    x: Column = Field(description=f"x of every point, world frame (length); B*k entries, at most {MAX_COLUMN_POINTS}.")
+    y: Column = Field(description="y of every point, world frame (length); as many entries as `x`.")
+    weights: Annotated[list[PositiveWeight], Field(min_length=1, max_length=MAX_COLUMN_POINTS)] = Field(
+        description=f"Weight of every point, > 0 (at most {MAX_WEIGHT:g}); normalised to sum 1 per support, "
+        "whose weighted centroid must be the centre of mass. Points of a support must be distinct."
     )
 
 
@@ -83,12 +106,13 @@ class PressureIn(Strict):
 
 class CorSolveRequest(PushIn):
     """The motion of a pushed workpiece for a known pressure distribution (book 3.2-3.3.3,
-    4.1): exactly one of `support`, `supports` (a batch) or `pressure`."""
+    4.1): exactly one of `support`, `supports` (a batch), `batch` (a batch as columns) or
+    `pressure`."""
 
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra={
-            **exactly_one_of(("support", "supports", "pressure")),
+            **exactly_one_of(("support", "supports", "batch", "pressure")),
             "examples": [
                 {
                     "contact_point": [-0.5, -0.3],
@@ -127,7 +151,18 @@ class CorSolveRequest(PushIn):
         description=f"A batch of supports: 1..{MAX_BATCH} with newton (at most {MAX_BATCH_POINTS} "
         f"points in all), at most {MAX_BATCH_SLOW} with cvxpy / casadi.",
     )
+    batch: SupportColumnsIn | None = Field(
+        default=None,
+        description="A batch of supports of one size as columns (method newton): the fast way to send many "
+        f"supports, up to {MAX_COLUMN_POINTS} points in all.",
+    )
     pressure: PressureIn | None = Field(default=None, description="A modelled pressure distribution.")
+    layout: Layout | None = Field(
+        default=None,
+        description="How a batch's motions are returned: 'rows' (`motions`, one object each; at most "
+        f"{MAX_BATCH} supports) or 'columns' (`columns`, one array per quantity). Default: 'columns' for "
+        "`batch`, 'rows' for `supports`. Not for a single support or a pressure.",
+    )
 
 
 class TripodStatisticsRequest(PushIn):
@@ -174,6 +209,11 @@ class TripodStatisticsRequest(PushIn):
         "direction turned +90 degrees (length). Default: the 1st..99th percentile.",
     )
     include_cors: StrictBool = Field(default=True, description="Return the CORs themselves (n_tripods points).")
+    layout: Layout = Field(
+        default="rows",
+        description=f"How the CORs are returned: 'rows' (`cors`, [x, y] or null each; at most {MAX_TRIPOD_CORS} "
+        f"tripods) or 'columns' (`cor_columns`, {{x, y}}; up to {MAX_TRIPODS}).",
+    )
 
 
 # ---------------------------------------------------------------------------------------
@@ -258,10 +298,45 @@ class PressureSummaryOut(Out):
     n_cells: int = Field(description="Cells of the discretisation (point masses solved).")
 
 
+Float = float | None
+
+
+class MotionColumnsOut(Out):
+    """The motions of a batch as columns: entry j of every array is support j (the fields of
+    a motion, per unit advance of the pusher, world frame)."""
+
+    status: list[Literal["optimal", "not_converged", "inconsistent"]] = Field(
+        description="As a motion's `status`: 'optimal', 'not_converged' or 'inconsistent'."
+    )
+    mode: list[Literal["frictionless", "sticking", "slipping_up", "slipping_down"]] = Field(
+        description="Contact mode (4.1): 'frictionless' for mu_c = 0."
+    )
+    cor_x: list[Float] = Field(description="x of the centre of rotation; null for a translation.")
+    cor_y: list[Float] = Field(description="y of the centre of rotation; null for a translation.")
+    velocity_cm_x: list[float] = Field(description="x of the CM's velocity per unit push (dimensionless).")
+    velocity_cm_y: list[float] = Field(description="y of the CM's velocity per unit push (dimensionless).")
+    rotation_per_push: list[float] = Field(description="omega: rotation per unit push, rad per length, CCW positive (3.3).")
+    slip_per_push: list[float] = Field(
+        description="Slip of the pusher along the edge per unit push, positive along the normal turned +90 degrees (3.2)."
+    )
+    sense: list[Sense] = Field(description="Sense of rotation of each motion.")
+    mason_sense: Sense = Field(description="Sense by Mason's rules (1.6.2), from the push alone: one for the batch.")
+    power: list[float] = Field(description="Frictional power per unit push / (mu_s W) (3.6).")
+    contact_force_x: list[float] = Field(description="x of the pusher's force on the workpiece / (mu_s W).")
+    contact_force_y: list[float] = Field(description="y of the pusher's force on the workpiece / (mu_s W).")
+    kkt_residual: list[float] = Field(description="Dimensionless KKT residual of each minimum-power problem.")
+    gap: list[Float] = Field(description="power - work rate of the contact force on the part (0 at the optimum).")
+    cor_on_support: list[int | None] = Field(
+        description="Index within its support of the point the COR sits on (into the request's points of that "
+        "support), or null."
+    )
+    iterations: list[int] = Field(description="Newton iterations of each motion (0 for a COR found on a support point).")
+
+
 class CorSolveResponse(Out):
     """Motions for known pressure distributions."""
 
-    input: Literal["support", "supports", "pressure"] = Field(description="Which of the three inputs was given.")
+    input: Literal["support", "supports", "batch", "pressure"] = Field(description="Which of the four inputs was given.")
     disk_radius: float = Field(description="Disk radius a used (length).")
     center_of_mass: Vec2 = Field(description="Centre of mass used.")
     mu_c: float = Field(
@@ -273,8 +348,11 @@ class CorSolveResponse(Out):
     )
     motion: MotionOut | None = Field(description="The motion (`support`, `pressure`); null for a batch.")
     impact: ImpactOut | None = Field(description="Impact-limit COR (7.1) (`support`, `pressure`); null for a batch.")
-    motions: list[MotionOut] | None = Field(description="One motion per support, in order (`supports`).")
-    batch: BatchSummaryOut | None = Field(description="Counts of a batch (`supports`).")
+    motions: list[MotionOut] | None = Field(description="One motion per support, in order (a batch with layout 'rows').")
+    columns: MotionColumnsOut | None = Field(
+        default=None, description="The motions as columns, in order (a batch with layout 'columns')."
+    )
+    batch: BatchSummaryOut | None = Field(description="Counts of a batch (`supports` or `batch`).")
     pressure: PressureSummaryOut | None = Field(description="The discretisation (`pressure`).")
     warnings: list[str] = Field(
         description="Non-fatal remarks: the contact outside the disk, motions that are not optimal, an impact that is "
@@ -300,6 +378,13 @@ class HistogramOut(Out):
     )
 
 
+class CorColumnsOut(Out):
+    """CORs as columns: entry j is tripod j; null in both for a translation."""
+
+    x: list[Float] = Field(description="x of each COR, world frame (length).")
+    y: list[Float] = Field(description="y of each COR, world frame (length).")
+
+
 class TripodStatisticsResponse(Out):
     status: Literal["optimal", "not_converged"] = Field(
         description="'optimal' when every tripod's solve converged (KKT residual within tolerance)."
@@ -322,7 +407,8 @@ class TripodStatisticsResponse(Out):
     mu_c: float = Field(
         description="Pusher friction coefficient of the COR sample (the request's `mu_c`; figure 3-5 uses 0)."
     )
-    cors: list[Vec2 | None] | None = Field(description="CORs of the tripods (null entries: translations).")
+    cors: list[Vec2 | None] | None = Field(description="CORs of the tripods (null entries: translations), layout 'rows'.")
+    cor_columns: CorColumnsOut | None = Field(default=None, description="CORs of the tripods, layout 'columns'.")
     converged: int = Field(
         description="Number of tripods whose solve converged (KKT residual within tolerance and the contact mode "
         "consistent)."

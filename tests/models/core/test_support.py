@@ -13,7 +13,13 @@ import pytest
 from models.core.errors import InvalidInput
 from models.core.footprint import Footprint
 from models.core.inertia import polygon_second_moments
-from models.core.support import Support, random_balanced_tripods, uniform_disk_support, uniform_polygon_support
+from models.core.support import (
+    Support,
+    SupportBatch,
+    random_balanced_tripods,
+    uniform_disk_support,
+    uniform_polygon_support,
+)
 from models.core.tolerances import SupportTolerances
 from tests.scenes import SEED
 
@@ -92,3 +98,39 @@ def test_random_balanced_tripods_are_seeded_balanced_and_inside():
     with pytest.raises(InvalidInput):
         random_balanced_tripods(np.random.default_rng(SEED), 50, 1.0, footprint=thin, max_draws=3)
     assert math.isfinite(float(wts.sum()))
+
+
+def test_a_support_batch_is_its_supports_one_by_one_3_1_5():
+    """SupportBatch.create checks a batch at once as Support.create checks each support:
+    the same normalised weights, and the first bad support is named by its index."""
+    points, weights = random_balanced_tripods(np.random.default_rng(SEED), 200, 1.0, center_of_mass=(0.3, -0.2))
+    weights = weights * np.random.default_rng(SEED).uniform(1.0, 5.0, (200, 1))  # unnormalised
+    batch = SupportBatch.create(points, weights, (0.3, -0.2))
+    for j in (0, 57, 199):
+        one = Support.create(points[j], weights[j], (0.3, -0.2))
+        np.testing.assert_allclose(batch.weights[j], one.weights, rtol=1e-15, atol=0)
+    assert len(batch) == 200
+    off = points.copy()
+    off[123, 0] += (0.5, 0.0)  # moves support 123's centroid off the CM
+    with pytest.raises(InvalidInput) as err:
+        SupportBatch.create(off, weights, (0.3, -0.2))
+    assert err.value.field == "weights" and "support 123" in err.value.reason and "3.1.5" in err.value.reason
+
+
+@pytest.mark.parametrize("change,field,index", [
+    (lambda p, w: w.__setitem__((7, 1), 0.0), "weights", 7),
+    (lambda p, w: w.__setitem__((9, 2), -1.0), "weights", 9),
+    (lambda p, w: (p.__setitem__(4, [[1.0, 0.0], [1.0, 0.0], [-1.0, 0.0]]), w.__setitem__(4, [1.0, 1.0, 2.0])),
+     "points", 4),  # balanced, but two points coincide
+    (lambda p, w: p.__setitem__((3, 0, 1), np.inf), "points", None),
+])
+def test_a_support_batch_refuses_what_one_support_would_merge_or_drop(change, field, index):
+    """A batch keeps every point as given (row j of an answer is support j), so a zero
+    weight or two coincident points are refused, not merged; non-finite points too."""
+    points, weights = random_balanced_tripods(np.random.default_rng(SEED), 12, 1.0)
+    change(points, weights)
+    with pytest.raises(InvalidInput) as err:
+        SupportBatch.create(points, weights, (0.0, 0.0))
+    assert err.value.field == field
+    if index is not None:
+        assert f"support {index}:" in err.value.reason
