@@ -54,6 +54,7 @@ OPERATION_ORDER = (
     "feeder_map",
     "feeder_simulate",
     "feeder_design",
+    "scenes_analyze",
     "jobs_submit",
     "jobs_get",
     "jobs_cancel",

@@ -294,3 +294,10 @@ FEEDER_MAX_DESIGN_DEPTH = 20
 """Fences in a design (the book searched one part to depth 20, 5.4.1)."""
 FEEDER_MAX_VALIDATION_PARTS = 500
 """Simulated parts that validate a design (each runs through every fence)."""
+
+
+SCENE_MAX_QUESTIONS = 12
+"""Questions of one scene analysis (``POST /v1/scenes/analyze``)."""
+
+SCENE_DEFAULT_TIME_LIMIT_S = 30.0
+"""time_limit_s of a scene analysis by default (all its questions together)."""

@@ -57,6 +57,8 @@ from solver.push.simulate import (
     simulate_fence_alignment,
     simulate_fence_alignment_batch,
 )
+from solver.scenes.analyze import analyze_scene
+from solver.scenes.problem import Answer, ModeVerdict, Question, SceneAnalysis, SceneProblem, Tried
 from solver.sketch.certified_sketch import CertifiedSketch, certified_sketch
 from solver.sketch.cor_sketch import SketchProblem, SketchResult, cor_sketch
 from solver.sketch.sticking import StickingResult, sticking_feasibility
@@ -86,10 +88,18 @@ ENTRY_POINTS = (
     feeder_map,
     feeder_simulate,
     feeder_design,
+    analyze_scene,
 )
 """The workflows the service calls: each ``(problem, budget) -> Outcome``."""
 
 __all__ = [
+    "analyze_scene",
+    "Answer",
+    "ModeVerdict",
+    "Question",
+    "SceneAnalysis",
+    "SceneProblem",
+    "Tried",
     "BACKENDS",
     "close_ledger",
     "open_ledger",

@@ -8,7 +8,7 @@ of each other (import-linter contract ``api-independent``); what several share i
 :mod:`service.common`.
 """
 
-RESOURCES = ("health", "locus", "motion", "particle", "push", "sketch", "spiral", "feeder", "jobs")
+RESOURCES = ("health", "locus", "motion", "particle", "push", "sketch", "spiral", "feeder", "scenes", "jobs")
 """Every resource, in the order the app includes their routers: the one list of them
 (``tests/service/test_resources.py`` checks it against the folders)."""
 

@@ -57,6 +57,9 @@ CONTRACT_FEEDER_MAX_VALIDATION = 2
 CONTRACT_FEEDER_TIME_LIMIT_S = 0.3
 CONTRACT_FEEDER_MAX_STEPS = 200
 
+SCENES_PATH = "/v1/scenes/analyze"
+CONTRACT_SCENES_TIME_LIMIT_S = 0.5
+
 TIME_LIMIT_STATUS = "504"
 """A time limit that runs out (on a busy machine, within the capped budgets below) is
 answered 504 with what was reached: documented, so not a server error."""
@@ -92,7 +95,7 @@ def test_every_operation_is_covered() -> None:
     assert ids == {"healthz", "readyz", "metrics", "cor_locus", "cor_solve", "cor_membership", "cor_tripod_statistics", "mpp_particle",
                    "push_quasistatic", "cor_sketch", "push_align", "push_disk_encounter",
                    "spiral_critical_radius", "spiral_schedule", "feeder_map", "feeder_simulate",
-                   "feeder_design", "jobs_submit", "jobs_get", "jobs_cancel", "jobs_list"}
+                   "feeder_design", "scenes_analyze", "jobs_submit", "jobs_get", "jobs_cancel", "jobs_list"}
 
 
 def contract_settings(max_examples: int) -> hypothesis.settings:
@@ -125,6 +128,12 @@ def _cap_time_limit(case: schemathesis.Case) -> None:
         return
     if isinstance(body, dict) and case.path in FEEDER_PATHS:
         _cap_feeder(body, simulate=case.path.endswith("simulate"))
+        return
+    if isinstance(body, dict) and case.path == SCENES_PATH:
+        _cap_limit(body, CONTRACT_SCENES_TIME_LIMIT_S)
+        for q in body.get("questions") or ():
+            if isinstance(q, dict) and isinstance(q.get("validation_parts"), int) and q["validation_parts"] > 2:
+                q["validation_parts"] = 2
         return
     if not isinstance(body, dict) or case.path not in ("/v1/cor/locus", "/v1/cor/membership", "/v1/cor/sketch"):
         return

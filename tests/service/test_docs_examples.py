@@ -17,7 +17,8 @@ def test_the_examples_are_found():
     paths = {url.split("?")[0] for url, _ in EXAMPLES}
     assert paths == {"/v1/cor/locus", "/v1/cor/solve", "/v1/cor/membership", "/v1/cor/tripod-statistics",
                      "/v1/mpp/particle", "/v1/push/quasistatic", "/v1/cor/sketch", "/v1/push/align",
-                     "/v1/push/disk-encounter", "/v1/spiral/critical-radius", "/v1/spiral/schedule"}
+                     "/v1/push/disk-encounter", "/v1/spiral/critical-radius", "/v1/spiral/schedule",
+                     "/v1/scenes/analyze"}
 
 
 @pytest.mark.slow

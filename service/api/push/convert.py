@@ -40,13 +40,13 @@ from service.api.push.schemas import (
     PushQuasistaticRequest,
     PushQuasistaticResponse,
     QuasiStaticCheckOut,
-    QuasiStaticIn,
     QuasiStaticParameterOut,
     SketchIOut,
     ThresholdsOut,
 )
 from service.common.inputs import exactly_one, footprint_of
 from service.common.numbers import listed
+from service.common.quasistatic import QuasiStaticIn, quasi_static_query
 from service.errors import FieldError
 from service.limits import GROSS_MIN_LENGTH
 from solver import (
@@ -58,7 +58,6 @@ from solver import (
     Bound,
     DiskEncounterProblem,
     DiskEncounterResult,
-    QuasiStaticQuery,
     Slip,
     below_line_of_motion,
 )
@@ -228,18 +227,6 @@ ENCOUNTER_FIELDS = QUASI_STATIC_FIELDS
 QUADRATURE_WARN_REL = 0.01
 """The message warns when an exact bound's quadrature error estimate exceeds this fraction."""
 
-
-
-def quasi_static_query(qin: QuasiStaticIn | None) -> QuasiStaticQuery | None:
-    """The quasi-static check of a gross-motion request (None when no speed was given)."""
-    if qin is None:
-        return None
-    given = [name for name in ("g", "length_unit") if getattr(qin, name) is not None]
-    if len(given) != 1:
-        where = "g" if not given else given[1]
-        raise FieldError(("quasi_static", where), "give exactly one of g or length_unit")
-    g = qin.g if given[0] == "g" else qs.gravity(qin.length_unit)
-    return QuasiStaticQuery(qin.speed, qin.mu_s, g)
 
 
 def quasi_static_out(qin: QuasiStaticIn | None, res: qs.QuasiStaticAssessment | None) -> QuasiStaticCheckOut | None:

@@ -19,7 +19,6 @@ from pydantic_core import PydanticCustomError
 from models.push.quasistatic import (
     BOOK_TRANSLATIONAL_ERROR_REL,
     GRAVITY_M_S2,
-    METRES_PER_UNIT,
 )
 from service.common.fields import (
     Angle,
@@ -31,6 +30,7 @@ from service.common.fields import (
     TimeLimit,
     exactly_one_of,
 )
+from service.common.quasistatic import Gravity, LengthUnit, QuasiStaticIn
 from service.common.responses import ELAPSED_MS_DESCRIPTION, Out
 from service.limits import (
     ALIGN_DEFAULT_N_NODES,
@@ -55,10 +55,6 @@ from service.limits import (
 )
 from solver import ENCOUNTER_SKETCH_COST, SKETCH_COST
 
-LengthUnit = Literal["m", "cm", "mm", "um", "in", "ft"]
-assert set(LengthUnit.__args__) == set(METRES_PER_UNIT), "LengthUnit must list models.push.quasistatic.METRES_PER_UNIT"  # type: ignore[attr-defined]
-
-Gravity = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=QS_MIN_GRAVITY, le=QS_MAX_GRAVITY)]
 Length = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=QS_MIN_LENGTH, le=MAX_DISK_RADIUS)]
 
 DEFAULT_ANGULAR_ERROR = math.radians(5.0)
@@ -254,30 +250,6 @@ def _positive_mu(value: float) -> float:
             {"gt": 0},
         )
     return value
-
-
-class QuasiStaticIn(Strict):
-    """The push speed and the table's friction: is the gross motion slow enough for the
-    quasi-static bounds to hold (book 6.8; as POST /v1/push/quasistatic)? Give gravity as
-    `g` or `length_unit` (exactly one)."""
-
-    model_config = ConfigDict(
-        extra="forbid",
-        json_schema_extra={
-            **exactly_one_of(("g", "length_unit")),
-        },
-    )
-
-    speed: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=0.0, le=QS_MAX_SPEED)] = Field(
-        description=f"Speed of the pusher, length unit per second, [0, {QS_MAX_SPEED:g}]."
-    )
-    mu_s: Annotated[float, Field(strict=True, allow_inf_nan=False, ge=QS_MIN_MU_S, le=QS_MAX_MU_S)] = Field(
-        description=f"Friction coefficient between part and table, [{QS_MIN_MU_S:g}, {QS_MAX_MU_S:g}]."
-    )
-    g: Gravity | None = Field(default=None, description="Gravity in the request's length unit per s^2.")
-    length_unit: LengthUnit | None = Field(
-        default=None, description=f"The request's length unit; g = {GRAVITY_M_S2:g} m/s^2 converted to it."
-    )
 
 
 class PushAlignRequest(Strict):
