@@ -55,6 +55,7 @@ OPERATION_ORDER = (
     "feeder_simulate",
     "feeder_design",
     "scenes_analyze",
+    "feeder_catalogue",
     "jobs_submit",
     "jobs_get",
     "jobs_cancel",

@@ -301,3 +301,6 @@ SCENE_MAX_QUESTIONS = 12
 
 SCENE_DEFAULT_TIME_LIMIT_S = 30.0
 """time_limit_s of a scene analysis by default (all its questions together)."""
+
+FEEDER_MAX_CATALOGUE_PARTS = 500
+"""Parts of one feeder catalogue (``POST /v1/feeder/catalogue``)."""

@@ -59,6 +59,13 @@ variable                        default     meaning
 ``PESHKIN_JOB_WORKERS``         auto        jobs a web process runs at once (auto: its share of the
                                             server's slots); 0: this server queues jobs but runs
                                             none (another server on the same file does)
+``PESHKIN_RAY_WORKERS``         auto        CPUs of the local Ray that runs a feeder catalogue's
+                                            designs in parallel (started by the solver worker
+                                            that first runs one; auto: the CPUs the process may
+                                            use); 0: no Ray, one design after the other
+``PESHKIN_RAY_ADDRESS``         (none)      an existing Ray cluster for the catalogues instead
+                                            (``host:port`` of its head; its ``RAY_AUTH_MODE`` and
+                                            token as the cluster requires)
 ==============================  ==========  =====================================================
 
 ``python -m service`` starts the supervisor (gunicorn) with these; ``uvicorn
@@ -116,12 +123,20 @@ class Settings:
     job_ttl_s: float = 86400.0
     job_max_time_s: float = 3600.0
     job_workers: int = AUTO
+    ray_workers: int = AUTO
+    ray_address: str = ""
 
     def job_concurrency(self) -> int:
         """Jobs a web process runs at once: the setting, or (auto) its share of the slots."""
         if self.job_workers != AUTO:
             return self.job_workers
         return max(1, -(-self.solver_processes() // self.web_workers))
+
+    def ray_cpus(self, cpus: int | None = None) -> int:
+        """CPUs of the catalogues' local Ray: the setting, or (auto) the CPUs the process may use."""
+        if self.ray_workers != AUTO:
+            return self.ray_workers
+        return max(1, cpus if cpus is not None else usable_cpus())
 
     def __repr__(self) -> str:  # the keys never reach a log
         shown = {f.name: getattr(self, f.name) for f in fields(self)}
@@ -257,4 +272,6 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "job_ttl_s": _seconds(0.0, 365 * 86400.0),
     "job_max_time_s": _seconds(0.0, TIME_LIMIT_HARD_MAX_S),
     "job_workers": _integer(0, 1024, auto=True),
+    "ray_workers": _integer(0, 1024, auto=True),
+    "ray_address": lambda name, text: text,
 }

@@ -11,8 +11,10 @@ from solver.core.backends import BACKENDS, close_ledger, open_ledger
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import BackendNotFound, Infeasible, NotConverged, SolverError, TimeLimitReached
 from solver.core.outcome import Outcome
+from solver.core.parallel import ParallelRun, RayPool, parallel_map, release_ray
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
+from solver.feeder.catalogue import FeederCatalogueProblem, FeederCatalogueResult, feeder_catalogue
 from solver.feeder.design import BeltSpec, FeederDesignProblem, FeederDesignResult, angle_count, feeder_design
 from solver.feeder.part_bound import PartBoundCost, PartBoundSettings
 from solver.feeder.simulate import (
@@ -88,11 +90,19 @@ ENTRY_POINTS = (
     feeder_map,
     feeder_simulate,
     feeder_design,
+    feeder_catalogue,
     analyze_scene,
 )
 """The workflows the service calls: each ``(problem, budget) -> Outcome``."""
 
 __all__ = [
+    "FeederCatalogueProblem",
+    "FeederCatalogueResult",
+    "feeder_catalogue",
+    "ParallelRun",
+    "RayPool",
+    "parallel_map",
+    "release_ray",
     "analyze_scene",
     "Answer",
     "ModeVerdict",

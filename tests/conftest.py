@@ -22,6 +22,9 @@ os.environ.setdefault("PESHKIN_SOLVER_WORKERS", "0")
 # No result store unless a test makes one: every test computes what it checks.
 os.environ.setdefault("PESHKIN_STORE_PATH", "")
 os.environ.setdefault("PESHKIN_JOBS_PATH", "")  # a jobs file of each app's own, never a server's
+# Feeder catalogues one design after the other in the test process (no Ray), unless a
+# test asks for Ray itself (tests/solver/core/test_parallel.py, the catalogue's live test).
+os.environ.setdefault("PESHKIN_RAY_WORKERS", "0")
 
 # ---------------------------------------------------------------------------
 # Benchmarks: tests marked ``@pytest.mark.benchmark`` are skipped unless the

@@ -58,6 +58,7 @@ CONTRACT_FEEDER_TIME_LIMIT_S = 0.3
 CONTRACT_FEEDER_MAX_STEPS = 200
 
 SCENES_PATH = "/v1/scenes/analyze"
+CATALOGUE_PATH = "/v1/feeder/catalogue"
 CONTRACT_SCENES_TIME_LIMIT_S = 0.5
 
 TIME_LIMIT_STATUS = "504"
@@ -95,7 +96,7 @@ def test_every_operation_is_covered() -> None:
     assert ids == {"healthz", "readyz", "metrics", "cor_locus", "cor_solve", "cor_membership", "cor_tripod_statistics", "mpp_particle",
                    "push_quasistatic", "cor_sketch", "push_align", "push_disk_encounter",
                    "spiral_critical_radius", "spiral_schedule", "feeder_map", "feeder_simulate",
-                   "feeder_design", "scenes_analyze", "jobs_submit", "jobs_get", "jobs_cancel", "jobs_list"}
+                   "feeder_design", "scenes_analyze", "feeder_catalogue", "jobs_submit", "jobs_get", "jobs_cancel", "jobs_list"}
 
 
 def contract_settings(max_examples: int) -> hypothesis.settings:
@@ -128,6 +129,13 @@ def _cap_time_limit(case: schemathesis.Case) -> None:
         return
     if isinstance(body, dict) and case.path in FEEDER_PATHS:
         _cap_feeder(body, simulate=case.path.endswith("simulate"))
+        return
+    if isinstance(body, dict) and case.path == CATALOGUE_PATH:
+        _cap_limit(body, CONTRACT_FEEDER_TIME_LIMIT_S)
+        if isinstance(body.get("parts"), list):
+            del body["parts"][2:]  # a catalogue is its parts' designs: two show it
+        if isinstance(body.get("design"), dict):
+            _cap_feeder(body["design"], simulate=False)
         return
     if isinstance(body, dict) and case.path == SCENES_PATH:
         _cap_limit(body, CONTRACT_SCENES_TIME_LIMIT_S)

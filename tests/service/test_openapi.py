@@ -103,6 +103,7 @@ def test_stable_operation_ids():
         ("/v1/feeder/simulate", "post"): "feeder_simulate",
         ("/v1/feeder/design", "post"): "feeder_design",
         ("/v1/scenes/analyze", "post"): "scenes_analyze",
+        ("/v1/feeder/catalogue", "post"): "feeder_catalogue",
         ("/v1/jobs", "post"): "jobs_submit",
         ("/v1/jobs/{job_id}", "get"): "jobs_get",
         ("/v1/jobs/{job_id}", "delete"): "jobs_cancel",

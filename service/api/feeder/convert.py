@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -12,11 +13,15 @@ from models.feeder.fence import Fence, FenceMap, feeder_part
 from models.feeder.gate import GateSpec
 from models.feeder.placed import Goal, PlacedDesign
 from service.api.feeder.schemas import (
+    FeederCatalogueItemOut,
+    FeederCatalogueRequest,
+    FeederCatalogueResponse,
     FeederCpSatOut,
     FeederDesignFenceOut,
     FeederDesignOut,
     FeederDesignRequest,
     FeederDesignResponse,
+    FeederDesignSettingsIn,
     FeederEventOut,
     FeederFenceBandOut,
     FeederFenceIn,
@@ -44,6 +49,8 @@ from service.errors import FieldError
 from service.limits import FEEDER_MAX_CANDIDATES, FEEDER_MAX_FENCE_LENGTH_RADII, FEEDER_MAX_WORLD_RADII
 from solver import (
     BeltSpec,
+    FeederCatalogueProblem,
+    FeederCatalogueResult,
     FeederDesignProblem,
     FeederDesignResult,
     FeederMapProblem,
@@ -54,6 +61,7 @@ from solver import (
     FenceRun,
     PartBoundCost,
     PartBoundSettings,
+    RayPool,
     angle_count,
 )
 
@@ -213,19 +221,28 @@ def simulate_response(req: FeederSimulateRequest, res: FeederSimResult, elapsed_
                                   message=res.message, solve_time_ms=res.solve_time_s * 1e3, elapsed_ms=elapsed_ms)
 
 
-def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
-    part = part_of(req.part)
-    a = req.angles
+def design_settings(d: FeederDesignSettingsIn, part: Footprint, loc: tuple = ()) -> FeederDesignProblem:
+    """The design problem of ``part`` with the search settings ``d`` (at ``loc`` in the request)."""
+    a = d.angles
     if a.max < a.min:
-        raise FieldError(("angles", "max"), "must be at least angles.min")
+        raise FieldError((*loc, "angles", "max"), "must be at least angles.min")
     count = 2 * angle_count(a.min, a.max, a.step)
     if count > FEEDER_MAX_CANDIDATES:
-        raise FieldError(("angles", "step"), f"gives {count:g} candidate fences; at most {FEEDER_MAX_CANDIDATES} "
-                         "(both sides together)")
-    given = mu_of(req.mu_c, req.mu_c_range, ())
+        raise FieldError((*loc, "angles", "step"), f"gives {count:g} candidate fences; at most "
+                         f"{FEEDER_MAX_CANDIDATES} (both sides together)")
+    given = mu_of(d.mu_c, d.mu_c_range, loc)
     mu = given if isinstance(given, tuple) else (given, given)
     if not mu[0] <= mu[1]:
-        raise FieldError(("mu_c_range",), "must be [low, high] with low <= high")
+        raise FieldError((*loc, "mu_c_range"), "must be [low, high] with low <= high")
+    return FeederDesignProblem(
+        part=part, angle_min=a.min, angle_max=a.max, angle_step=a.step, mu_c=(float(mu[0]), float(mu[1])),
+        max_depth=d.max_depth, alternate=d.alternate, prove_with_cp_sat=d.prove_with_cp_sat,
+        validation_parts=d.validation_parts, seed=d.seed)
+
+
+def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
+    part = part_of(req.part)
+    problem = design_settings(req, part)
     if req.belt is not None:  # the belt's own checks are the solver's (models/feeder/placed.py)
         for name in ("width", "clearance", "spacing", "entry_x", "entry_spread"):
             value = getattr(req.belt, name)
@@ -240,12 +257,42 @@ def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
         goal = goal_of(req.goal, part)
         gate = None if req.gate is None else gate_of(req.gate, part)
     b = req.belt
-    return FeederDesignProblem(
-        part=part, angle_min=a.min, angle_max=a.max, angle_step=a.step, mu_c=(float(mu[0]), float(mu[1])),
-        max_depth=req.max_depth, alternate=req.alternate, prove_with_cp_sat=req.prove_with_cp_sat,
-        validation_parts=req.validation_parts, seed=req.seed,
-        belt=None if b is None else BeltSpec(b.width, b.clearance, b.spacing, b.entry_x, b.entry_spread),
+    return dataclasses.replace(
+        problem, belt=None if b is None else BeltSpec(b.width, b.clearance, b.spacing, b.entry_x, b.entry_spread),
         goal=goal, gate=gate, min_yield=req.min_yield)
+
+
+def catalogue_problem(req: FeederCatalogueRequest, pool: RayPool) -> FeederCatalogueProblem:
+    """Every part (errors at ``parts[i]``) and the one design request, to run on ``pool``."""
+    parts = []
+    for i, p in enumerate(req.parts):
+        with located(("parts", i), rename={"workpiece": ("parts", i, "vertices")}):
+            parts.append(feeder_part(p.vertices, p.center_of_mass))
+    return FeederCatalogueProblem(tuple(parts), design_settings(req.design, parts[0], ("design",)), pool)
+
+
+def catalogue_response(req: FeederCatalogueRequest, result: FeederCatalogueResult,
+                       elapsed_ms: float) -> FeederCatalogueResponse:
+    items = []
+    for p, res in zip(req.parts, result.designs):
+        if res is None:
+            items.append(FeederCatalogueItemOut(name=p.name, status="not_finished", fences=None, depth_proven=None,
+                                                margin=None, validation_parts=0, validation_in_band=0,
+                                                solve_time_ms=None))
+            continue
+        d, v = res.design, res.validation
+        items.append(FeederCatalogueItemOut(
+            name=p.name, status="ok" if res.status == "ok" else "time_limit",
+            fences=None if d is None else [FeederDesignFenceOut(angle=res.maps[f].fence.angle,
+                                                                side=res.maps[f].fence.side) for f in d.fences],
+            depth_proven=None if res.search is None else res.search.depth_proven,
+            margin=None if d is None else (d.margin if math.isfinite(d.margin) else math.pi),
+            validation_parts=0 if v is None else v.parts, validation_in_band=0 if v is None else v.in_band,
+            solve_time_ms=res.solve_time_s * 1e3))
+    run = result.run
+    return FeederCatalogueResponse(status=result.status, designs=items, finished=run.finished, backend=run.backend,
+                                   cpus=run.cpus, nodes=run.nodes, solve_time_ms=result.solve_time_s * 1e3,
+                                   elapsed_ms=elapsed_ms)
 
 
 def goal_of(g: FeederGoalIn | None, part: Footprint) -> Goal:

@@ -1,10 +1,11 @@
 """``POST /v1/feeder/map`` (configuration maps of fences and their product, book 5.1-5.2),
-``POST /v1/feeder/simulate`` (one part through the fences, quasi-statically) and
-``POST /v1/feeder/design`` (the shortest sequence of fences that orients a part, 5.3-5.4).
+``POST /v1/feeder/simulate`` (one part through the fences, quasi-statically),
+``POST /v1/feeder/design`` (the shortest sequence of fences that orients a part, 5.3-5.4)
+and ``POST /v1/feeder/catalogue`` (a design for each of many parts, in parallel on Ray).
 
 Each route hands its job to a solver worker: request -> problem
 (:mod:`service.api.feeder.convert`) -> one solver call (:func:`solver.feeder_map`,
-:func:`solver.feeder_simulate`, :func:`solver.feeder_design`) with the request's budget -> response.
+:func:`solver.feeder_simulate`, :func:`solver.feeder_design`, :func:`solver.feeder_catalogue`) with the request's budget -> response.
 """
 
 from __future__ import annotations
@@ -13,6 +14,8 @@ from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
 from service.api.feeder.convert import (
+    catalogue_problem,
+    catalogue_response,
     design_problem,
     design_response,
     map_problem,
@@ -22,6 +25,8 @@ from service.api.feeder.convert import (
 )
 from service.api.feeder.render import BeltPicture, render_belt_svg, render_maps_svg, render_runs_svg
 from service.api.feeder.schemas import (
+    FeederCatalogueRequest,
+    FeederCatalogueResponse,
     FeederDesignRequest,
     FeederDesignResponse,
     FeederMapRequest,
@@ -34,9 +39,10 @@ from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.errors import nothing_computed
 from service.runtime.deadline import Deadline
-from service.runtime.deferred import Deferrable, json_answer
+from service.runtime.deferred import Deferrable, json_answer, request_only
 from service.runtime.jobs import runner
-from solver import feeder_design, feeder_map, feeder_simulate
+from service.settings import Settings
+from solver import RayPool, feeder_catalogue, feeder_design, feeder_map, feeder_simulate
 
 router = APIRouter(tags=["feeder"])
 FORMAT = Query("json", alias="format", description="`json` (default) or `svg` for a picture.")
@@ -159,10 +165,38 @@ def design_job(req: FeederDesignRequest, svg: bool, deadline: Deadline) -> Feede
     return design_response(result, budget.elapsed() * 1e3)
 
 
+@router.post(
+    "/v1/feeder/catalogue",
+    operation_id="feeder_catalogue",
+    summary="Feeder designs for a catalogue of parts, in parallel on Ray (book 5.3-5.4)",
+    response_model=FeederCatalogueResponse,
+    responses=IN_WORKER,
+)
+async def feeder_catalogue_route(req: FeederCatalogueRequest, request: Request) -> Response:
+    """One design request for many parts: each part's design (as /v1/feeder/design, without
+    a belt) and its validation by simulated parts, run in parallel on Ray (a local Ray of
+    PESHKIN_RAY_WORKERS CPUs, or the cluster at PESHKIN_RAY_ADDRESS). Long catalogues are
+    best submitted as jobs (POST /v1/jobs, operation feeder_catalogue)."""
+    return await runner(request).expensive_job(request, catalogue_job, req, time_limit_s=req.time_limit_s)
+
+
+def catalogue_job(req: FeederCatalogueRequest, deadline: Deadline) -> FeederCatalogueResponse:
+    budget = deadline.budget()
+    settings = Settings.from_env()
+    problem = catalogue_problem(req, RayPool(workers=settings.ray_cpus(), address=settings.ray_address or None))
+    with located():
+        result = feeder_catalogue(problem, budget)
+    if result.run.finished == 0:
+        raise nothing_computed("the first part's design", budget.limit_s, budget.elapsed())
+    return catalogue_response(req, result, budget.elapsed() * 1e3)
+
+
 DEFERRABLE = {
     "feeder_map": Deferrable("POST /v1/feeder/map", FeederMapRequest, map_job, json_answer,
                              cost=lambda req: req.bound),
     "feeder_simulate": Deferrable("POST /v1/feeder/simulate", FeederSimulateRequest, simulate_job, json_answer),
     "feeder_design": Deferrable("POST /v1/feeder/design", FeederDesignRequest, design_job, json_answer),
+    "feeder_catalogue": Deferrable("POST /v1/feeder/catalogue", FeederCatalogueRequest, catalogue_job,
+                                   request_only),
 }
 """The operations ``POST /v1/jobs`` runs later (service.runtime.deferred)."""

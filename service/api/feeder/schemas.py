@@ -14,6 +14,7 @@ from pydantic import ConfigDict, Field
 from service.common.fields import OUTLINE_RULES, UNIQUE, Angle, MuC, Point, Strict, TimeLimit
 from service.common.responses import ELAPSED_MS_DESCRIPTION, Out
 from service.limits import (
+    FEEDER_MAX_CATALOGUE_PARTS,
     FEEDER_MAX_DESIGN_DEPTH,
     FEEDER_MAX_FENCE_LENGTH_RADII,
     FEEDER_MAX_FENCES,
@@ -397,17 +398,9 @@ class FeederGateIn(Strict):
                                "than the fences-only one and grows about twofold per fence.")
 
 
-class FeederDesignRequest(Strict):
-    model_config = ConfigDict(
-        extra="forbid",
-        json_schema_extra={"examples": [{
-            "part": {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]},
-            "angles": {"min": 0.349, "max": 1.222, "step": 0.0873},
-            "mu_c": 0.25, "alternate": False, "validation_parts": 20,
-        }]},
-    )
+class FeederDesignSettingsIn(Strict):
+    """What a design is searched with, whatever the part (5.3-5.4)."""
 
-    part: FeederPartIn
     angles: FeederAnglesIn
     mu_c: MuC | None = Field(default=None, description="Contact friction between part and fences.")
     mu_c_range: Annotated[list[MuC], Field(min_length=2, max_length=2)] | None = Field(
@@ -419,6 +412,19 @@ class FeederDesignRequest(Strict):
     validation_parts: Annotated[int, Field(strict=True, ge=0, le=FEEDER_MAX_VALIDATION_PARTS)] = Field(
         default=0, description="Simulated parts (random support, orientation, mu_c) run through the design.")
     seed: Annotated[int, Field(strict=True, ge=0, le=2**63 - 1)] = 0
+
+
+class FeederDesignRequest(FeederDesignSettingsIn):
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"examples": [{
+            "part": {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]},
+            "angles": {"min": 0.349, "max": 1.222, "step": 0.0873},
+            "mu_c": 0.25, "alternate": False, "validation_parts": 20,
+        }]},
+    )
+
+    part: FeederPartIn
     belt: FeederBeltIn | None = Field(default=None, description="Search the design as placed on this belt (book "
                                                                 "1.8.6, figure 1-9): each fence's side, angle, free "
                                                                 "end and reach inside the search.")
@@ -601,4 +607,58 @@ class FeederDesignResponse(Out):
         description="Time the design computation took in the solver (baseline, maps, search, proof, layout, "
         "validation), milliseconds."
     )
+    elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)
+
+
+class FeederCataloguePartIn(FeederPartIn):
+    name: Annotated[str, Field(max_length=200)] | None = Field(default=None, description="The part's name, echoed back.")
+
+
+class FeederCatalogueRequest(Strict):
+    """A catalogue of parts and one design request for all of them: each part's design and
+    its validation, in parallel on Ray (a local Ray, or the cluster at PESHKIN_RAY_ADDRESS)."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"examples": [{
+            "parts": [{"name": "pentagon", "vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]],
+                       "center_of_mass": [1.4, 1.0]},
+                      {"name": "plate", "vertices": [[0, 0], [2.5, 0], [2.5, 1], [0, 1]],
+                       "center_of_mass": [1.25, 0.5]}],
+            "design": {"angles": {"min": 0.1745, "max": 1.3963, "step": 0.0873}, "mu_c": 0.25, "alternate": False,
+                       "validation_parts": 10},
+        }]},
+    )
+
+    parts: Annotated[list[FeederCataloguePartIn], Field(min_length=1, max_length=FEEDER_MAX_CATALOGUE_PARTS)] = Field(
+        description=f"The parts, 1..{FEEDER_MAX_CATALOGUE_PARTS}, each as `part` of /v1/feeder/design.")
+    design: FeederDesignSettingsIn = Field(description="The design request applied to every part (as "
+                                                       "/v1/feeder/design, without a belt).")
+    time_limit_s: TimeLimit | None = Field(default=None, description="Seconds for the whole catalogue; parts whose "
+                                                                     "design is not finished by then are "
+                                                                     "'not_finished'. Default: the cap.")
+
+
+class FeederCatalogueItemOut(Out):
+    name: str | None = Field(description="The part's name as given.")
+    status: Literal["ok", "time_limit", "not_finished"] = Field(
+        description="'ok': its design search ended; 'time_limit': it ran out of time (what it reached is given); "
+        "'not_finished': no answer by the catalogue's deadline.")
+    fences: list[FeederDesignFenceOut] | None = Field(description="The design's fences in order; null: none found "
+                                                                  "(or not finished).")
+    depth_proven: int | None = Field(description="No design has fewer fences than this + 1.")
+    margin: float | None = Field(description="The design's margin, radians (1.8.6).")
+    validation_parts: int = Field(description="Simulated parts run through the design.")
+    validation_in_band: int = Field(description="Of them, those that ended in the design's final band.")
+    solve_time_ms: float | None = Field(description="This part's design time, milliseconds.")
+
+
+class FeederCatalogueResponse(Out):
+    status: Literal["complete", "time_limit"] = Field(description="'complete' when every part's search ended.")
+    designs: list[FeederCatalogueItemOut] = Field(description="One per part, in the request's order.")
+    finished: int = Field(description="Parts whose design is given.")
+    backend: Literal["ray", "in_process"] = Field(description="Where the designs ran: on Ray, or one after the other.")
+    cpus: int = Field(description="CPUs the designs had (Ray's cluster, or 1).")
+    nodes: int = Field(description="Machines of the Ray cluster (1 in process).")
+    solve_time_ms: float = Field(description="Time of the whole catalogue, milliseconds.")
     elapsed_ms: float = Field(description=ELAPSED_MS_DESCRIPTION)

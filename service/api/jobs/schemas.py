@@ -12,7 +12,7 @@ from service.common.responses import Out
 Operation = Literal[
     "cor_locus", "cor_membership", "cor_solve", "cor_tripod_statistics", "cor_sketch", "push_align",
     "push_disk_encounter", "spiral_critical_radius", "spiral_schedule", "feeder_map", "feeder_simulate",
-    "feeder_design", "scenes_analyze",
+    "feeder_design", "feeder_catalogue", "scenes_analyze",
 ]
 State = Literal["queued", "running", "succeeded", "failed", "cancelled"]
 

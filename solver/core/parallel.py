@@ -1,0 +1,135 @@
+"""Independent solver tasks in parallel on Ray (issue 27): a local Ray started by the
+process that first needs it, or an existing Ray cluster (``address``); or, without Ray (no
+workers asked for, or an image built without Ray), one task after the other in this
+process. Ray schedules the tasks; nothing here does.
+
+A task is ``fn(item, ends_at)``: a top-level function (Ray pickles it by reference) of one
+item and the wall-clock time (``time.time()``, seconds) at which the whole map's deadline
+falls, or None without a limit. The wall clock, not this process's monotonic one, because a
+task may run on another machine. Tasks not finished by the deadline are cancelled and their
+results are None: a map never reports as done a task that did not finish.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import shutil
+import tempfile
+import threading
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from solver.core.budget import Budget
+
+LOCAL_OBJECT_STORE_BYTES = 256 * 1024 * 1024
+"""Shared memory of a local Ray's object store (Ray's default takes 30 % of the RAM from
+/dev/shm, which a container rarely has): results larger than this spill to disk."""
+
+_lock = threading.Lock()
+_connected: tuple[str | None, int] | None = None
+_local_dirs: list[str] = []  # a local Ray's session files, removed when it stops
+
+
+@dataclass(frozen=True)
+class RayPool:
+    """Where a map runs: ``workers`` = 0, in this process one task after the other; else on
+    Ray, at ``address`` (an existing cluster, e.g. "10.0.0.5:6379") or, with ``address``
+    None, on a local Ray of ``workers`` CPUs started on first use and kept for the
+    process's life."""
+
+    workers: int = 0
+    address: str | None = None
+
+    @property
+    def on_ray(self) -> bool:
+        return self.workers > 0 or self.address is not None
+
+
+@dataclass(frozen=True)
+class ParallelRun:
+    """The results of a map, in the items' order (None: not finished by the deadline), where
+    it ran ("ray" or "in_process"), the CPUs and nodes it had, and how many tasks finished."""
+
+    results: tuple[Any, ...]
+    backend: str
+    cpus: int
+    nodes: int
+
+    @property
+    def finished(self) -> int:
+        return sum(r is not None for r in self.results)
+
+
+def _ray(pool: RayPool) -> Any:
+    """Ray, initialised for ``pool`` in this process (re-initialised if another pool was)."""
+    import ray  # imported on first use: a process that never maps does not load it
+
+    global _connected
+    key = (pool.address, pool.workers)
+    with _lock:
+        if ray.is_initialized() and _connected == key:
+            return ray
+        if ray.is_initialized():
+            _shutdown(ray)
+        os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+        if pool.address is not None:
+            ray.init(address=pool.address, log_to_driver=False)
+        else:
+            temp = tempfile.mkdtemp(prefix="pk-ray-", dir="/tmp")  # short: Ray's socket paths must fit 107 bytes
+            _local_dirs.append(temp)
+            ray.init(address="local", num_cpus=pool.workers, include_dashboard=False, log_to_driver=False,
+                     object_store_memory=LOCAL_OBJECT_STORE_BYTES, _temp_dir=temp)
+        _connected = key
+        return ray
+
+
+def release_ray() -> None:
+    """Leave Ray in this process (a local Ray is stopped); the next map starts it again."""
+    global _connected
+    with _lock:
+        if _connected is not None:
+            import ray
+
+            _shutdown(ray)
+            _connected = None
+
+
+def _shutdown(ray: Any) -> None:
+    ray.shutdown()
+    while _local_dirs:
+        shutil.rmtree(_local_dirs.pop(), ignore_errors=True)
+
+
+def _call(fn: Callable[[Any, float | None], Any], item: Any, ends_at: float | None) -> Any:
+    return fn(item, ends_at)
+
+
+def parallel_map(fn: Callable[[Any, float | None], Any], items: Sequence[Any], pool: RayPool,
+                 budget: Budget) -> ParallelRun:
+    """``fn(item, ends_at)`` for every item (module docstring), within ``budget``."""
+    remaining = budget.remaining_or_none()
+    ends_at = None if remaining is None else time.time() + remaining
+    if not pool.on_ray or importlib.util.find_spec("ray") is None:  # an image built without Ray
+        results = []
+        for item in items:
+            results.append(None if budget.expired() else fn(item, ends_at))
+        return ParallelRun(tuple(results), "in_process", 1, 1)
+    ray = _ray(pool)
+    task = ray.remote(num_cpus=1, max_retries=0)(_call)
+    refs = [task.remote(fn, item, ends_at) for item in items]
+    index = {ref: i for i, ref in enumerate(refs)}
+    out: list[Any] = [None] * len(refs)
+    pending = list(refs)
+    while pending:
+        wait_s = None if ends_at is None else max(ends_at - time.time(), 0.0)
+        done, pending = ray.wait(pending, num_returns=1, timeout=wait_s)
+        if not done:
+            break
+        out[index[done[0]]] = ray.get(done[0])
+    for ref in pending:
+        ray.cancel(ref, force=True)
+    nodes = [n for n in ray.nodes() if n.get("Alive")]
+    return ParallelRun(tuple(out), "ray", int(ray.cluster_resources().get("CPU", 0)), len(nodes))

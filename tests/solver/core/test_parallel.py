@@ -1,0 +1,139 @@
+"""Parallel maps on Ray (solver/core/parallel.py; issue 27): a local Ray of 1 or 2 CPUs, and
+a two-node Ray cluster started with ``ray start`` (a head and a worker, each its own node
+on loopback), give the same results as the in-process run; tasks not finished by the
+deadline are cancelled and reported as not done."""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pytest
+
+from models.feeder.fence import feeder_part
+from solver import (
+    Budget,
+    FeederCatalogueProblem,
+    FeederDesignProblem,
+    RayPool,
+    feeder_catalogue,
+    parallel_map,
+    release_ray,
+)
+from tests.service.live import free_port
+
+pytestmark = pytest.mark.slow
+
+PARTS = (
+    feeder_part([[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], [1.4, 1.0]),
+    feeder_part([[0, 0], [2.5, 0], [2.5, 1], [0, 1]], [1.25, 0.5]),
+    feeder_part([[0, 0], [2, 0], [0.4, 1.5]], [0.8, 0.5]),
+    feeder_part([[0, 0], [3, 0], [2.2, 1.2], [0.5, 1.4]], [1.4, 0.6]),
+)
+TEMPLATE = FeederDesignProblem(PARTS[0], math.radians(20), math.radians(70), math.radians(10), (0.25, 0.25),
+                               max_depth=8, alternate=False, validation_parts=4, seed=5)
+RAY = str(Path(sys.executable).with_name("ray"))
+
+
+def summary(result):
+    return [(d.design, d.validation.parts, d.validation.in_band) for d in result.designs]
+
+
+@pytest.fixture(scope="module")
+def in_process():
+    return summary(feeder_catalogue(FeederCatalogueProblem(PARTS, TEMPLATE)))
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_local_ray_answers_what_the_process_does(in_process, workers):
+    try:
+        result = feeder_catalogue(FeederCatalogueProblem(PARTS, TEMPLATE, RayPool(workers=workers)))
+    finally:
+        release_ray()
+    assert result.run.backend == "ray" and result.run.cpus == workers and result.run.nodes == 1
+    assert result.complete and summary(result) == in_process
+
+
+def sleep_for(seconds: float, ends_at: float | None) -> float:
+    time.sleep(seconds)
+    return seconds
+
+
+def test_tasks_past_the_deadline_are_cancelled_not_reported():
+    try:
+        run = parallel_map(sleep_for, [0.1, 30.0, 0.2], RayPool(workers=2), Budget.of(8.0))
+    finally:
+        release_ray()
+    assert run.results[0] == 0.1 and run.results[1] is None and run.results[2] == 0.2 and run.finished == 2
+
+
+def _start(args: list[str], env: dict[str, str]) -> subprocess.Popen:
+    return subprocess.Popen([RAY, "start", "--block", "--disable-usage-stats", *args], env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
+
+
+def _wait_listening(host: str, port: int, proc: subprocess.Popen, timeout_s: float = 120.0) -> None:
+    """Until the head's port accepts connections (Ray's own connect would retry for minutes)."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if proc.poll() is not None:
+            raise RuntimeError(f"ray start exited: {proc.stderr.read().decode(errors='replace')[-2000:]}")
+        try:
+            with socket.create_connection((host, port), timeout=1.0):
+                return
+        except OSError:
+            time.sleep(0.5)
+    raise RuntimeError("the Ray head did not listen in time")
+
+
+def _stop(proc: subprocess.Popen) -> None:
+    """Stop one node: its ``ray start --block`` ends the node's processes on SIGTERM."""
+    if proc.poll() is None:
+        proc.terminate()
+        try:
+            proc.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, 9)
+            proc.wait()
+
+
+@pytest.mark.skipif(shutil.which(RAY) is None and not Path(RAY).exists(), reason="the ray command is not installed")
+def test_a_two_node_cluster_answers_what_the_process_does(in_process, monkeypatch):
+    """A head and a worker node started with ``ray start`` on 127.0.0.2 and 127.0.0.3 (Ray
+    rewrites 127.0.0.1 to the host's address), authentication off on both and the driver."""
+    port = free_port()
+    temp = tempfile.mkdtemp(prefix="pkr-", dir="/tmp")  # short: Ray's socket paths must fit 107 bytes
+    env = {**os.environ, "RAY_AUTH_MODE": "disabled", "RAY_USAGE_STATS_ENABLED": "0"}
+    monkeypatch.setenv("RAY_AUTH_MODE", "disabled")
+    head = _start(["--head", f"--port={port}", "--node-ip-address=127.0.0.2", "--num-cpus=1",
+                   "--include-dashboard=false", f"--temp-dir={temp}"], env)
+    worker = None
+    try:
+        address = f"127.0.0.2:{port}"
+        _wait_listening("127.0.0.2", port, head)
+        worker = _start([f"--address={address}", "--node-ip-address=127.0.0.3", "--num-cpus=1"], env)
+        pool = RayPool(address=address)
+        deadline = time.monotonic() + 90.0
+        while True:  # until both nodes have joined
+            run = parallel_map(sleep_for, [0.0], pool, Budget.of(30.0))
+            if run.nodes == 2 or time.monotonic() > deadline:
+                break
+            release_ray()
+            time.sleep(1.0)
+        assert run.nodes == 2 and run.cpus == 2
+        result = feeder_catalogue(FeederCatalogueProblem(PARTS, TEMPLATE, pool))
+        assert result.run.nodes == 2 and result.complete
+        assert summary(result) == in_process
+    finally:
+        release_ray()
+        for proc in (worker, head):
+            if proc is not None:
+                _stop(proc)
+        shutil.rmtree(temp, ignore_errors=True)
