@@ -30,14 +30,33 @@ COPY requirements.txt /tmp/requirements.txt
 RUN /opt/venv/bin/python -m pip install --quiet -r /tmp/requirements.txt \
  && /opt/venv/bin/python -c 'import importlib.util as u, sys; sys.exit(u.find_spec("highspy") is not None)'
 
+# Slim the venv: scripts/image/slim-venv.sh says what goes and why each removal is safe
+# (the service never loads it); its last step imports the app and runs a small solve with
+# each back end (scripts/image/pyc_keep.py), so a removal that breaks one fails the build.
+# binutils: strip. SLIM_STEPS (default: every step) picks steps, to measure them one by one.
+RUN apt-get update -qq \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -qq -y --no-install-recommends binutils >/dev/null
+COPY . /src
+ARG SLIM_STEPS=""
+# WITH_RAY=false: an image without Ray (feeder catalogues one design after the other)
+ARG WITH_RAY=true
+RUN SLIM_STEPS="${SLIM_STEPS}" WITH_RAY="${WITH_RAY}" bash /src/scripts/image/slim-venv.sh /opt/venv /src
+
 # ------------------------------------------------------------------ final --
 FROM ${BASE_IMAGE}
 
+# `make docker-local` prunes the untagged images with this label (the previous build's
+# image once the tag moves to the new one), and no other.
+LABEL io.peshkin.image=service
+
+# HOME: Ray keeps a local cluster's token in $HOME/.ray, and the app user's /app is read-only.
 ENV PATH=/opt/venv/bin:${PATH} \
     PYTHONDONTWRITEBYTECODE=1 \
     PYTHONUNBUFFERED=1 \
     MPLBACKEND=Agg \
-    MPLCONFIGDIR=/tmp/matplotlib
+    MPLCONFIGDIR=/tmp/matplotlib \
+    HOME=/tmp \
+    RAY_USAGE_STATS_ENABLED=0
 
 RUN groupadd --gid 10001 app \
  && useradd --uid 10001 --gid app --no-create-home --home-dir /app --shell /usr/sbin/nologin app
@@ -45,6 +64,10 @@ RUN groupadd --gid 10001 app \
 COPY --from=builder /opt/venv /opt/venv
 WORKDIR /app
 COPY --chown=root:root . /app
+# The service's own bytecode: /app is read-only to the app user, so without it every
+# process (web workers, their forkservers) compiles the service's modules at each start.
+# unchecked-hash: valid whatever the build does to the files' mtimes (slim-venv.sh).
+RUN python3 -m compileall -q -j 0 --invalidation-mode unchecked-hash service solver models
 
 USER app
 EXPOSE 8000
