@@ -51,16 +51,30 @@ class RayPool:
 @dataclass(frozen=True)
 class ParallelRun:
     """The results of a map, in the items' order (None: not finished by the deadline), where
-    it ran ("ray" or "in_process"), the CPUs and nodes it had, and how many tasks finished."""
+    it ran ("ray" or "in_process"), the CPUs and nodes it had, and the time it took."""
 
     results: tuple[Any, ...]
     backend: str
     cpus: int
     nodes: int
+    solve_time_s: float
 
     @property
     def finished(self) -> int:
         return sum(r is not None for r in self.results)
+
+    @property
+    def complete(self) -> bool:
+        return self.finished == len(self.results)
+
+    @property
+    def status(self) -> str:
+        """"complete" (every task finished) or "time_limit"."""
+        return "complete" if self.complete else "time_limit"
+
+    @property
+    def message(self) -> str:
+        return f"{self.finished} of {len(self.results)} tasks finished ({self.backend}, {self.cpus} CPUs)"
 
 
 def _ray(pool: RayPool) -> Any:
@@ -110,13 +124,14 @@ def _call(fn: Callable[[Any, float | None], Any], item: Any, ends_at: float | No
 def parallel_map(fn: Callable[[Any, float | None], Any], items: Sequence[Any], pool: RayPool,
                  budget: Budget) -> ParallelRun:
     """``fn(item, ends_at)`` for every item (module docstring), within ``budget``."""
+    t0 = time.perf_counter()
     remaining = budget.remaining_or_none()
     ends_at = None if remaining is None else time.time() + remaining
     if not pool.on_ray or importlib.util.find_spec("ray") is None:  # an image built without Ray
         results = []
         for item in items:
             results.append(None if budget.expired() else fn(item, ends_at))
-        return ParallelRun(tuple(results), "in_process", 1, 1)
+        return ParallelRun(tuple(results), "in_process", 1, 1, time.perf_counter() - t0)
     ray = _ray(pool)
     task = ray.remote(num_cpus=1, max_retries=0)(_call)
     refs = [task.remote(fn, item, ends_at) for item in items]
@@ -132,4 +147,5 @@ def parallel_map(fn: Callable[[Any, float | None], Any], items: Sequence[Any], p
     for ref in pending:
         ray.cancel(ref, force=True)
     nodes = [n for n in ray.nodes() if n.get("Alive")]
-    return ParallelRun(tuple(out), "ray", int(ray.cluster_resources().get("CPU", 0)), len(nodes))
+    return ParallelRun(tuple(out), "ray", int(ray.cluster_resources().get("CPU", 0)), len(nodes),
+                       time.perf_counter() - t0)

@@ -67,8 +67,21 @@ answered 504 with what was reached: documented, so not a server error."""
 
 @schemathesis.serializer("application/msgpack")
 def msgpack_body(ctx, value):
-    """The batch routes take msgpack bodies (service.common.binary)."""
-    return msgpack.packb(value)
+    """The batch routes take msgpack bodies (service.common.binary). msgpack carries
+    integers of 64 bits at most: a larger one (a negative example) goes as a float."""
+    return msgpack.packb(_floated(value))
+
+
+def _floated(value):
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, int):
+        return value if -(2**63) <= value < 2**64 else float(value)
+    if isinstance(value, list):
+        return [_floated(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _floated(v) for k, v in value.items()}
+    return value
 
 
 @schemathesis.deserializer("application/msgpack")
@@ -139,7 +152,8 @@ def _cap_time_limit(case: schemathesis.Case) -> None:
         return
     if isinstance(body, dict) and case.path == SCENES_PATH:
         _cap_limit(body, CONTRACT_SCENES_TIME_LIMIT_S)
-        for q in body.get("questions") or ():
+        questions = body.get("questions")
+        for q in questions if isinstance(questions, list) else ():
             if isinstance(q, dict) and isinstance(q.get("validation_parts"), int) and q["validation_parts"] > 2:
                 q["validation_parts"] = 2
         return

@@ -95,7 +95,7 @@ def test_the_generated_client_calls_every_operation_of_a_live_server(client_pack
             else:
                 assert answer.content, op_id
             called.append(op_id)
-    assert len(called) == len(operations(doc)) == 21
+    assert len(called) == len(operations(doc)) == 23
 
 
 def test_the_generated_client_shows_its_key(client_package):

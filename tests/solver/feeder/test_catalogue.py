@@ -21,6 +21,7 @@ TEMPLATE = FeederDesignProblem(PARTS[0], math.radians(20), math.radians(70), mat
                                max_depth=8, alternate=False, validation_parts=4, seed=5)
 
 
+@pytest.mark.slow
 def test_each_design_is_the_parts_own_5_3():
     result = feeder_catalogue(FeederCatalogueProblem(PARTS, TEMPLATE))
     assert result.complete and result.status == "complete" and result.run.backend == "in_process"
@@ -33,6 +34,7 @@ def test_each_design_is_the_parts_own_5_3():
         assert (got.validation.parts, got.validation.in_band) == (alone.validation.parts, alone.validation.in_band)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("checks", [0, 3])
 def test_a_catalogue_cut_short_reports_only_what_finished(checks):
     """A budget that expires after a fixed number of clock readings (any machine): the parts

@@ -76,6 +76,7 @@ def test_the_disk_bound_contains_the_certified_polygon_locus_7_5():
     assert np.all(point_in_polygon(shrunk, disk))
 
 
+@pytest.mark.slow
 def test_a_decisive_disk_verdict_is_the_polygons_4_1():
     """The disk's sketch allows one mode here: 'exact' is reached without certifying, and
     the certified polygon sketch, computed directly, agrees."""
@@ -86,6 +87,7 @@ def test_a_decisive_disk_verdict_is_the_polygons_4_1():
     assert set(own.sketch.allowed_modes) <= set(a.result.modes)
 
 
+@pytest.mark.slow
 def test_an_undecided_disk_verdict_is_certified_when_exact_is_asked_4_1():
     scene = polygon_scene(edge_angle=0.0)
     bound, exact = analyze_scene(problem(Question("stick_or_slip", "bound"),
@@ -151,6 +153,7 @@ def test_the_aligning_fence_is_read_from_the_design_5_3():
     assert direct.design == design.result.design
 
 
+@pytest.mark.slow
 def test_exact_design_is_checked_by_simulated_parts():
     (a,) = analyze_scene(problem(Question("feeder_design", "exact", alternate=False, max_depth=8,
                                           validation_parts=6, seed=3))).answers

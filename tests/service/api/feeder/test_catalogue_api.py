@@ -17,6 +17,7 @@ DESIGN = {"angles": {"min": 0.349, "max": 1.222, "step": 0.1745}, "mu_c": 0.25, 
           "validation_parts": 3, "seed": 2}
 
 
+@pytest.mark.slow
 def test_each_entry_is_the_parts_own_design(client):
     r = client.post(URL, json={"parts": PARTS, "design": DESIGN})
     assert r.status_code == 200, r.text
