@@ -31,8 +31,9 @@ RUN /opt/venv/bin/python -m pip install --quiet -r /tmp/requirements.txt \
  && /opt/venv/bin/python -c 'import importlib.util as u, sys; sys.exit(u.find_spec("highspy") is not None)'
 
 # Slim the venv: scripts/image/slim-venv.sh says what goes and why each removal is safe
-# (the service never loads it); its last step imports the app and runs a small solve with
-# each back end (scripts/image/pyc_keep.py), so a removal that breaks one fails the build.
+# (the service never loads it); its step before the last imports the app and runs a small
+# solve with each back end (scripts/image/pyc_keep.py), so a removal that breaks one fails
+# the build; stripping and Ray are checked by `make docker-smoke` on the built image.
 # binutils: strip. SLIM_STEPS (default: every step) picks steps, to measure them one by one.
 RUN apt-get update -qq \
  && DEBIAN_FRONTEND=noninteractive apt-get install -qq -y --no-install-recommends binutils >/dev/null

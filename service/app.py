@@ -16,6 +16,7 @@ from fastapi_offline import FastAPIOffline
 from service import __version__, errors
 from service.api import ROUTE_MODULES
 from service.common.binary import MsgpackBodies, msgpack_paths
+from service.limits import MAX_COLUMN_POINTS
 from service.runtime import logs
 from service.runtime.access import PUBLIC_PATHS, Access, ApiKeys, KeyRates
 from service.runtime.context import RequestContext
@@ -174,7 +175,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     # outermost last: RequestContext (id, log, metrics) > CORS (answers preflights) > Access
     # (keys, rates) > Intake (arrival, body limit, the gate of requests in flight) >
     # MsgpackBodies (a msgpack body read as its JSON document)
-    app.add_middleware(MsgpackBodies, paths=msgpack_paths([module.router for module in routes]))
+    app.add_middleware(MsgpackBodies, paths=msgpack_paths([module.router for module in routes]),
+                       max_items=MAX_COLUMN_POINTS)
     app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s,
                        max_body_bytes=settings.max_body_bytes)
     if settings.api_keys:

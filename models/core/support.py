@@ -18,6 +18,12 @@ from models.core.errors import InvalidInput
 from models.core.footprint import Footprint, area_centroid, inside_polygon, triangulate
 from models.core.tolerances import SUPPORT_DEFAULT, CentroidTolerance
 
+CM_SCALE_REL = 1e-3
+"""The centroid check's length scale is at least this share of the CM's distance from the
+origin (a support far from the origin is checked to the floats it can carry there)."""
+SCALE_FLOOR = 1e-300
+"""... and at least this (a support of one point at the CM has no size)."""
+
 
 @dataclass(frozen=True)
 class Support:
@@ -50,7 +56,8 @@ class Support:
         w, p = w[keep], p[keep]
         size = float(np.max(np.linalg.norm(w - cm, axis=1)))
         centroid = p @ w
-        if np.linalg.norm(centroid - cm) > tol.centroid_rel * max(size, float(np.linalg.norm(cm)) * 1e-3, 1e-300):
+        if np.linalg.norm(centroid - cm) > tol.centroid_rel * max(size, float(np.linalg.norm(cm)) * CM_SCALE_REL,
+                                                                  SCALE_FLOOR):
             raise InvalidInput(
                 "weights",
                 "cannot put the centroid of the support at the centre of mass: the weighted "
@@ -110,7 +117,7 @@ class SupportBatch:
         rel = w - cm
         size = np.max(np.linalg.norm(rel, axis=2), axis=1)
         off = np.linalg.norm(np.einsum("bk,bki->bi", p, rel), axis=1)
-        scale = np.maximum(np.maximum(size, float(np.linalg.norm(cm)) * 1e-3), 1e-300)
+        scale = np.maximum(np.maximum(size, float(np.linalg.norm(cm)) * CM_SCALE_REL), SCALE_FLOOR)
         bad = off > tol.centroid_rel * scale
         if np.any(bad):
             raise InvalidInput("weights", f"support {_first(bad)}: cannot put its centroid at the centre of "

@@ -27,6 +27,11 @@ MSGPACK = "application/msgpack"
 MSGPACK_TYPES = frozenset({MSGPACK, "application/x-msgpack"})
 """Media types read as msgpack (the registered one and the older ``x-`` name)."""
 
+MAX_MAP_ITEMS = 256
+"""Keys of one msgpack map (a request object has a few dozen fields at most)."""
+REASON_CHARS = 200
+"""Characters of the decoder's own message quoted in a 422."""
+
 
 def msgpack_openapi(schema: str, response: str) -> dict[str, Any]:
     """The OpenAPI entries of an operation that takes and answers msgpack too: its request
@@ -83,11 +88,13 @@ def in_msgpack(job: Callable[..., Any], *args: Any) -> Any:
 
 class MsgpackBodies:
     """Hands a msgpack request body on to ``paths`` as JSON (module docstring); anything
-    else passes untouched."""
+    else passes untouched. An array longer than ``max_items`` (the longest the schemas
+    allow) is refused while decoding, before it becomes Python objects."""
 
-    def __init__(self, app: ASGIApp, paths: frozenset[str]) -> None:
+    def __init__(self, app: ASGIApp, paths: frozenset[str], max_items: int) -> None:
         self.app = app
         self.paths = paths
+        self.max_items = max_items
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http" or scope.get("path") not in self.paths or not self._is_msgpack(scope):
@@ -103,9 +110,10 @@ class MsgpackBodies:
             if not message.get("more_body", False):
                 break
         try:
-            body = pydantic_core.to_json(msgpack.unpackb(b"".join(chunks), raw=False, ext_hook=_no_extension))
+            body = pydantic_core.to_json(msgpack.unpackb(b"".join(chunks), raw=False, ext_hook=_no_extension,
+                                                         max_array_len=self.max_items, max_map_len=MAX_MAP_ITEMS))
         except Exception as exc:  # any undecodable body is the client's error
-            detail = f": {str(exc)[:200]}" if str(exc) else ""
+            detail = f": {str(exc)[:REASON_CHARS]}" if str(exc) else ""
             reason = f"is not a msgpack document of JSON values ({type(exc).__name__}{detail})"
             await JSONResponse(error_body(["body"], reason, "msgpack_invalid"), status_code=UNPROCESSABLE)(
                 scope, receive, send)

@@ -28,6 +28,10 @@ LOCAL_OBJECT_STORE_BYTES = 256 * 1024 * 1024
 """Shared memory of a local Ray's object store (Ray's default takes 30 % of the RAM from
 /dev/shm, which a container rarely has): results larger than this spill to disk."""
 
+TASK_RETURN_MARGIN = 0.05
+"""The share of the time left that a task leaves for its answer to come back: it stops that
+much before the map's deadline."""
+
 _lock = threading.Lock()
 _connected: tuple[str | None, int] | None = None
 _local_dirs: list[str] = []  # a local Ray's session files, removed when it stops
@@ -134,18 +138,29 @@ def parallel_map(fn: Callable[[Any, float | None], Any], items: Sequence[Any], p
         return ParallelRun(tuple(results), "in_process", 1, 1, time.perf_counter() - t0)
     ray = _ray(pool)
     task = ray.remote(num_cpus=1, max_retries=0)(_call)
-    refs = [task.remote(fn, item, ends_at) for item in items]
+    # a task stops a little before the map does, so that what it reached gets back in time
+    task_ends = None if ends_at is None else ends_at - TASK_RETURN_MARGIN * max(ends_at - time.time(), 0.0)
+    refs = [task.remote(fn, item, task_ends) for item in items]
     index = {ref: i for i, ref in enumerate(refs)}
     out: list[Any] = [None] * len(refs)
     pending = list(refs)
-    while pending:
-        wait_s = None if ends_at is None else max(ends_at - time.time(), 0.0)
-        done, pending = ray.wait(pending, num_returns=1, timeout=wait_s)
-        if not done:
-            break
-        out[index[done[0]]] = ray.get(done[0])
-    for ref in pending:
-        ray.cancel(ref, force=True)
+    broken = False
+    try:
+        while pending:
+            wait_s = None if ends_at is None else max(ends_at - time.time(), 0.0)
+            done, pending = ray.wait(pending, num_returns=1, timeout=wait_s)
+            if not done:
+                break
+            out[index[done[0]]] = ray.get(done[0])  # a task's error is raised here, for the caller
+    except ray.exceptions.RaySystemError:
+        broken = True
+        raise
+    finally:
+        if broken:
+            release_ray()  # the local Ray (or the connection) is gone: the next map starts again
+        else:
+            for ref in pending:  # past the deadline, or after a task's error: nothing is left running
+                ray.cancel(ref, force=True)
     nodes = [n for n in ray.nodes() if n.get("Alive")]
     return ParallelRun(tuple(out), "ray", int(ray.cluster_resources().get("CPU", 0)), len(nodes),
                        time.perf_counter() - t0)

@@ -14,6 +14,8 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 from models.core.errors import InvalidInput
 from models.feeder.fence import feeder_part
 from models.push.quasistatic import ShapeMoments
@@ -72,10 +74,20 @@ def cor_locus_answer(work: Work, q: Question, i: int) -> Answer:
         work, ("locus", "certified", q.n_points, q.n_rays), i,
         lambda: cor_locus(LocusProblem(p.scene, p.footprint, n_points=q.n_points, method="certified",
                                        n_certified=q.n_rays), work.budget))
-    width = None if result.certified is None else float(result.certified.width)
-    return Answer(q, "answered" if result.complete else "time_limited", "certified",
-                  "exact" if result.complete else None, width, LOCUS_CERTIFIED, cost, reused, (), result,
-                  "; ".join(result.notes))
+    cert = result.certified
+    if cert is None:  # a translation: no boundary to certify, the disk's answer is the polygon's
+        return Answer(q, "answered", "certified", "exact", None, LOCUS_CERTIFIED, cost, reused, (), result,
+                      "; ".join(result.notes))
+    done = [r for r in cert.rays if bool(np.all(np.isfinite(r.point)))]
+    every = result.complete and len(done) == cert.n_requested
+    error = max((0.5 * (r.t_out - r.t_in) * cert.length_scale for r in done), default=None)
+    note = "; ".join((*result.notes, cert.message))
+    if every:
+        return Answer(q, "answered", "certified", "exact", error, LOCUS_CERTIFIED, cost, reused, (), result, note)
+    # some rays not certified: the circumscribing disk's locus (in the result) still bounds it
+    return Answer(q, "answered" if result.complete else "time_limited", "certified", "bound", error,
+                  LOCUS_CERTIFIED + "; where a ray is not certified the circumscribing disk's locus bounds it",
+                  cost, reused, (), result, note)
 
 
 def stick_or_slip_answer(work: Work, q: Question, i: int) -> Answer:
@@ -96,14 +108,20 @@ def stick_or_slip_answer(work: Work, q: Question, i: int) -> Answer:
                       None, MODES_MEANING, cost, reused, (), verdict)
     tried = (Tried("disk_bound", cost, f"the circumscribing disk allows {' and '.join(verdict.modes)}: not decisive "
                    "for the polygon"),)
+    if work.budget.expired():
+        return Answer(q, "time_limited", "disk_bound", "bound", None, MODES_MEANING, cost, reused, tried, verdict,
+                      "no time was left to certify the polygon's sketch: the disk's verdict bounds it")
     result, cost_exact, reused_exact = computed(
         work, ("sketch", "certified", q.n_points, q.n_rays), i,
         lambda: cor_sketch(SketchProblem(p.scene, mu, footprint=p.footprint, method="certified", n_points=q.n_points,
                                          n_rays=q.n_rays), work.budget))
-    done = result.complete
-    return Answer(q, "answered" if done else "time_limited", "certified", "exact" if done else None, None,
-                  MODES_MEANING, cost_exact, reused_exact, tried, ModeVerdict(result.sketch.allowed_modes, result),
-                  "" if done else result.message)
+    if result.complete:
+        return Answer(q, "answered", "certified", "exact", None, MODES_MEANING, cost_exact, reused_exact, tried,
+                      ModeVerdict(result.sketch.allowed_modes, result))
+    # a piece not certified: the disk's verdict, which bounds the polygon's, is the answer
+    status = "time_limited" if result.certified is not None and result.certified.time_limited else "answered"
+    return Answer(q, status, "disk_bound", "bound", None, MODES_MEANING, cost + cost_exact, reused, tried, verdict,
+                  f"the polygon's certified sketch is incomplete ({result.message}): the disk's verdict bounds it")
 
 
 def push_to_align_answer(work: Work, q: Question, i: int) -> Answer:
@@ -189,10 +207,14 @@ def aligning_fence_answer(work: Work, q: Question, i: int) -> Answer:
     """The one fence that orients the part, if any: from a design of the same candidates
     when one was made, else a search one fence deep."""
     candidates = (q.angle_min, q.angle_max, q.angle_step)  # one fence: alternating sides does not matter
+    parts = q.validation_parts if q.validation_parts is not None else (DESIGN_CHECK_PARTS if q.at_least("exact") else 0)
     for key, (result, j) in work.done.items():
-        if key[0] == "design" and key[1:4] == candidates and _settles_one_fence(result):
-            return _design_answer(q, result, 0.0, j, key[7])
-    parts = q.validation_parts or 0
+        if key[0] != "design" or key[1:4] != candidates or not _settles_one_fence(result):
+            continue
+        single = result.design is not None and len(result.design.fences) == 1
+        if single and key[7] != parts:
+            continue  # the fence is the answer, but checked by another number of simulated parts
+        return _design_answer(q, result, 0.0, j, key[7] if single else 0)
     result, cost, reused = computed(work, ("design", *candidates, q.alternate, q.seed, 1, parts), i,
                                     lambda: feeder_design(_design_problem(work.problem, q, 1, parts), work.budget))
     return _design_answer(q, result, cost, reused, parts)

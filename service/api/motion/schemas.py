@@ -15,6 +15,7 @@ from pydantic import ConfigDict, Field, StrictBool
 
 from service.common.fields import (
     DISK_OR_FOOTPRINT,
+    Coordinate,
     DiskRadius,
     MuC,
     Point,
@@ -63,7 +64,6 @@ class SupportIn(Strict):
     )
 
 
-Coordinate = Annotated[float, Field(strict=True, allow_inf_nan=False)]
 Column = Annotated[list[Coordinate], Field(min_length=1, max_length=MAX_COLUMN_POINTS)]
 Layout = Literal["rows", "columns"]
 

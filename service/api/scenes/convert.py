@@ -111,10 +111,10 @@ def _push(result, problem: SceneProblem) -> PushAnswerOut:
 def _fences(result, one_fence: bool) -> FencesAnswerOut:
     design = result.design
     angles = None if design is None else [float(result.maps[f].fence.angle) for f in design.fences]
-    margin = None if design is None else design.margin
-    if one_fence and angles is not None and len(angles) != 1:
-        angles = margin = None  # the fewest fences are more than one: no single fence orients the part
+    margin = None if design is None else (design.margin if math.isfinite(design.margin) else math.pi)
     v = result.validation
+    if one_fence and angles is not None and len(angles) != 1:
+        angles = margin = v = None  # the fewest fences are more than one: no single fence orients the part
     return FencesAnswerOut(fence_angles=angles, fewest_proven=0 if result.search is None else result.search.depth_proven,
                            margin=margin,
                            simulated_parts=0 if v is None else v.parts, simulated_in_band=0 if v is None else v.in_band)

@@ -134,7 +134,7 @@ class TriedOut(Out):
 class LocusAnswerOut(Out):
     """Where the COR can be: the boundary of the locus (3.3)."""
 
-    kind: str = Field(description="'rotation' (a bounded locus), 'translation' or another kind of the disk's locus.")
+    kind: str = Field(description="'bounded' (the COR can be anywhere in a bounded region) or 'translation' (the push translates the part: no COR).")
     tip: Vec2 | None = Field(description="The locus's tip (3.37), world frame; of the disk's locus.")
     r_min: float | None = Field(description="Distance of the locus's nearest point from the CM (3.31), of the disk's.")
     boundary: list[Vec2 | None] = Field(

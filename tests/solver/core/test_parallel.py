@@ -68,7 +68,7 @@ def sleep_for(seconds: float, ends_at: float | None) -> float:
 
 def test_tasks_past_the_deadline_are_cancelled_not_reported():
     try:
-        run = parallel_map(sleep_for, [0.1, 30.0, 0.2], RayPool(workers=2), Budget.of(8.0))
+        run = parallel_map(sleep_for, [0.1, 120.0, 0.2], RayPool(workers=2), Budget.of(25.0))
     finally:
         release_ray()
     assert run.results[0] == 0.1 and run.results[1] is None and run.results[2] == 0.2 and run.finished == 2
@@ -137,3 +137,20 @@ def test_a_two_node_cluster_answers_what_the_process_does(in_process, monkeypatc
             if proc is not None:
                 _stop(proc)
         shutil.rmtree(temp, ignore_errors=True)
+
+
+def fail_on(value: float, ends_at: float | None) -> float:
+    if value < 0:
+        raise ValueError("a task's own error")
+    time.sleep(value)
+    return value
+
+
+def test_a_tasks_error_reaches_the_caller_and_nothing_is_left_running():
+    try:
+        with pytest.raises(ValueError, match="a task's own error"):
+            parallel_map(fail_on, [-1.0, 30.0], RayPool(workers=2), Budget.of(60.0))
+        run = parallel_map(sleep_for, [0.0], RayPool(workers=2), Budget.of(30.0))  # Ray still answers
+        assert run.results == (0.0,)
+    finally:
+        release_ray()

@@ -172,8 +172,8 @@ def test_nothing_is_reported_done_that_was_not():
     for a in analysis.answers:
         if a.status == "not_run":
             assert a.result is None and a.model is None and a.accuracy is None
-        if a.status == "time_limited":
-            assert a.accuracy is None
+        if a.status == "time_limited":  # what it finished, bounded by the disk's answer at best
+            assert a.accuracy in (None, "bound")
 
 
 @pytest.mark.parametrize("questions,mu,footprint,field", [

@@ -204,3 +204,18 @@ def test_openapi_declares_msgpack_for_the_batch_routes(client):
 def test_accept_negotiation(accept, binary):
     scope = {"type": "http", "headers": [(b"accept", accept.encode())] if accept else []}
     assert wants_msgpack(Request(scope)) is binary
+
+
+def test_a_msgpack_array_longer_than_any_field_allows_is_refused_while_decoding(client):
+    from service.limits import MAX_COLUMN_POINTS
+
+    body = {**PUSH, "batch": {"support_size": 1, "x": [None] * (MAX_COLUMN_POINTS + 1), "y": [0.0], "weights": [1.0]}}
+    r = client.post(URL, content=msgpack.packb(body), headers=MSGPACK)
+    assert r.status_code == 422 and r.json()["detail"][0]["type"] == "msgpack_invalid"
+
+
+def test_column_coordinates_are_bounded_like_every_point(client):
+    body = {**PUSH, "batch": _tripod_batch()}
+    body["batch"]["x"][4] = 1e300
+    r = client.post(URL, json=body)
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "batch", "x", 4]

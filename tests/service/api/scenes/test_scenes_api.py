@@ -90,3 +90,20 @@ def test_no_time_for_any_answer_is_a_504_with_what_there_is(client):
     assert r.status_code == 504, r.text
     partial = r.json()["partial"]
     assert {a["status"] for a in partial["answers"]} == {"not_run"}
+
+
+def test_a_part_one_fence_orients(client):
+    """A square is oriented by a single fence: the aligning fence is that fence, the design has
+    it alone, and its margin (infinite for one fence) is answered as pi, as /v1/feeder/design
+    does."""
+    square = {"footprint": [[0, 0], [1, 0], [1, 1], [0, 1]], "contact_point": [0.5, 0.0], "edge_angle": 0.0,
+              "push_direction": math.pi / 2, "mu_c": 0.25,
+              "questions": [{"ask": "aligning_fence"}, {"ask": "feeder_design", "validation_parts": 3}]}
+    r = client.post(URL, json=square)
+    assert r.status_code == 200, r.text
+    fence, design = r.json()["answers"]
+    assert design["fences"]["fence_angles"] and len(design["fences"]["fence_angles"]) == 1
+    assert design["fences"]["margin"] == pytest.approx(math.pi)
+    assert fence["fences"]["fence_angles"] == design["fences"]["fence_angles"]
+    # the design was checked by 3 simulated parts, the aligning fence asked for none: not reused
+    assert fence["reused_from"] is None and fence["fences"]["simulated_parts"] == 0
