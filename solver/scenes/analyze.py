@@ -84,10 +84,10 @@ def cor_locus_answer(work: Work, q: Question, i: int) -> Answer:
     note = "; ".join((*result.notes, cert.message))
     if every:
         return Answer(q, "answered", "certified", "exact", error, LOCUS_CERTIFIED, cost, reused, (), result, note)
-    # some rays not certified: the circumscribing disk's locus (in the result) still bounds it
-    return Answer(q, "answered" if result.complete else "time_limited", "certified", "bound", error,
-                  LOCUS_CERTIFIED + "; where a ray is not certified the circumscribing disk's locus bounds it",
-                  cost, reused, (), result, note)
+    # some rays not certified: the circumscribing disk's locus (in the same result) is the answer
+    tried = (Tried("certified", cost, f"{len(done)} of {cert.n_requested} rays certified"),)
+    return Answer(q, "answered" if result.complete else "time_limited", "disk_bound", "bound",
+                  result.analytic.boundary_residual, LOCUS_DISK_BOUND, 0.0, reused, tried, result, note)
 
 
 def stick_or_slip_answer(work: Work, q: Question, i: int) -> Answer:

@@ -81,9 +81,11 @@ def _point_or_none(point: np.ndarray) -> list[float] | None:
     return listed(point) if bool(np.all(np.isfinite(point))) else None
 
 
-def _locus(result) -> LocusAnswerOut:
+def _locus(result, model: str | None) -> LocusAnswerOut:
+    """The certified boundary points (one per ray) of a certified answer, else the analytic
+    boundary (the disk's: a bound for a polygon)."""
     an, cert = result.analytic, result.certified
-    if cert is not None:
+    if cert is not None and model == "certified":
         boundary = [_point_or_none(pt) for pt in cert.boundary]
     else:
         boundary = [] if an.boundary is None else listed(an.boundary)
@@ -125,7 +127,7 @@ def answer_out(a: Answer, problem: SceneProblem) -> SceneAnswerOut:
     r, ask = a.result, a.question.ask
     if r is not None:
         if ask == "cor_locus":
-            payload["locus"] = _locus(r)
+            payload["locus"] = _locus(r, a.model)
         elif ask == "stick_or_slip":
             payload["modes"] = _modes(r)
         elif ask == "push_to_align":

@@ -174,6 +174,10 @@ def test_nothing_is_reported_done_that_was_not():
             assert a.result is None and a.model is None and a.accuracy is None
         if a.status == "time_limited":  # what it finished, bounded by the disk's answer at best
             assert a.accuracy in (None, "bound")
+    cut = analysis.answers[1]
+    if cut.status == "time_limited":  # the certified locus cut short: the disk's locus answers, and says so
+        assert (cut.model, cut.accuracy, cut.tried[0].model) == ("disk_bound", "bound", "certified")
+        assert "rays certified" in cut.tried[0].why_not
 
 
 @pytest.mark.parametrize("questions,mu,footprint,field", [
