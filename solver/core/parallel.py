@@ -98,8 +98,12 @@ def _ray(pool: RayPool) -> Any:
         else:
             temp = tempfile.mkdtemp(prefix="pk-ray-", dir="/tmp")  # short: Ray's socket paths must fit 107 bytes
             _local_dirs.append(temp)
-            ray.init(address="local", num_cpus=pool.workers, include_dashboard=False, log_to_driver=False,
-                     object_store_memory=LOCAL_OBJECT_STORE_BYTES, _temp_dir=temp)
+            try:
+                ray.init(address="local", num_cpus=pool.workers, include_dashboard=False, log_to_driver=False,
+                         object_store_memory=LOCAL_OBJECT_STORE_BYTES, _temp_dir=temp)
+            except Exception:
+                _shutdown(ray)  # what a failed start left: its processes and its folder
+                raise
         _connected = key
         return ray
 

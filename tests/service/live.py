@@ -52,7 +52,8 @@ def live_server_process(**settings: str) -> Iterator[tuple[str, subprocess.Popen
     env = {k: v for k, v in os.environ.items() if not k.startswith("PESHKIN_")}
     env.update({"PESHKIN_HOST": "127.0.0.1", "PESHKIN_PORT": str(port), "PESHKIN_LOG_LEVEL": "warning",
                 "PESHKIN_STORE_PATH": "",  # no result store unless asked: each run computes what it checks
-                "PESHKIN_JOBS_PATH": ""})  # and a jobs file of its own, unless asked
+                "PESHKIN_JOBS_PATH": "",  # and a jobs file of its own, unless asked
+                "PESHKIN_RAY_WORKERS": "0"})  # catalogues in process: Ray's own tests are tests/solver/core
     env.update({f"PESHKIN_{k.upper()}": v for k, v in settings.items()})
     proc = subprocess.Popen(server_command(), cwd=REPO, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     url = f"http://127.0.0.1:{port}"
