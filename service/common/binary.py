@@ -83,7 +83,7 @@ def in_msgpack(job: Callable[..., Any], *args: Any) -> Any:
     if not isinstance(answer, BaseModel):
         return answer
     body = msgpack.packb(answer.model_dump(by_alias=True), use_bin_type=True)
-    return Response(content=body, media_type=MSGPACK, headers={"vary": "Accept"})
+    return Response(content=body, media_type=MSGPACK)
 
 
 class MsgpackBodies:

@@ -54,10 +54,14 @@ async def cor_solve(req: CorSolveRequest, request: Request) -> Response:
 
 
 async def _answered(request: Request, job, req) -> Response:
-    """The job's answer in the encoding the client accepts (JSON or msgpack)."""
+    """The job's answer in the encoding the client accepts (JSON or msgpack); either way it
+    says that it depends on ``Accept`` (a cache must not give one client the other's)."""
     if wants_msgpack(request):
-        return await runner(request).expensive_job(request, in_msgpack, job, req)
-    return await runner(request).expensive_job(request, job, req)
+        response = await runner(request).expensive_job(request, in_msgpack, job, req)
+    else:
+        response = await runner(request).expensive_job(request, job, req)
+    response.headers["vary"] = "Accept"
+    return response
 
 
 def solve_job(req: CorSolveRequest, deadline: Deadline) -> CorSolveResponse:

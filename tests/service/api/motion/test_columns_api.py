@@ -102,6 +102,7 @@ def test_msgpack_in_and_out_is_the_json_answer(client):
     assert got == want
     only_in = client.post(URL, content=msgpack.packb(body), headers={"content-type": "application/msgpack"})
     assert only_in.headers["content-type"] == "application/json" and only_in.json()["columns"] == want["columns"]
+    assert "accept" in only_in.headers["vary"].lower()  # the JSON answer depends on Accept too
 
 
 def test_tripod_cors_as_columns_figure_3_5(client):
