@@ -120,7 +120,8 @@ class MsgpackBodies:
             return
         headers = [(k, v) for k, v in scope["headers"] if k not in (b"content-type", b"content-length")]
         headers += [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]
-        await self.app({**scope, "headers": headers}, _replay([{"type": "http.request", "body": body}], receive), send)
+        scope["headers"] = headers  # in place: what the router notes in the scope (the route) reaches the log
+        await self.app(scope, _replay([{"type": "http.request", "body": body}], receive), send)
 
     @staticmethod
     def _is_msgpack(scope: Scope) -> bool:

@@ -220,3 +220,13 @@ def test_column_coordinates_are_bounded_like_every_point(client):
     body["batch"]["x"][4] = 1e300
     r = client.post(URL, json=body)
     assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["body", "batch", "x", 4]
+
+
+def test_a_msgpack_request_is_logged_and_counted_under_its_route(client, caplog):
+    """The access log and the metrics label a request by its route template: a msgpack body,
+    handed on as JSON, keeps it."""
+    body = {**PUSH, "batch": _tripod_batch()}
+    with caplog.at_level("INFO", logger="service.access"):
+        assert client.post(URL, content=msgpack.packb(body), headers=MSGPACK).status_code == 200
+    routes = [getattr(r, "route", None) for r in caplog.records if r.name == "service.access"]
+    assert routes[-1] == URL
