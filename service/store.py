@@ -18,6 +18,7 @@ import logging
 import os
 import sqlite3
 import threading
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +29,29 @@ BUSY_TIMEOUT_S = 5.0
 """How long a writer waits for another process's write to finish."""
 DEFAULT_MAX_ROWS = 200_000
 """About 40 MB of r* rows (a table is ~60 rows)."""
+
+RESULTS_SCHEMA = (
+    "CREATE TABLE IF NOT EXISTS results (namespace TEXT NOT NULL, key TEXT NOT NULL, "
+    "value TEXT NOT NULL, schema INTEGER NOT NULL, PRIMARY KEY (namespace, key))",
+)
+
+
+def thread_connection(local: threading.local, path: Path, schema: Sequence[str], check_same_thread: bool = True,
+                      row_factory: Any = None) -> sqlite3.Connection:
+    """This thread's connection (kept in ``local``) to the SQLite file ``path`` in WAL mode,
+    made on its first use in this process (a forked child makes its own) with ``schema``
+    (``CREATE ... IF NOT EXISTS`` statements) applied. Errors are the caller's."""
+    conn: sqlite3.Connection | None = getattr(local, "conn", None)
+    if conn is not None and getattr(local, "pid", None) == os.getpid():
+        return conn
+    path.parent.mkdir(parents=True, exist_ok=True)
+    conn = sqlite3.connect(path, timeout=BUSY_TIMEOUT_S, isolation_level=None, check_same_thread=check_same_thread)
+    conn.row_factory = row_factory
+    conn.execute("PRAGMA journal_mode=WAL")
+    for statement in schema:
+        conn.execute(statement)
+    local.conn, local.pid = conn, os.getpid()
+    return conn
 
 
 class SqliteStore:
@@ -42,23 +66,11 @@ class SqliteStore:
     def _connection(self) -> sqlite3.Connection | None:
         if self._failed:
             return None
-        conn: sqlite3.Connection | None = getattr(self._local, "conn", None)
-        pid = getattr(self._local, "pid", None)
-        if conn is not None and pid == os.getpid():
-            return conn
         try:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            conn = sqlite3.connect(self.path, timeout=BUSY_TIMEOUT_S, isolation_level=None)
-            conn.execute("PRAGMA journal_mode=WAL")
-            conn.execute(
-                "CREATE TABLE IF NOT EXISTS results (namespace TEXT NOT NULL, key TEXT NOT NULL, "
-                "value TEXT NOT NULL, schema INTEGER NOT NULL, PRIMARY KEY (namespace, key))"
-            )
+            return thread_connection(self._local, self.path, RESULTS_SCHEMA)
         except (sqlite3.Error, OSError) as exc:
             self._give_up("open", exc)
             return None
-        self._local.conn, self._local.pid = conn, os.getpid()
-        return conn
 
     def _give_up(self, what: str, exc: BaseException) -> None:
         if not self._failed:

@@ -44,12 +44,19 @@ from service.runtime.admission import Gate, Refused
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import Job, Reply, Runner, crash_reply, deadline_reply, execute
 from service.runtime.metrics import observe_backends
+from service.store import thread_connection
 
 log = logging.getLogger("service")
 
 STATES = ("queued", "running", "succeeded", "failed", "cancelled")
 FINISHED = ("succeeded", "failed", "cancelled")
-BUSY_TIMEOUT_S = 5.0
+JOBS_SCHEMA = (
+    "CREATE TABLE IF NOT EXISTS jobs (id TEXT PRIMARY KEY, owner TEXT NOT NULL, operation TEXT NOT NULL, "
+    "body TEXT NOT NULL, state TEXT NOT NULL, created REAL NOT NULL, started REAL, finished REAL, "
+    "expires REAL, attempts INTEGER NOT NULL DEFAULT 0, runner TEXT, heartbeat REAL, "
+    "cancel INTEGER NOT NULL DEFAULT 0, status INTEGER, media_type TEXT, result BLOB, message TEXT)",
+    "CREATE INDEX IF NOT EXISTS jobs_state ON jobs (state, created)",
+)
 POLL_S = 0.25
 """How often a web process looks for queued jobs and for cancellations of its own."""
 STALE_S = 10.0
@@ -108,22 +115,7 @@ class JobStore:
         self._local = threading.local()
 
     def _conn(self) -> sqlite3.Connection:
-        conn: sqlite3.Connection | None = getattr(self._local, "conn", None)
-        if conn is not None and getattr(self._local, "pid", None) == os.getpid():
-            return conn
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        conn = sqlite3.connect(self.path, timeout=BUSY_TIMEOUT_S, isolation_level=None, check_same_thread=False)
-        conn.row_factory = sqlite3.Row
-        conn.execute("PRAGMA journal_mode=WAL")
-        conn.execute(
-            "CREATE TABLE IF NOT EXISTS jobs (id TEXT PRIMARY KEY, owner TEXT NOT NULL, operation TEXT NOT NULL, "
-            "body TEXT NOT NULL, state TEXT NOT NULL, created REAL NOT NULL, started REAL, finished REAL, "
-            "expires REAL, attempts INTEGER NOT NULL DEFAULT 0, runner TEXT, heartbeat REAL, "
-            "cancel INTEGER NOT NULL DEFAULT 0, status INTEGER, media_type TEXT, result BLOB, message TEXT)"
-        )
-        conn.execute("CREATE INDEX IF NOT EXISTS jobs_state ON jobs (state, created)")
-        self._local.conn, self._local.pid = conn, os.getpid()
-        return conn
+        return thread_connection(self._local, self.path, JOBS_SCHEMA, check_same_thread=False, row_factory=sqlite3.Row)
 
     def submit(self, operation: str, body: dict[str, Any], owner: str) -> str:
         job_id = uuid.uuid4().hex
