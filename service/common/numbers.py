@@ -47,3 +47,9 @@ def point_or_none(value) -> list[float] | None:
 def difference(exact: float | None, closed: float | None) -> float | None:
     """exact - closed, None when either is missing."""
     return None if exact is None or closed is None else exact - closed
+
+
+def design_margin(margin: float) -> float:
+    """A feeder design's margin (1.8.6) for an answer: a design of one fence has no later
+    fence to miss, so its margin is infinite, answered as pi (no angular error matters)."""
+    return margin if math.isfinite(margin) else math.pi

@@ -45,6 +45,7 @@ from service.api.feeder.schemas import (
     FeederValidationOut,
 )
 from service.common.inputs import located
+from service.common.numbers import design_margin
 from service.errors import FieldError
 from service.limits import FEEDER_MAX_CANDIDATES, FEEDER_MAX_FENCE_LENGTH_RADII, FEEDER_MAX_WORLD_RADII
 from solver import (
@@ -283,10 +284,9 @@ def catalogue_response(req: FeederCatalogueRequest, result: FeederCatalogueResul
         d, v = res.design, res.validation
         items.append(FeederCatalogueItemOut(
             name=p.name, status="ok" if res.status == "ok" else "time_limit",
-            fences=None if d is None else [FeederDesignFenceOut(angle=res.maps[f].fence.angle,
-                                                                side=res.maps[f].fence.side) for f in d.fences],
+            fences=None if d is None else _fences_out(res, d.fences),
             depth_proven=None if res.search is None else res.search.depth_proven,
-            margin=None if d is None else (d.margin if math.isfinite(d.margin) else math.pi),
+            margin=None if d is None else design_margin(d.margin),
             validation_parts=0 if v is None else v.parts, validation_in_band=0 if v is None else v.in_band,
             solve_time_ms=res.solve_time_s * 1e3))
     run = result.run
@@ -328,15 +328,20 @@ def gate_of(g: FeederGateIn, part: Footprint) -> GateSpec:
     return GateSpec(tuple(dict.fromkeys(g.features)), g.margin, g.min_yield, g.max_depth)
 
 
+def _fences_out(res: FeederDesignResult, fences: tuple[int, ...]) -> list[FeederDesignFenceOut]:
+    """A design's fences (indices into the candidates' maps) as answered: angle and side."""
+    return [FeederDesignFenceOut(angle=res.maps[f].fence.angle, side=res.maps[f].fence.side) for f in fences]
+
+
 def _design_out(res: FeederDesignResult) -> FeederDesignOut | None:
     d = res.design
     if d is None or res.final_set is None:
         return None
     last = res.maps[d.fences[-1]]
     out = FeederDesignOut(
-        fences=[FeederDesignFenceOut(angle=res.maps[f].fence.angle, side=res.maps[f].fence.side) for f in d.fences],
+        fences=_fences_out(res, d.fences),
         final_band=arcs_out(res.final_set), final_edges=sorted(last.final_edges[j] for j in d.final_bands),
-        margin=d.margin if math.isfinite(d.margin) else math.pi)
+        margin=design_margin(d.margin))
     if isinstance(d, PlacedDesign) and res.accepted_set is not None:
         out.accepted_band = arcs_out(res.accepted_set)
         out.accepted_edges = sorted(last.final_edges[j] for j in d.accepted_bands)

@@ -183,7 +183,7 @@ def motion_problem(req: CorSolveRequest) -> MotionRequest:
     which = exactly_one(req, ("support", "supports", "batch", "pressure"))
     if which == "batch":
         return _batch_problem(req, np.asarray(req.center_of_mass or (0.0, 0.0), dtype=float))
-    _layout(req, which, len(req.supports) if which == "supports" else 1)
+    layout = _layout(req, which, len(req.supports) if which == "supports" else 1)
     slow = req.method != "newton"
     max_points = MAX_SUPPORT_POINTS_SLOW if slow else MAX_SUPPORT_POINTS
     mu_c = float(req.mu_c)
@@ -232,7 +232,7 @@ def motion_problem(req: CorSolveRequest) -> MotionRequest:
     for i, u in enumerate(users):
         _require_length_scale(scene, u.extent, ("supports", i, "points"))
     problem = MotionProblem(scene, supports=tuple(u.support for u in users), mu_c=mu_c, method=req.method)
-    return MotionRequest(problem, which, users, None, _layout(req, which, len(users)))
+    return MotionRequest(problem, which, users, None, layout)
 
 
 def motion_errors_located(mr: MotionRequest):

@@ -26,7 +26,7 @@ from service.api.scenes.schemas import (
     TriedOut,
 )
 from service.common.inputs import located
-from service.common.numbers import listed
+from service.common.numbers import design_margin, listed
 from service.common.quasistatic import quasi_static_query
 from service.common.scene import contact_warnings, disk_or_footprint
 from service.errors import FieldError
@@ -113,7 +113,7 @@ def _push(result, problem: SceneProblem) -> PushAnswerOut:
 def _fences(result, one_fence: bool) -> FencesAnswerOut:
     design = result.design
     angles = None if design is None else [float(result.maps[f].fence.angle) for f in design.fences]
-    margin = None if design is None else (design.margin if math.isfinite(design.margin) else math.pi)
+    margin = None if design is None else design_margin(design.margin)
     v = result.validation
     if one_fence and angles is not None and len(angles) != 1:
         angles = margin = v = None  # the fewest fences are more than one: no single fence orients the part
