@@ -15,8 +15,7 @@ from fastapi_offline import FastAPIOffline
 
 from service import __version__, errors
 from service.api import ROUTE_MODULES
-from service.common.binary import MsgpackBodies, msgpack_paths
-from service.limits import MAX_COLUMN_POINTS
+from service.common.bodies import INLINE_STATE, body_limits
 from service.runtime import logs
 from service.runtime.access import PUBLIC_PATHS, Access, ApiKeys, KeyRates
 from service.runtime.context import RequestContext
@@ -173,12 +172,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.deferred = deferred
     errors.install(app)
     # outermost last: RequestContext (id, log, metrics) > CORS (answers preflights) > Access
-    # (keys, rates) > Intake (arrival, body limit, the gate of requests in flight) >
-    # MsgpackBodies (a msgpack body read as its JSON document)
-    app.add_middleware(MsgpackBodies, paths=msgpack_paths([module.router for module in routes]),
-                       max_items=MAX_COLUMN_POINTS)
+    # (keys, rates) > Intake (arrival, body limits, the gate of requests in flight); the
+    # routes read their bodies themselves (service.common.bodies)
+    inline = min(settings.inline_body_bytes, settings.max_body_bytes)
+    setattr(app.state, INLINE_STATE, inline)
     app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s,
-                       max_body_bytes=settings.max_body_bytes)
+                       body_limits=body_limits([module.router for module in routes], inline, settings.max_body_bytes),
+                       default_body_bytes=inline)
     if settings.api_keys:
         app.add_middleware(Access, keys=ApiKeys(settings.api_keys), rates=rates)
     if settings.cors_origins:

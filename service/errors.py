@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
 
@@ -79,8 +79,9 @@ class FieldError(Exception):
 class BodyTooLarge(Exception):
     """The request's body is longer than the service reads (HTTP 413)."""
 
-    def __init__(self, limit_bytes: int) -> None:
-        super().__init__(f"the body is longer than {limit_bytes} bytes, the most this service reads")
+    def __init__(self, limit_bytes: int, path: str = "") -> None:
+        where = f" for {path}" if path else ""
+        super().__init__(f"the body is longer than {limit_bytes} bytes, the most this service reads{where}")
         self.limit_bytes = limit_bytes
 
 
@@ -172,13 +173,18 @@ def echo(value: Any, depth: int = 0) -> Any:
     return echo(str(value), depth)
 
 
+def validation_error_body(errors: Sequence[Any]) -> dict[str, Any]:
+    """The 422 body of request-validation ``errors`` (pydantic's, located): at most
+    ECHO_MAX_ERRORS of them, what they echo of the input bounded (:func:`echo`)."""
+    items = []
+    for err in errors[:ECHO_MAX_ERRORS]:
+        items.append({k: (echo(v) if k in ("input", "ctx") else json_safe(v))
+                      for k, v in err.items() if k in ("loc", "msg", "type", "input", "ctx")})
+    return {"detail": items}
+
+
 async def _request_validation(request: Request, exc: RequestValidationError) -> JSONResponse:
-    errors = []
-    for err in exc.errors()[:ECHO_MAX_ERRORS]:
-        item = {k: (echo(v) if k in ("input", "ctx") else json_safe(v))
-                for k, v in err.items() if k in ("loc", "msg", "type", "input", "ctx")}
-        errors.append(item)
-    return JSONResponse(status_code=UNPROCESSABLE, content={"detail": errors})
+    return JSONResponse(status_code=UNPROCESSABLE, content=validation_error_body(exc.errors()))
 
 
 async def _http_exception(request: Request, exc: StarletteHTTPException):

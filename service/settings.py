@@ -24,7 +24,11 @@ variable                        default     meaning
 ``PESHKIN_DEADLINE_GRACE_S``    0.25        how long past its deadline a worker's answer is awaited
                                             before the worker is stopped and the answer is a 504
 ``PESHKIN_RETRY_AFTER_S``       1           ``Retry-After`` of a 503 (seconds)
-``PESHKIN_MAX_BODY_BYTES``      33554432    longest request body read (longer: 413, unread)
+``PESHKIN_MAX_BODY_BYTES``      33554432    longest request body read, by the operations that take
+                                            large bodies (``POST /v1/cor/solve``); longer: 413, unread
+``PESHKIN_INLINE_BODY_BYTES``   2097152     longest body of every other operation, and the longest
+                                            decoded in a web process: a longer body to
+                                            ``/v1/cor/solve`` is decoded in its solver worker
 ``PESHKIN_WORKER_MAX_TASKS``    0           replace a solver worker after this many tasks (0: never)
 ``PESHKIN_HEADER_TIMEOUT_S``    10          a client must send a request's headers within this
 ``PESHKIN_BODY_TIMEOUT_S``      30          ... and its body within this after the headers
@@ -107,6 +111,7 @@ class Settings:
     deadline_grace_s: float = 0.25
     retry_after_s: int = 1
     max_body_bytes: int = 32 * 1024 * 1024
+    inline_body_bytes: int = 2 * 1024 * 1024
     worker_max_tasks: int = 0
     header_timeout_s: float = 10.0
     body_timeout_s: float = 30.0
@@ -257,6 +262,7 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "deadline_grace_s": _seconds(0.0, 60.0),
     "retry_after_s": _integer(1, 3600),
     "max_body_bytes": _integer(1024, 1 << 31),
+    "inline_body_bytes": _integer(1024, 1 << 31),
     "worker_max_tasks": _integer(0, 10**9),
     "header_timeout_s": _seconds(0.0, 3600.0),
     "body_timeout_s": _seconds(0.0, 3600.0),

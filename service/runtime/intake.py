@@ -1,7 +1,8 @@
 """The intake of every HTTP request (a pure ASGI middleware, before the body is read): it
 notes when the request arrived (its deadline starts then, service.runtime.deadline),
-refuses a body longer than the limit (413: at once when ``Content-Length`` says so, else as
-soon as the streamed bytes pass it, without reading further), and admits the request
+refuses a body longer than its route's limit (413: at once when ``Content-Length`` says
+so, else as soon as the streamed bytes pass it, without reading further; the limits:
+service.common.bodies.body_limits), and admits the request
 through the web process's gate of requests in flight, or answers 503 with ``Retry-After``
 at once. The probes (``/healthz``, ``/readyz``) and the metrics' scrape are never refused. It is also the one
 catch-all: an exception nothing else answered becomes a JSON 500 here, sent as a normal
@@ -34,14 +35,16 @@ def _content_length(scope: Scope) -> int | None:
 
 
 class Intake:
-    """Stamps the arrival, limits the body to ``max_body_bytes`` and admits through
-    ``gate`` (``retry_after_s`` on a 503)."""
+    """Stamps the arrival, limits the body to its path's entry of ``body_limits`` (else
+    ``default_body_bytes``) and admits through ``gate`` (``retry_after_s`` on a 503)."""
 
-    def __init__(self, app: ASGIApp, gate: Gate, retry_after_s: int, max_body_bytes: int) -> None:
+    def __init__(self, app: ASGIApp, gate: Gate, retry_after_s: int, body_limits: dict[str, int],
+                 default_body_bytes: int) -> None:
         self.app = app
         self.gate = gate
         self.retry_after_s = retry_after_s
-        self.max_body_bytes = max_body_bytes
+        self.body_limits = body_limits
+        self.default_body_bytes = default_body_bytes
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
@@ -51,10 +54,11 @@ class Intake:
         if scope.get("path") in PROBES:
             await self.app(scope, receive, send)
             return
-        limit = self.max_body_bytes
+        path = scope.get("path", "")
+        limit = self.body_limits.get(path, self.default_body_bytes)
         length = _content_length(scope)
         if length is not None and length > limit:
-            await too_large_response(BodyTooLarge(limit))(scope, receive, send)
+            await too_large_response(BodyTooLarge(limit, path))(scope, receive, send)
             return
         if not self.gate.try_enter():
             await busy_response(self.gate.name, self.retry_after_s)(scope, receive, send)
@@ -67,7 +71,7 @@ class Intake:
             if message["type"] == "http.request":
                 seen += len(message.get("body", b""))
                 if seen > limit:
-                    raise BodyTooLarge(limit)  # answered 413 by service.errors
+                    raise BodyTooLarge(limit, path)  # answered 413 by service.errors
             return message
 
         started = False

@@ -34,6 +34,7 @@ from service.api.feeder.schemas import (
     FeederSimulateRequest,
     FeederSimulateResponse,
 )
+from service.common.bodies import BodyRoute
 from service.common.fields import ResponseFormat
 from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
@@ -44,7 +45,7 @@ from service.runtime.jobs import runner
 from service.settings import Settings
 from solver import RayPool, feeder_catalogue, feeder_design, feeder_map, feeder_simulate
 
-router = APIRouter(tags=["feeder"])
+router = APIRouter(tags=["feeder"], route_class=BodyRoute)
 FORMAT = Query("json", alias="format", description="`json` (default) or `svg` for a picture.")
 
 

@@ -9,11 +9,12 @@ from fastapi.responses import JSONResponse, Response
 
 from service import __version__
 from service.api.health.schemas import GateOut, HealthResponse, ReadyResponse
+from service.common.bodies import BodyRoute
 from service.runtime.deferred import STATES, deferred_runner
 from service.runtime.jobs import runner
 from service.runtime.metrics import CONTENT_TYPE, exposition, observe_jobs, observe_work
 
-router = APIRouter(tags=["health"])
+router = APIRouter(tags=["health"], route_class=BodyRoute)
 
 
 @router.get("/healthz", operation_id="healthz", response_model=HealthResponse, summary="Liveness probe")

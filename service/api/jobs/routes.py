@@ -18,11 +18,12 @@ from fastapi.responses import JSONResponse
 from pydantic import ValidationError
 
 from service.api.jobs.schemas import JobListOut, JobOut, JobProgressOut, JobRequest
+from service.common.bodies import BodyRoute
 from service.common.responses import BUSY, INVALID_INPUT, ErrorResponse
 from service.errors import error_body
 from service.runtime.deferred import FINISHED, MAX_QUEUED_PER_CLIENT, DeferredRunner, deferred_runner
 
-router = APIRouter(tags=["jobs"])
+router = APIRouter(tags=["jobs"], route_class=BodyRoute)
 NOT_FOUND = {404: {"model": ErrorResponse, "description": "No such job (or not yours, with API keys on)."}}
 ANSWERS = {**INVALID_INPUT, **BUSY}
 

@@ -30,6 +30,7 @@ from service.api.locus.schemas import (
     MembershipRequest,
     MembershipResponse,
 )
+from service.common.bodies import BodyRoute
 from service.common.fields import ResponseFormat
 from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
@@ -41,7 +42,7 @@ from service.store import result_store
 from solver import cor_locus as locus_of
 from solver import decide_membership
 
-router = APIRouter(tags=["cor"])
+router = APIRouter(tags=["cor"], route_class=BodyRoute)
 
 
 @router.post(

@@ -9,6 +9,8 @@ request -> problem (:mod:`service.api.motion.convert`) -> one solver call
 
 from __future__ import annotations
 
+from typing import Any
+
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
@@ -26,14 +28,15 @@ from service.api.motion.schemas import (
     TripodStatisticsResponse,
 )
 from service.common.binary import in_msgpack, msgpack_openapi, wants_msgpack
+from service.common.bodies import BodyRoute, in_worker, large_bodies
 from service.common.inputs import located
 from service.common.responses import IN_WORKER
 from service.runtime.deadline import Deadline
 from service.runtime.deferred import Deferrable, request_only
-from service.runtime.jobs import runner
+from service.runtime.jobs import Job, runner
 from solver import solve_motion, tripod_statistics
 
-router = APIRouter(tags=["cor"])
+router = APIRouter(tags=["cor"], route_class=BodyRoute)
 
 
 @router.post(
@@ -44,16 +47,18 @@ router = APIRouter(tags=["cor"])
     responses=IN_WORKER,
     openapi_extra=msgpack_openapi("CorSolveRequest", "CorSolveResponse"),
 )
+@large_bodies(lambda request, body: _answered(request, SOLVE_RAW, body))
 async def cor_solve(req: CorSolveRequest, request: Request) -> Response:
     """The motion (COR, rotation and slip per unit push, contact mode, forces) that
     minimises the frictional power (book 3.2-3.3.3; with pusher friction mu_c, 4.1), for
     one support, a batch of supports (as objects or as columns), or a modelled uniform
     pressure (figure 7-1). The body and the answer may be msgpack (`Content-Type`,
-    `Accept: application/msgpack`)."""
+    `Accept: application/msgpack`). A body over the inline limit (2 MiB by default) is
+    decoded and checked in the solver worker that solves it, never in a web process."""
     return await _answered(request, solve_job, req)
 
 
-async def _answered(request: Request, job, req) -> Response:
+async def _answered(request: Request, job: Job, req: Any) -> Response:
     """The job's answer in the encoding the client accepts (JSON or msgpack); either way it
     says that it depends on ``Accept`` (a cache must not give one client the other's)."""
     if wants_msgpack(request):
@@ -70,6 +75,10 @@ def solve_job(req: CorSolveRequest, deadline: Deadline) -> CorSolveResponse:
     with motion_errors_located(mr):
         result = solve_motion(mr.problem, budget)
     return solve_response(req, mr, result, budget.elapsed() * 1e3)
+
+
+SOLVE_RAW = in_worker(solve_job, CorSolveRequest)
+""":func:`solve_job` of a body decoded in the worker (bodies over the inline limit)."""
 
 
 @router.post(

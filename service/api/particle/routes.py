@@ -13,12 +13,13 @@ from service.api.particle.convert import (
     particle_response,
 )
 from service.api.particle.schemas import ParticleRequest, ParticleResponse
+from service.common.bodies import BodyRoute
 from service.common.responses import IN_WORKER
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import runner
 from solver import mpp_particle
 
-router = APIRouter(tags=["mpp"])
+router = APIRouter(tags=["mpp"], route_class=BodyRoute)
 
 
 @router.post(

@@ -35,6 +35,7 @@ from service.api.push.schemas import (
     PushQuasistaticRequest,
     PushQuasistaticResponse,
 )
+from service.common.bodies import BodyRoute
 from service.common.inputs import located
 from service.common.responses import BUSY, IN_WORKER, INVALID_INPUT
 from service.errors import time_limited
@@ -43,7 +44,7 @@ from service.runtime.deferred import Deferrable, request_only
 from service.runtime.jobs import runner
 from solver import align, disk_encounter
 
-router = APIRouter(tags=["push"])
+router = APIRouter(tags=["push"], route_class=BodyRoute)
 
 GROSS_TIME_LIMIT_HINT = "lower n_nodes or n_points, or raise time_limit_s"
 

@@ -14,6 +14,7 @@ from fastapi.responses import Response
 
 from service.api.scenes.convert import analyze_response, scene_problem
 from service.api.scenes.schemas import SceneAnalyzeRequest, SceneAnalyzeResponse
+from service.common.bodies import BodyRoute
 from service.common.inputs import located
 from service.common.responses import IN_WORKER
 from service.errors import nothing_computed
@@ -22,7 +23,7 @@ from service.runtime.deferred import Deferrable, request_only
 from service.runtime.jobs import runner
 from solver import analyze_scene
 
-router = APIRouter(tags=["scenes"])
+router = APIRouter(tags=["scenes"], route_class=BodyRoute)
 
 
 @router.post(

@@ -14,6 +14,7 @@ from fastapi.responses import Response
 from service.api.sketch.convert import sketch_problem, sketch_response
 from service.api.sketch.render import render_sketch_svg
 from service.api.sketch.schemas import CorSketchRequest, CorSketchResponse
+from service.common.bodies import BodyRoute
 from service.common.fields import ResponseFormat
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
 from service.runtime.deadline import Deadline
@@ -21,7 +22,7 @@ from service.runtime.deferred import Deferrable, json_answer
 from service.runtime.jobs import runner
 from solver import cor_sketch
 
-router = APIRouter()
+router = APIRouter(route_class=BodyRoute)
 
 
 @router.post(

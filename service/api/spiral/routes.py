@@ -33,6 +33,7 @@ from service.api.spiral.schemas import (
     SpiralScheduleRequest,
     SpiralScheduleResponse,
 )
+from service.common.bodies import BodyRoute
 from service.common.fields import ResponseFormat
 from service.common.inputs import located
 from service.common.responses import IN_WORKER, SVG_MEDIA_TYPE, json_or_svg
@@ -43,7 +44,7 @@ from service.runtime.jobs import runner
 from service.store import result_store
 from solver import critical_radii, plan_spiral
 
-router = APIRouter(tags=["spiral"])
+router = APIRouter(tags=["spiral"], route_class=BodyRoute)
 
 FORMAT = Query("json", alias="format", description="`json` (default) or `svg` for a picture.")
 TABLE_TIME_LIMIT_HINT = "raise time_limit_s (a finished table is cached for later requests)"

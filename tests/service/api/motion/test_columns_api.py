@@ -164,7 +164,7 @@ def test_layout_is_checked_against_the_input(client):
     assert f"at most {MAX_BATCH}" in r.json()["detail"][0]["msg"]
 
 
-@pytest.mark.parametrize("content", [b"\xc1", b"\x81\x01\x02", msgpack.packb({"a": msgpack.ExtType(1, b"x")}),
+@pytest.mark.parametrize("content", [b"\xc1", b"\x81\x01\x02", msgpack.packb({"contact_point": msgpack.ExtType(1, b"x")}),
                                      msgpack.packb([1, 2]) + b"\x00"])
 def test_a_body_that_is_not_msgpack_of_json_values_is_422(client, content):
     r = client.post(URL, content=content, headers=MSGPACK)

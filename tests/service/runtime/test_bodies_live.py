@@ -1,0 +1,64 @@
+"""Large bodies on a live server (issue 35, point 1): two ~29 MiB msgpack bodies padded with
+an unknown field are refused at that field, then a valid 100,000-tripod batch is solved, and
+the web process keeps answering its probe meanwhile (the old service decoded such bodies
+on the event loop: 6-14 s of a frozen web process)."""
+
+from __future__ import annotations
+
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+import httpx
+import msgpack
+import numpy as np
+import pytest
+
+from tests.service.live import live_server
+
+pytestmark = pytest.mark.slow
+
+MSGPACK = {"content-type": "application/msgpack", "accept": "application/msgpack"}
+PUSH = {"contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966, "disk_radius": 2}
+PROBE_STALL_S = 2.0
+"""Longest a probe may wait while the large bodies are handled: far below what decoding
+them on the event loop took (seconds each), far above a probe's time on a busy machine."""
+
+
+def _tripods(n: int) -> dict:
+    rng = np.random.default_rng(1)
+    turn = rng.uniform(0, 2 * np.pi, (n, 1)) + np.array([0, 2 * np.pi / 3, 4 * np.pi / 3])
+    r = rng.uniform(0.2, 1.0, (n, 1))
+    return {**PUSH, "batch": {"support_size": 3, "x": (r * np.cos(turn)).ravel().tolist(),
+                              "y": (r * np.sin(turn)).ravel().tolist(), "weights": [1.0] * (3 * n)}}
+
+
+def test_padded_and_large_bodies_do_not_freeze_the_web_process():
+    padded = msgpack.packb({**PUSH, "padding": [[i, i + 1, i + 2] for i in range(1_900_000)]})
+    assert len(padded) > 28 * 2**20
+    valid = msgpack.packb(_tripods(100_000))
+    with live_server(web_workers="1", solver_workers="2") as url:
+        stalls: list[float] = []
+        done = False
+
+        def probe() -> None:
+            with httpx.Client(timeout=30.0) as c:
+                while not done:
+                    t0 = time.monotonic()
+                    assert c.get(f"{url}/healthz").status_code == 200
+                    stalls.append(time.monotonic() - t0)
+                    time.sleep(0.01)
+
+        def post(body: bytes) -> httpx.Response:
+            return httpx.post(f"{url}/v1/cor/solve", content=body, headers=MSGPACK, timeout=60.0)
+
+        with ThreadPoolExecutor(3) as pool:
+            watching = pool.submit(probe)
+            answers = [*pool.map(post, [padded, padded]), post(valid)]
+            done = True
+            watching.result()
+    for r in answers[:2]:
+        assert r.status_code == 422
+        assert r.json()["detail"][0]["loc"] == ["body", "padding"]
+    assert answers[2].status_code == 200
+    assert len(msgpack.unpackb(answers[2].content)["columns"]["cor_x"]) == 100_000
+    assert stalls and max(stalls) < PROBE_STALL_S, f"a probe waited {max(stalls):.2f} s"
