@@ -32,7 +32,7 @@ from uvicorn.protocols.http.httptools_impl import HttpToolsProtocol
 from uvicorn_worker import UvicornWorker
 
 from service.runtime.logs import JSON_FORMAT
-from service.runtime.slots import METRICS_DIR_ENV, SLOT_DIR_ENV, make_slot_directory
+from service.runtime.slots import METRICS_DIR_ENV, SERVER_PID_ENV, SLOT_DIR_ENV, make_slot_directory
 from service.settings import Settings
 
 log = logging.getLogger("service")
@@ -132,6 +132,7 @@ def share_slots(arbiter: Any) -> None:
     the log: with SO_REUSEPORT the supervisor itself listens on none, so gunicorn's own
     "Listening at" line shows no address."""
     os.environ[SLOT_DIR_ENV] = make_slot_directory()
+    os.environ[SERVER_PID_ENV] = str(os.getpid())  # the server's one Ray (solver.core.ray_head) ends with it
     samples = os.path.join(os.environ[SLOT_DIR_ENV], "metrics")
     os.makedirs(samples)
     os.environ[METRICS_DIR_ENV] = samples
@@ -147,7 +148,8 @@ def web_process_ended(arbiter: Any, worker: Any) -> None:
 
 
 def remove_slots(arbiter: Any) -> None:
-    """gunicorn's ``on_exit``."""
+    """gunicorn's ``on_exit`` (the server's Ray, if a catalogue started it, sees its
+    directory gone and stops within a second: solver.core.ray_head)."""
     os.environ.pop(METRICS_DIR_ENV, None)
     directory = os.environ.pop(SLOT_DIR_ENV, "")
     if directory:

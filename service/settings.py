@@ -60,13 +60,18 @@ variable                        default     meaning
                                             server's own (lost when it stops)
 ``PESHKIN_JOB_TTL_S``           86400       how long a finished job and its answer are kept
 ``PESHKIN_JOB_MAX_TIME_S``      3600        the longest time limit of a job (its default)
-``PESHKIN_JOB_WORKERS``         auto        jobs a web process runs at once (auto: its share of the
-                                            server's slots); 0: this server queues jobs but runs
-                                            none (another server on the same file does)
-``PESHKIN_RAY_WORKERS``         auto        CPUs of the local Ray that runs a feeder catalogue's
-                                            designs in parallel (started by the solver worker
-                                            that first runs one; auto: the CPUs the process may
-                                            use); 0: no Ray, one design after the other
+``PESHKIN_JOB_WORKERS``         auto        jobs a web process runs at once (auto: the server's job
+                                            places, all its slots but one, which the server's jobs
+                                            together never exceed, so a job never takes the last
+                                            slot from requests; one slot: that one); 0: this server
+                                            queues jobs but runs none (another server on the same
+                                            file does)
+``PESHKIN_RAY_WORKERS``         auto        CPUs of the server's one local Ray that runs feeder
+                                            catalogues' designs in parallel (its head started by
+                                            the first solver worker that runs one, shared by all;
+                                            auto: the server's slots; a catalogue runs as many
+                                            designs at once as it holds slots); 0: no Ray, one
+                                            design after the other
 ``PESHKIN_RAY_ADDRESS``         (none)      an existing Ray cluster for the catalogues instead
                                             (``host:port`` of its head; its ``RAY_AUTH_MODE`` and
                                             token as the cluster requires)
@@ -86,7 +91,7 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from service.limits import MAX_TIME_LIMIT_S, TIME_LIMIT_HARD_MAX_S
-from service.runtime.slots import usable_cpus
+from service.runtime.slots import job_places_of, usable_cpus
 
 DEFAULT_JOBS_PATH = os.path.join(tempfile.gettempdir(), "peshkin-service", "jobs.sqlite3")
 """The jobs file of a server whose environment names none (shared by its web processes and
@@ -132,16 +137,19 @@ class Settings:
     ray_address: str = ""
 
     def job_concurrency(self) -> int:
-        """Jobs a web process runs at once: the setting, or (auto) its share of the slots."""
+        """Jobs a web process runs at once: the setting, or (auto) the server's job places
+        (all its slots but one: the server's jobs together never hold more)."""
         if self.job_workers != AUTO:
             return self.job_workers
-        return max(1, -(-self.solver_processes() // self.web_workers))
+        return job_places_of(max(1, self.solver_processes()))
 
     def ray_cpus(self, cpus: int | None = None) -> int:
-        """CPUs of the catalogues' local Ray: the setting, or (auto) the CPUs the process may use."""
+        """CPUs of the server's local Ray for catalogues: the setting, or (auto) the server's
+        slots (one account of the CPUs: a catalogue runs as many tasks at once as it holds
+        slots)."""
         if self.ray_workers != AUTO:
             return self.ray_workers
-        return max(1, cpus if cpus is not None else usable_cpus())
+        return self.solver_processes(cpus)
 
     def __repr__(self) -> str:  # the keys never reach a log
         shown = {f.name: getattr(self, f.name) for f in fields(self)}

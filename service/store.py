@@ -18,7 +18,7 @@ import logging
 import os
 import sqlite3
 import threading
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -37,10 +37,12 @@ RESULTS_SCHEMA = (
 
 
 def thread_connection(local: threading.local, path: Path, schema: Sequence[str], check_same_thread: bool = True,
-                      row_factory: Any = None) -> sqlite3.Connection:
+                      row_factory: Any = None,
+                      migrate: Callable[[sqlite3.Connection], None] | None = None) -> sqlite3.Connection:
     """This thread's connection (kept in ``local``) to the SQLite file ``path`` in WAL mode,
     made on its first use in this process (a forked child makes its own) with ``schema``
-    (``CREATE ... IF NOT EXISTS`` statements) applied. Errors are the caller's."""
+    (``CREATE ... IF NOT EXISTS`` statements) applied, then ``migrate``. Errors are the
+    caller's."""
     conn: sqlite3.Connection | None = getattr(local, "conn", None)
     if conn is not None and getattr(local, "pid", None) == os.getpid():
         return conn
@@ -50,6 +52,8 @@ def thread_connection(local: threading.local, path: Path, schema: Sequence[str],
     conn.execute("PRAGMA journal_mode=WAL")
     for statement in schema:
         conn.execute(statement)
+    if migrate is not None:
+        migrate(conn)
     local.conn, local.pid = conn, os.getpid()
     return conn
 

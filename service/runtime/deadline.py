@@ -36,12 +36,14 @@ DEFAULT_RESERVE = ReservePolicy()
 @dataclass(frozen=True)
 class Deadline:
     """``arrived`` and ``at`` on ``time.monotonic`` (one clock for every process of the
-    machine); ``limit_s`` the request's time limit (its own or the server's cap)."""
+    machine); ``limit_s`` the request's time limit (its own or the server's cap); ``slots``
+    the solver slots its work was given (a catalogue sizes its parallel tasks by them)."""
 
     arrived: float
     at: float
     limit_s: float
     reserve_s: float
+    slots: int = 1
 
     @classmethod
     def starting(cls, arrived: float, limit_s: float, policy: ReservePolicy = DEFAULT_RESERVE) -> Deadline:

@@ -8,12 +8,16 @@ state and answer kept in a SQLite file so that a restart loses nothing queued or
   answer is the operation's own: its status code and JSON body (a 504 with what was
   finished, a 422, ...), kept until ``expires_at``.
 * :class:`DeferredRunner` — in every web process, a loop that claims queued jobs while the
-  process has room (at most its share of the server's slots), runs each like an expensive
-  request (it waits for a slot of the server, runs in a solver worker under its time limit,
-  counted from when it starts; its run time is not counted in the routes' cost model),
-  writes a heartbeat and looks for a cancellation four times a second: a cancelled job's worker is ended (Pebble) and replaced,
-  so its slot is free within half a second. A running job whose heartbeat stops (its
-  server or web process died) is queued again, at most ``MAX_ATTEMPTS`` times, then failed.
+  server has a free *job place* (service.runtime.slots: all the server's slots but one, so
+  jobs never take the last slot from interactive requests; on a one-slot server, that
+  slot), runs each like an expensive request (it waits for a slot of the server, behind
+  every waiting request and never refused, runs in a solver worker under its time limit
+  counted from when it gets the slot; its run time is measured apart from the requests',
+  so a job's predicted end, and with it the Retry-After of the requests it delays, comes
+  from jobs of its own kind), writes a heartbeat and looks for a cancellation four times a
+  second: a cancelled job's worker is ended (Pebble) and replaced, so its slot is free
+  within half a second. A running job whose heartbeat stops (its server or web process
+  died) is queued again, at most ``MAX_ATTEMPTS`` times, then failed.
 
 Which operations can be deferred, and how, each route module says (``DEFERRABLE``, a
 mapping of operation ids to :class:`Deferrable`); the app gathers them.
@@ -40,9 +44,18 @@ from pebble import ProcessExpired
 from pydantic import BaseModel
 from starlette.requests import Request
 
-from service.runtime.admission import Gate, Refused
+from service.runtime.admission import Gate, RunQueue
 from service.runtime.deadline import Deadline
-from service.runtime.jobs import Job, Reply, Runner, crash_reply, deadline_reply, execute
+from service.runtime.jobs import (
+    CLIENT_GONE,
+    MEASURED_STATUSES,
+    Job,
+    Reply,
+    Runner,
+    crash_reply,
+    deadline_reply,
+    execute,
+)
 from service.runtime.metrics import observe_backends
 from service.store import thread_connection
 
@@ -54,9 +67,12 @@ JOBS_SCHEMA = (
     "CREATE TABLE IF NOT EXISTS jobs (id TEXT PRIMARY KEY, owner TEXT NOT NULL, operation TEXT NOT NULL, "
     "body TEXT NOT NULL, state TEXT NOT NULL, created REAL NOT NULL, started REAL, finished REAL, "
     "expires REAL, attempts INTEGER NOT NULL DEFAULT 0, runner TEXT, heartbeat REAL, "
-    "cancel INTEGER NOT NULL DEFAULT 0, status INTEGER, media_type TEXT, result BLOB, message TEXT)",
+    "cancel INTEGER NOT NULL DEFAULT 0, status INTEGER, media_type TEXT, result BLOB, message TEXT, ran REAL, "
+    "predicted REAL)",
     "CREATE INDEX IF NOT EXISTS jobs_state ON jobs (state, created)",
 )
+JOBS_COLUMNS_ADDED = ("ran REAL", "predicted REAL")
+"""Columns added since the first jobs files (a file made before them gets them on open)."""
 POLL_S = 0.25
 """How often a web process looks for queued jobs and for cancellations of its own."""
 STALE_S = 10.0
@@ -65,8 +81,6 @@ MAX_ATTEMPTS = 3
 """Times a job is started before a lost one is failed."""
 MAX_QUEUED_PER_CLIENT = 100
 """Jobs one client (API key, or everyone with keys off) may have queued at once."""
-COST_WEIGHT = 0.3
-"""Weight of a job's run time in its operation's running estimate (progress)."""
 
 
 def json_answer(req: Any) -> tuple[Any, bool]:
@@ -91,13 +105,18 @@ def _no_cost_key(req: Any) -> str:
     return ""
 
 
+def _one_slot(req: Any) -> int:
+    return 1
+
+
 @dataclass(frozen=True)
 class Deferrable:
     """How to run an operation as a job: its ``route`` ("POST /v1/..."; the job's run time
     counts in the same cost model as the route's requests), its request ``model``, its
     route's ``job`` function (``job(*args, deadline)``), the ``args`` before the deadline
     made from the validated request, the request's own time limit (``limit``; None: the
-    jobs' cap) and the key of its cost (``cost``, as the route's)."""
+    jobs' cap), the key of its cost (``cost``, as the route's) and the most slots it can use
+    (``width``, as the route's)."""
 
     route: str
     model: type[BaseModel]
@@ -105,6 +124,15 @@ class Deferrable:
     args: Callable[[Any], tuple[Any, ...]]
     limit: Callable[[Any], float | None] = _time_limit
     cost: Callable[[Any], str] = _no_cost_key
+    width: Callable[[Any], int] = _one_slot
+
+
+def _add_columns(conn: sqlite3.Connection) -> None:
+    """Give a jobs file made before :data:`JOBS_COLUMNS_ADDED` those columns."""
+    have = {row[1] for row in conn.execute("PRAGMA table_info(jobs)").fetchall()}
+    for column in JOBS_COLUMNS_ADDED:
+        if column.split()[0] not in have:
+            conn.execute(f"ALTER TABLE jobs ADD COLUMN {column}")
 
 
 class JobStore:
@@ -115,7 +143,8 @@ class JobStore:
         self._local = threading.local()
 
     def _conn(self) -> sqlite3.Connection:
-        return thread_connection(self._local, self.path, JOBS_SCHEMA, check_same_thread=False, row_factory=sqlite3.Row)
+        return thread_connection(self._local, self.path, JOBS_SCHEMA, check_same_thread=False, row_factory=sqlite3.Row,
+                                 migrate=_add_columns)
 
     def submit(self, operation: str, body: dict[str, Any], owner: str) -> str:
         job_id = uuid.uuid4().hex
@@ -154,6 +183,11 @@ class JobStore:
         row = self._conn().execute("SELECT COUNT(*) AS n FROM jobs WHERE owner = ? AND state = 'queued'",
                                    (owner,)).fetchone()
         return int(row["n"])
+
+    def running_for(self, job_id: str, runner: str, predicted_s: float | None) -> None:
+        """``runner``'s job has its slot and runs now, predicted to take ``predicted_s``."""
+        self._conn().execute("UPDATE jobs SET ran = ?, predicted = ? WHERE id = ? AND state = 'running' AND runner = ?",
+                             (time.time(), predicted_s, job_id, runner))
 
     def claim(self, runner: str) -> dict[str, Any] | None:
         """The oldest queued job, now running under ``runner`` (None when there is none)."""
@@ -222,7 +256,11 @@ def deferred_runner(request: Request) -> DeferredRunner:
 
 @dataclass
 class Running:
+    """A job this process runs: its task, whether it was cancelled, and the server's job
+    place it holds (None without solver workers)."""
+
     job_id: str
+    place: int | None = None
     task: asyncio.Task[None] | None = None
     cancelled: bool = False
 
@@ -245,7 +283,6 @@ class DeferredRunner:
     ttl_s: float
     name: str = field(default_factory=lambda: f"{os.getpid()}-{uuid.uuid4().hex[:8]}")
     running: dict[str, Running] = field(default_factory=dict)
-    costs: dict[str, float] = field(default_factory=dict)  # operation route -> running estimate of its run time, s
     _loop_task: asyncio.Task[None] | None = None
 
     def start(self) -> None:
@@ -272,12 +309,8 @@ class DeferredRunner:
                 if time.monotonic() - recovered >= RECOVER_S:
                     await anyio.to_thread.run_sync(self.store.recover, self.ttl_s)
                     recovered = time.monotonic()
-                while len(self.running) < self.concurrency:
-                    row = await anyio.to_thread.run_sync(self.store.claim, self.name)
-                    if row is None:
-                        break
-                    run = self.running[row["id"]] = Running(row["id"])
-                    run.task = asyncio.get_running_loop().create_task(self._run(run, row))
+                while len(self.running) < self.concurrency and await self._claim_one():
+                    pass
                 if self.running:
                     for job_id in await anyio.to_thread.run_sync(self.store.beat, self.name, list(self.running)):
                         run = self.running.get(job_id)
@@ -290,14 +323,43 @@ class DeferredRunner:
                 log.exception("the jobs loop failed a round; trying again")
             await asyncio.sleep(POLL_S)
 
+    async def _claim_one(self) -> bool:
+        """Claim the oldest queued job and start it, holding one of the server's job places
+        (with solver workers); False when there is none, or no place is free."""
+        queue = self.runner.expensive
+        place = None
+        if isinstance(queue, RunQueue):
+            place = queue.slots.try_take_place()
+            if place is None:
+                return False  # jobs hold every job place of the server
+        row = None
+        try:
+            row = await anyio.to_thread.run_sync(self.store.claim, self.name)
+        finally:
+            if row is None and place is not None:
+                queue.slots.give_back_place(place)
+        if row is None:
+            return False
+        run = self.running[row["id"]] = Running(row["id"], place)
+        run.task = asyncio.get_running_loop().create_task(self._run(run, row))
+        return True
+
     async def _run(self, run: Running, row: dict[str, Any]) -> None:
+        try:
+            await self._run_holding_place(run, row)
+        finally:
+            queue = self.runner.expensive
+            if run.place is not None and isinstance(queue, RunQueue):
+                queue.slots.give_back_place(run.place)
+
+    async def _run_holding_place(self, run: Running, row: dict[str, Any]) -> None:
         state, reply, message = "failed", None, ""
         try:
             spec = self.operations[row["operation"]]
             req = spec.model.model_validate(json.loads(row["body"]))
             asked = spec.limit(req)
             limit = self.max_time_s if asked is None else min(float(asked), self.max_time_s)
-            reply = await self._execute(spec, req, limit, f"job {run.job_id} ({spec.route})")
+            reply = await self._execute(run, spec, req, limit)
             observe_backends(dict(reply.backends))
             state = "succeeded" if reply.status == 200 else "failed"
             message = "" if reply.status == 200 else f"the operation answered {reply.status}"
@@ -316,31 +378,29 @@ class DeferredRunner:
             return
         log.info("job %s %s: %s", run.job_id, state, message or "done")
 
-    async def _execute(self, spec: Deferrable, req: Any, limit_s: float, where: str) -> Reply:
-        """Run the job like an expensive request: for a slot of the server (waiting while
-        the server is full; a job is never refused), in a solver worker, under its limit
-        counted from its start. Without solver workers (tests), in a thread."""
+    async def _execute(self, run: Running, spec: Deferrable, req: Any, limit_s: float) -> Reply:
+        """Run the job like an expensive request, in a solver worker under its limit counted
+        from its start, once it has a slot of the server (service.runtime.admission: a job
+        waits behind every waiting request and is never refused; its run time is measured
+        apart from the requests'). Without solver workers (tests), in a thread."""
         queue = self.runner.expensive
-        args = spec.args(req)
+        args, where = spec.args(req), f"job {run.job_id} ({spec.route})"
         if isinstance(queue, Gate):
             while not queue.try_enter():
                 await asyncio.sleep(POLL_S)
             try:
                 deadline = Deadline.starting(time.monotonic(), limit_s)
+                await anyio.to_thread.run_sync(self.store.running_for, run.job_id, self.name, None)
                 reply: Reply = await anyio.to_thread.run_sync(execute, spec.job, args, deadline, where)
                 return reply
             finally:
                 queue.leave()
-        kind = f"{spec.route} {spec.cost(req)}".rstrip()
-        while True:
-            try:
-                ticket = await queue.enter(kind, Deadline.starting(time.monotonic(), limit_s))
-                break
-            except Refused:
-                await asyncio.sleep(1.0)
-        started = time.monotonic()
+        ticket = await queue.enter_job(f"{spec.route} {spec.cost(req)}".rstrip(), limit_s, spec.width(req))
+        reply = Reply(CLIENT_GONE, None, b"")
         try:
-            deadline = Deadline.starting(time.monotonic(), limit_s)
+            deadline = ticket.granted
+            predicted = queue.estimate(ticket.kind, limit_s)
+            await anyio.to_thread.run_sync(self.store.running_for, run.job_id, self.name, predicted)
             assert self.runner.pool is not None
             future = self.runner.pool.schedule(execute, (spec.job, args, deadline, where),
                                                timeout=deadline.remaining() + self.runner.grace_s)
@@ -350,10 +410,6 @@ class DeferredRunner:
                 reply = crash_reply(exc, self.runner.retry_after_s)
             except (TimeoutError, concurrent.futures.TimeoutError):
                 reply = deadline_reply(deadline, "the solver worker was stopped at the deadline")
-            if reply.status == 200:
-                ran, old = time.monotonic() - started, self.costs.get(spec.route)
-                self.costs[spec.route] = ran if old is None else old + COST_WEIGHT * (ran - old)
             return reply
         finally:
-            # a job's run time is not a request's: the routes' cost model is left alone
-            queue.leave(ticket, measured=False)
+            queue.leave(ticket, measured=reply.status in MEASURED_STATUSES)

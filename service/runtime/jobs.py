@@ -23,7 +23,7 @@ import logging
 import math
 import signal
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Coroutine, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -229,10 +229,13 @@ class Runner:
                                           where(request)))
 
     async def expensive_job(self, request: Request, job: Job, *args: Any, time_limit_s: float | None = None,
-                            cost_key: str = "") -> Response:
+                            cost_key: str = "", anytime: bool = False, width: int = 1) -> Response:
         """Run an expensive job in a solver worker (or a thread), under the deadline.
         ``cost_key``: what of the request, besides its route, decides the job's cost (the
-        queue measures costs per route and key)."""
+        queue measures costs per route and key); ``anytime``: the job refines until its
+        limit and answers what it has (admitted when it can run a useful part of its limit,
+        service.runtime.admission); ``width``: the most slots it can use (its parallel
+        tasks; it runs with those it gets, ``Deadline.slots``)."""
         deadline = self.request_deadline(request, args, time_limit_s)
         queue = self.expensive
         if isinstance(queue, Gate):
@@ -244,7 +247,8 @@ class Runner:
                 queue.leave()
             return delivered(request, reply)
         try:
-            ticket = await self.queued(request, queue, f"{where(request)} {cost_key}".rstrip(), deadline)
+            ticket = await self.queued(request, queue.enter(f"{where(request)} {cost_key}".rstrip(), deadline,
+                                                            anytime, width))
         except Refused as refused:
             retry = max(self.retry_after_s, math.ceil(refused.retry_after_s))
             log.info("refused %s: %s", where(request), refused.reason)
@@ -254,16 +258,19 @@ class Runner:
             return Reply(CLIENT_GONE, None, b"").response()
         reply = Reply(CLIENT_GONE, None, b"")
         try:
-            reply = await self.in_worker(request, job, args, deadline)
+            reply = await self.in_worker(request, job, args, ticket.granted)
         finally:  # only a job that ran to its answer or its deadline tells its cost
             queue.leave(ticket, measured=reply.status in MEASURED_STATUSES)
         return delivered(request, reply)
 
-    async def queued(self, request: Request, queue: RunQueue, kind: str, deadline: Deadline) -> Ticket | None:
-        """The request's slot (:class:`Refused` passes through); None when its client went
-        away while it waited. Whatever ends the wait (this task cancelled too), a slot taken
-        for nobody is given back and a place in the queue is left."""
-        entering = asyncio.ensure_future(queue.enter(kind, deadline))
+    async def queued(self, request: Request, enter: Coroutine[Any, Any, Ticket]) -> Ticket | None:
+        """The request's slot (``enter``: its wait in the queue; :class:`Refused` passes
+        through); None when its client went away while it waited. Whatever ends the wait
+        (this task cancelled too), a slot taken for nobody is given back and a place in the
+        queue is left."""
+        queue = self.expensive
+        assert isinstance(queue, RunQueue)
+        entering = asyncio.ensure_future(enter)
         gone = asyncio.ensure_future(client_gone(request))
         try:
             await asyncio.wait({entering, gone}, return_when=asyncio.FIRST_COMPLETED)

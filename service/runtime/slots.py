@@ -30,6 +30,10 @@ import loky
 SLOT_DIR_ENV = "PESHKIN_RUNTIME_SLOT_DIR"
 """The environment variable naming the slot directory of the server (set by the supervisor)."""
 
+SERVER_PID_ENV = "PESHKIN_RUNTIME_SERVER_PID"
+"""The environment variable naming the supervisor's process id (set by it): what lives for
+the server's life, its one Ray, watches it."""
+
 METRICS_DIR_ENV = "PROMETHEUS_MULTIPROC_DIR"
 """prometheus-client's variable naming the directory of a multi-process server's samples
 (service.runtime.metrics), made in the slot directory by the supervisor."""
@@ -47,32 +51,44 @@ def make_slot_directory() -> str:
     return tempfile.mkdtemp(prefix="peshkin-slots-")
 
 
+def job_places_of(count: int) -> int:
+    """Slots that jobs may hold at once on a server of ``count`` slots: all but one, so that
+    a job never takes the last slot from interactive requests; on a server of one slot, that
+    slot (a job there makes requests wait, with its predicted end as their Retry-After)."""
+    return max(count - 1, 1)
+
+
 class Slots:
     """``count`` slots in ``directory`` (made by :meth:`open`, and removed by :meth:`close`,
-    when None). Nothing is made before :meth:`open` (importing the app makes no directory).
-    Safe to use from several threads of one process.
+    when None), and ``job_places`` places for jobs (default :func:`job_places_of`): a job
+    holds a place besides each slot it holds, so jobs never hold more than that many slots.
+    Nothing is made before :meth:`open` (importing the app makes no directory). Safe to use
+    from several threads of one process.
 
     Each holder also keeps, while it lives, an ``flock`` on a file ``alive-<id>`` of its own
     and publishes its queue in ``queue-<id>.json``: a reader that can lock another holder's
     ``alive`` file knows that holder is gone (the kernel released its lock), whatever
     became of its process id."""
 
-    def __init__(self, count: int, directory: str | None = None) -> None:
+    def __init__(self, count: int, directory: str | None = None, job_places: int | None = None) -> None:
         if count < 1:
             raise ValueError(f"a server needs at least one slot, got {count}")
         self.count = count
+        self.job_places = job_places_of(count) if job_places is None else job_places
         self.directory = directory
         self._owned = directory is None
         self._lock = threading.Lock()
         self._fds: list[int] = []
+        self._place_fds: list[int] = []
         self._held: set[int] = set()
+        self._places_held: set[int] = set()
         self._id = f"{os.getpid()}-{id(self):x}"
         self._alive: int | None = None
 
     @classmethod
-    def of_server(cls, count: int) -> Slots:
+    def of_server(cls, count: int, job_places: int | None = None) -> Slots:
         """The server's slots (the supervisor's directory), or this process's own."""
-        return cls(count, os.environ.get(SLOT_DIR_ENV) or None)
+        return cls(count, os.environ.get(SLOT_DIR_ENV) or None, job_places)
 
     def open(self) -> Slots:
         """Open the slots (making the directory when it is this holder's own)."""
@@ -83,6 +99,8 @@ class Slots:
                 self.directory = make_slot_directory()
             os.makedirs(self.directory, exist_ok=True)
             self._fds = [os.open(self._path(f"slot-{i}"), os.O_RDWR | os.O_CREAT, 0o600) for i in range(self.count)]
+            self._place_fds = [os.open(self._path(f"job-{i}"), os.O_RDWR | os.O_CREAT, 0o600)
+                               for i in range(self.job_places)]
             self._alive = os.open(self._path(f"alive-{self._id}"), os.O_RDWR | os.O_CREAT, 0o600)
             fcntl.flock(self._alive, fcntl.LOCK_EX)
             return self
@@ -100,12 +118,38 @@ class Slots:
                     return i
             return None
 
+    def free(self) -> int:
+        """Slots free now, by any holder (probed without blocking; advisory)."""
+        with self._lock:
+            free = 0
+            for i, fd in enumerate(self._fds):
+                if i not in self._held and _lock(fd):
+                    fcntl.flock(fd, fcntl.LOCK_UN)
+                    free += 1
+            return free
+
     def give_back(self, slot: int) -> None:
         with self._lock:
             if slot not in self._held:
                 raise RuntimeError(f"slot {slot} given back but not held")
             self._held.discard(slot)
             fcntl.flock(self._fds[slot], fcntl.LOCK_UN)
+
+    def try_take_place(self) -> int | None:
+        """A free place for a job, now held by this process (None: jobs hold them all)."""
+        with self._lock:
+            for i, fd in enumerate(self._place_fds):
+                if i not in self._places_held and _lock(fd):
+                    self._places_held.add(i)
+                    return i
+            return None
+
+    def give_back_place(self, place: int) -> None:
+        with self._lock:
+            if place not in self._places_held:
+                raise RuntimeError(f"job place {place} given back but not held")
+            self._places_held.discard(place)
+            fcntl.flock(self._place_fds[place], fcntl.LOCK_UN)
 
     def publish(self, state: dict[str, Any]) -> None:
         """Tell the other holders this one's queue (``state``: JSON), in a file of its own,
@@ -150,10 +194,11 @@ class Slots:
                 for name in (f"queue-{self._id}.json", f"alive-{self._id}"):
                     with contextlib.suppress(OSError):
                         os.remove(self._path(name))
-            for fd in [*self._fds, *([] if self._alive is None else [self._alive])]:
+            for fd in [*self._fds, *self._place_fds, *([] if self._alive is None else [self._alive])]:
                 os.close(fd)  # releases what this holder held
-            self._fds, self._alive = [], None
+            self._fds, self._place_fds, self._alive = [], [], None
             self._held.clear()
+            self._places_held.clear()
         if self._owned and self.directory is not None:
             shutil.rmtree(self.directory, ignore_errors=True)
 

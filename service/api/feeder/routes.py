@@ -10,6 +10,8 @@ Each route hands its job to a solver worker: request -> problem
 
 from __future__ import annotations
 
+import os
+
 from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
@@ -42,6 +44,7 @@ from service.errors import nothing_computed
 from service.runtime.deadline import Deadline
 from service.runtime.deferred import Deferrable, json_answer, request_only
 from service.runtime.jobs import runner
+from service.runtime.slots import SERVER_PID_ENV, SLOT_DIR_ENV
 from service.settings import Settings
 from solver import RayPool, feeder_catalogue, feeder_design, feeder_map, feeder_simulate
 
@@ -178,13 +181,29 @@ async def feeder_catalogue_route(req: FeederCatalogueRequest, request: Request) 
     a belt) and its validation by simulated parts, run in parallel on Ray (a local Ray of
     PESHKIN_RAY_WORKERS CPUs, or the cluster at PESHKIN_RAY_ADDRESS). Long catalogues are
     best submitted as jobs (POST /v1/jobs, operation feeder_catalogue)."""
-    return await runner(request).expensive_job(request, catalogue_job, req, time_limit_s=req.time_limit_s)
+    return await runner(request).expensive_job(request, catalogue_job, req, time_limit_s=req.time_limit_s,
+                                               anytime=True, width=catalogue_width(req))
+
+
+def catalogue_width(req: FeederCatalogueRequest) -> int:
+    """The solver slots a catalogue can use: one per part on the server's own Ray (up to its
+    CPUs); one (the driver) on a cluster or without Ray."""
+    settings = Settings.from_env()
+    if settings.ray_address or settings.ray_cpus() == 0:
+        return 1
+    return max(1, min(len(req.parts), settings.ray_cpus()))
 
 
 def catalogue_job(req: FeederCatalogueRequest, deadline: Deadline) -> FeederCatalogueResponse:
+    """The catalogue on the cluster at PESHKIN_RAY_ADDRESS, or on the server's one local Ray
+    with as many tasks at once as it was given slots (service.runtime.admission)."""
     budget = deadline.budget()
     settings = Settings.from_env()
-    problem = catalogue_problem(req, RayPool(workers=settings.ray_cpus(), address=settings.ray_address or None))
+    cluster = settings.ray_address or None
+    server = os.environ.get(SERVER_PID_ENV)
+    pool = RayPool(workers=settings.ray_cpus(), address=cluster, parallel=0 if cluster else deadline.slots,
+                   server_dir=os.environ.get(SLOT_DIR_ENV) or None, server_pid=int(server) if server else None)
+    problem = catalogue_problem(req, pool)
     with located():
         result = feeder_catalogue(problem, budget)
     if result.run.finished == 0:
@@ -198,6 +217,6 @@ DEFERRABLE = {
     "feeder_simulate": Deferrable("POST /v1/feeder/simulate", FeederSimulateRequest, simulate_job, json_answer),
     "feeder_design": Deferrable("POST /v1/feeder/design", FeederDesignRequest, design_job, json_answer),
     "feeder_catalogue": Deferrable("POST /v1/feeder/catalogue", FeederCatalogueRequest, catalogue_job,
-                                   request_only),
+                                   request_only, width=catalogue_width),
 }
 """The operations ``POST /v1/jobs`` runs later (service.runtime.deferred)."""

@@ -42,10 +42,12 @@ def _progress(run: DeferredRunner, row: dict[str, Any]) -> JobProgressOut:
         return JobProgressOut(stage="finished", fraction=1.0, eta_s=0.0, estimated=False)
     if row["state"] == "queued":
         return JobProgressOut(stage="queued", fraction=None, eta_s=None, estimated=True)
-    cost = run.costs.get(run.operations[row["operation"]].route)
+    if row["ran"] is None:  # claimed, waiting for a solver slot
+        return JobProgressOut(stage="waiting", fraction=0.0, eta_s=None, estimated=True)
+    cost = row["predicted"]
     if not cost:
         return JobProgressOut(stage="running", fraction=None, eta_s=None, estimated=True)
-    ran = max(time.time() - float(row["started"]), 0.0)
+    ran = max(time.time() - float(row["ran"]), 0.0)
     return JobProgressOut(stage="running", fraction=min(ran / cost, 0.99), eta_s=max(cost - ran, 0.0), estimated=True)
 
 

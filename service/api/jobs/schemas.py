@@ -38,10 +38,13 @@ class JobRequest(Strict):
 
 
 class JobProgressOut(Out):
-    stage: Literal["queued", "running", "finished"] = Field(description="Where the job is.")
+    stage: Literal["queued", "waiting", "running", "finished"] = Field(
+        description="Where the job is: queued (not started), waiting (started, waiting for a solver slot: jobs wait "
+        "behind every waiting request and hold at most all but one of the server's slots), running, finished.")
     fraction: float | None = Field(description="Estimated fraction done while running (its time so far over the "
-                                   "run time of this operation's jobs measured by the answering web process, at most "
-                                   "0.99); 1 when finished; null when queued or with nothing measured yet.")
+                                   "run time predicted when it started, from the operation's measured jobs, or its "
+                                   "requests before the first job; at most 0.99); 0 while waiting; 1 when finished; "
+                                   "null when queued or with nothing measured yet. The same from every web process.")
     eta_s: float | None = Field(description="Estimated seconds to the end while running (same estimate); null when "
                                 "unknown.")
     estimated: bool = Field(description="True: fraction and eta_s come from past run times of the operation, not "

@@ -83,7 +83,8 @@ async def cor_locus(
             return await run.cheap_job(request, stored_locus_job, req, kept, time_limit_s=req.time_limit_s)
     if svg or req.method == "certified":
         return await run.expensive_job(request, locus_job, req, svg, time_limit_s=req.time_limit_s,
-                                       cost_key="svg" if svg else f"certified {req.n_certified}")
+                                       cost_key="svg" if svg else f"certified {req.n_certified}",
+                                       anytime=not svg)
     return await run.cheap_job(request, locus_job, req, svg, time_limit_s=req.time_limit_s)
 
 

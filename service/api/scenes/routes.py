@@ -42,7 +42,7 @@ async def scenes_analyze(req: SceneAnalyzeRequest, request: Request) -> Response
     reused by the next."""
     kinds = ",".join(sorted({f"{q.ask}:{q.accuracy}" for q in req.questions}))
     return await runner(request).expensive_job(request, analyze_job, req, time_limit_s=req.time_limit_s,
-                                               cost_key=kinds)
+                                               cost_key=kinds, anytime=True)
 
 
 def analyze_job(req: SceneAnalyzeRequest, deadline: Deadline) -> SceneAnalyzeResponse:

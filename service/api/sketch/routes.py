@@ -54,7 +54,8 @@ async def cor_sketch_route(
     stick, ...). A polygon is bounded by its circumscribing disk, or, with method
     'certified', sketched itself with every piece certified. World frame, radians."""
     svg = response_format == "svg"
-    return await runner(request).expensive_job(request, sketch_job, req, svg, time_limit_s=req.time_limit_s)
+    return await runner(request).expensive_job(request, sketch_job, req, svg, time_limit_s=req.time_limit_s,
+                                               anytime=req.method == "certified")
 
 
 def sketch_job(req: CorSketchRequest, svg: bool, deadline: Deadline) -> CorSketchResponse | Response:

@@ -224,3 +224,115 @@ def test_a_wait_given_up_leaves_the_queue_or_gives_its_slot_back_unmeasured():
             queue.slots.close()
 
     asyncio.run(scenario())
+
+
+def test_jobs_never_hold_the_last_slot_and_wait_behind_requests():
+    """Two slots: one job place (issue 35, point 2). A job holds it and a slot; a second job
+    finds no place; a request is admitted at once on the other slot, and a job that finds
+    a request waiting lets it go first."""
+    async def scenario() -> None:
+        queue = RunQueue(Slots(2).open(), capacity=4)
+        try:
+            assert queue.slots.job_places == 1
+            place = queue.slots.try_take_place()
+            assert place is not None and queue.slots.try_take_place() is None
+            job = await queue.enter_job("POST /x", 3600.0)
+            assert job.kind == "job POST /x" and len(job.slots) == 1
+            request = await asyncio.wait_for(queue.enter("POST /x", _deadline(30.0)), 1.0)  # at once
+            queue.cost_s["POST /x"] = 0.1
+            waiting = asyncio.ensure_future(queue.enter("POST /x", _deadline(30.0)))
+            await asyncio.sleep(0.01)
+            assert queue.waiting
+            queue.leave(job)
+            queue.slots.give_back_place(place)
+            place = queue.slots.try_take_place()
+            second = asyncio.ensure_future(queue.enter_job("POST /x", 3600.0))
+            served = await asyncio.wait_for(waiting, 5.0)  # the request gets the freed slot, not the job
+            assert not second.done()
+            queue.leave(request)
+            job2 = await asyncio.wait_for(second, 5.0)
+            queue.leave(served)
+            queue.leave(job2)
+            queue.slots.give_back_place(place)
+        finally:
+            queue.slots.close()
+
+    asyncio.run(scenario())
+
+
+def test_a_job_s_predicted_end_is_its_own_measured_cost_so_retry_after_is_true():
+    """One slot, held by a job whose kind ran 40 s before (measured apart from requests'
+    runs, which take 2 s): a request's predicted wait is the job's end, ~40 s, not half the
+    jobs' 3600 s cap; a job of a kind never run as a job takes its requests' cost."""
+    async def scenario() -> tuple[float, float, float]:
+        queue = RunQueue(Slots(1).open(), capacity=4)
+        try:
+            queue.cost_s["POST /x"] = 2.0
+            assert queue.estimate("job POST /x", 3600.0) == 2.0  # no job of it run yet: the requests' cost
+            queue.cost_s["job POST /x"] = 40.0
+            job = await queue.enter_job("POST /x", 3600.0)
+            wait = queue.predicted_wait()
+            with pytest.raises(Refused) as refused:
+                await queue.enter("POST /x", _deadline(30.0))
+            queue.leave(job)
+            return wait, refused.value.retry_after_s, queue.cost_s["POST /x"]
+        finally:
+            queue.slots.close()
+
+    wait, retry, request_cost = asyncio.run(scenario())
+    assert 39.0 < wait <= 40.0 and 39.0 < retry <= 40.0
+    assert request_cost == 2.0  # the job's run did not move the requests' cost
+
+
+def test_anytime_work_is_admitted_for_the_useful_part_of_its_limit():
+    """A certified locus refines until its limit (its measured cost is its limit, 3 s): with
+    a 0.6 s wait ahead it is admitted (a quarter of its limit gives a useful answer), where
+    work that needs all its 3 s is refused; a refusal with no wait says the work does not fit
+    its limit, not that it would start late."""
+    async def scenario() -> tuple[str, str]:
+        queue = RunQueue(Slots(1).open(), capacity=4)
+        try:
+            queue.cost_s["POST /short"] = 0.6
+            queue.cost_s["POST /certified"] = queue.cost_s["POST /whole"] = 3.0
+            running = await queue.enter("POST /short", _deadline(30.0))
+            anytime = asyncio.ensure_future(queue.enter("POST /certified", _deadline(3.0), anytime=True))
+            await asyncio.sleep(0.01)
+            assert not anytime.done() and len(queue.waiting) == 1  # admitted, waiting
+            with pytest.raises(Refused) as late:
+                await queue.enter("POST /whole", _deadline(3.0))
+            queue.leave(running, measured=False)
+            queue.leave(await asyncio.wait_for(anytime, 5.0), measured=False)
+            held = await queue.enter("POST /short", _deadline(30.0))
+            queue.cost_s["POST /short"] = 0.01
+            with pytest.raises(Refused) as no_fit:
+                await queue.enter("POST /whole", _deadline(2.0))
+            queue.leave(held, measured=False)
+            return late.value.reason, no_fit.value.reason
+        finally:
+            queue.slots.close()
+
+    late, no_fit = asyncio.run(scenario())
+    assert "would start in about" in late and "as measured" in late
+    assert "would start" not in no_fit and "more than the" in no_fit
+
+
+def test_a_wide_ticket_takes_more_slots_only_while_another_stays_free():
+    """A catalogue (width 4) on four slots takes three, leaving one for requests; with two
+    held by others it takes one; the slots it holds are its Deadline.slots."""
+    async def scenario() -> tuple[int, int, int]:
+        queue = RunQueue(Slots(4).open(), capacity=4)
+        try:
+            wide = await queue.enter("POST /catalogue", _deadline(30.0), anytime=True, width=4)
+            first = len(wide.slots)
+            granted = wide.granted.slots
+            queue.leave(wide, measured=False)
+            others = [await queue.enter("POST /x", _deadline(30.0)) for _ in range(2)]
+            narrow = await queue.enter("POST /catalogue", _deadline(30.0), anytime=True, width=4)
+            second = len(narrow.slots)
+            for t in [*others, narrow]:
+                queue.leave(t, measured=False)
+            return first, granted, second
+        finally:
+            queue.slots.close()
+
+    assert asyncio.run(scenario()) == (3, 3, 1)

@@ -128,3 +128,26 @@ def test_a_cancelled_job_frees_its_worker_within_a_second(tmp_path):
         after = wait_for(url, submit(url, "push_disk_encounter", ENCOUNTER), ("succeeded", "failed"), 60)
         assert after["state"] == "succeeded"  # a new worker took the ended one's place
         assert httpx.delete(f"{url}/v1/jobs/{'0' * 32}", timeout=30).status_code == 404
+
+
+TRIPOD = {"contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966,
+          "support": {"points": [[0.6, 0.0], [-0.3, 0.5], [-0.3, -0.5]], "weights": [1, 1, 1]}}
+
+
+def test_two_jobs_never_lock_requests_out(tmp_path):
+    """Issue 35, point 2: with two slots, two jobs of the API guide's own design (about ten
+    seconds each) hold at most one slot between them; a one-tripod solve is answered at once
+    meanwhile, never refused with a Retry-After of half the jobs' hour."""
+    with live_server(solver_workers="2", jobs_path=str(tmp_path / "jobs.sqlite3")) as url:
+        ids = [submit(url, "feeder_design", LONG_DESIGN) for _ in range(2)]
+        wait_for(url, ids[0], ("running",), timeout_s=60.0)
+        answers = []
+        for _ in range(5):
+            answers.append(httpx.post(f"{url}/v1/cor/solve", json=TRIPOD, timeout=30))
+            time.sleep(0.2)
+        states = [job(url, i)["state"] for i in ids]
+        progress = [job(url, i)["progress"]["stage"] for i in ids]
+        for i in ids:
+            httpx.delete(f"{url}/v1/jobs/{i}", timeout=30)
+    assert [r.status_code for r in answers] == [200] * 5, [r.text for r in answers if r.status_code != 200]
+    assert states.count("running") <= 1, (states, progress)  # one job place on two slots

@@ -166,3 +166,53 @@ def test_a_tasks_error_reaches_the_caller_and_nothing_is_left_running():
         assert run.results == (0.0,)
     finally:
         release_ray()
+
+
+def _head_pids(directory: str) -> list[int]:
+    import json
+
+    try:
+        return [int(json.loads(Path(directory, "ray-head.json").read_text())["pid"])]
+    except (OSError, ValueError):
+        return []
+
+
+def ray_of_server(directory: str) -> tuple[str, int, int]:
+    """In a process of its own (one of a server's solver workers): the server's Ray as this
+    process sees it, after a map on it."""
+    from solver.core.ray_head import server_ray
+
+    address = server_ray(directory, 2).address
+    try:
+        run = parallel_map(sleep_for, [0.0, 0.0, 0.0], RayPool(workers=2, parallel=1, server_dir=directory),
+                           Budget.of(60.0))
+        assert run.complete and run.backend == "ray"
+        return address, run.cpus, os.getpid()
+    finally:
+        release_ray()
+
+
+def test_the_processes_of_a_server_share_one_ray_which_ends_with_the_server():
+    """Two processes (two solver workers) that need Ray at once get one Ray, the server's
+    (solver/core/ray_head.py): the same address, one head; a map on it runs at most its
+    `parallel` tasks at once (it reports the CPUs it had: 1); the head ends when the
+    server's directory goes."""
+    directory = tempfile.mkdtemp(prefix="pks-")
+    try:
+        with multiprocessing.get_context("spawn").Pool(2) as workers:
+            seen = workers.map(ray_of_server, [directory, directory])
+        assert seen[0][0] == seen[1][0] and seen[0][2] != seen[1][2]
+        assert [cpus for _, cpus, _ in seen] == [1, 1]
+        pids = _head_pids(directory)
+        assert len(pids) == 1
+    finally:
+        shutil.rmtree(directory, ignore_errors=True)
+    deadline = time.monotonic() + 30.0
+    while pids and time.monotonic() < deadline:
+        try:
+            os.kill(pids[0], 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    else:
+        pytest.fail("the server's Ray head outlived its directory")
