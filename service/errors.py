@@ -48,6 +48,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from models.core.errors import InvalidInput, ModelError
 from service.limits import ECHO_MAX_CHARS, ECHO_MAX_DEPTH, ECHO_MAX_ERRORS, ECHO_MAX_ITEMS
+from service.settings import Settings
 from solver import SolverError, TimeLimitReached
 
 log = logging.getLogger("service")
@@ -110,7 +111,18 @@ class TimeLimitAnswer(Exception):
         self.hint = hint
 
 
-DEFAULT_TIME_LIMIT_HINT = "ask for less work, or raise time_limit_s"
+DEFAULT_TIME_LIMIT_HINT = "ask for less work"
+
+
+def limit_advice(limit_s: float | None) -> str:
+    """What to do for the whole answer besides asking for less: a longer time limit while
+    the deployment's cap allows one, else a job (POST /v1/jobs, up to the jobs' cap)."""
+    settings = Settings.from_env()
+    cap, jobs = settings.max_time_limit_s, settings.job_max_time_s
+    if limit_s is None or limit_s < cap:
+        return f"raise time_limit_s (up to {cap:g} s on this deployment), or submit it as a job (POST /v1/jobs, " \
+               f"up to {jobs:g} s)"
+    return f"{cap:g} s is this deployment's cap: submit it as a job (POST /v1/jobs, up to {jobs:g} s)"
 
 
 @contextmanager
@@ -228,7 +240,7 @@ def _solver_error(exc: SolverError, where: str) -> JSONResponse:
 def time_limit_body(exc: TimeLimitReached, partial: dict[str, Any] | None, hint: str) -> dict[str, Any]:
     """The 504 body (:class:`service.common.responses.TimeLimitResponse`)."""
     limit = "no time limit" if exc.limit_s is None else f"time_limit_s = {exc.limit_s:g} s"
-    msg = f"ran out after {exc.elapsed_s:.3g} s ({limit}) before {exc.where}: {hint}"
+    msg = f"ran out after {exc.elapsed_s:.3g} s ({limit}) before {exc.where}: {hint}; or {limit_advice(exc.limit_s)}"
     body = error_body(["body", "time_limit_s"], msg, "time_limit")
     body.update(reached=exc.where, time_limit_s=exc.limit_s, elapsed_s=exc.elapsed_s, partial=json_safe(partial))
     return body

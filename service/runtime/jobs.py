@@ -33,7 +33,7 @@ from pydantic import BaseModel
 from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 
-from service.errors import BUSY, GATEWAY_TIMEOUT, FieldError, busy_response, error_body, response_for
+from service.errors import BUSY, GATEWAY_TIMEOUT, FieldError, busy_response, error_body, limit_advice, response_for
 from service.runtime.admission import Gate, Refused, RunQueue, Ticket
 from service.runtime.deadline import Deadline, arrival
 from service.runtime.metrics import observe_backends
@@ -110,11 +110,12 @@ def delivered(request: Request, reply: Reply) -> Response:
 
 
 def deadline_reply(deadline: Deadline, what: str) -> Reply:
-    """The 504 of a job that did not answer by the deadline (nothing completed is known)."""
+    """The 504 of a job whose worker did not answer by the deadline and its grace: the worker
+    was stopped, so nothing it completed is known."""
     body = error_body(
         ["body", "time_limit_s"],
-        f"no answer within the time limit of {deadline.limit_s:g} s ({what}); ask for less work, or raise "
-        "time_limit_s",
+        f"no answer within the time limit of {deadline.limit_s:g} s ({what}; what it had completed was lost with "
+        f"it); ask for less work, or {limit_advice(deadline.limit_s)}",
         "time_limit",
     )
     body.update(reached=what, time_limit_s=deadline.limit_s, elapsed_s=deadline.elapsed(), partial=None)

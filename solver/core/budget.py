@@ -86,6 +86,14 @@ class Budget:
         deadline = min(ends) if ends else None
         return Budget(now, deadline, None if deadline is None else deadline - now, self.clock)
 
+    def affords(self, seconds: float) -> bool:
+        """Whether ``seconds`` of work started now would end by the deadline."""
+        return self.deadline is None or self.clock() + seconds <= self.deadline
+
+    def steps(self) -> Steps:
+        """A timer of like steps of a loop on this budget (:class:`Steps`)."""
+        return Steps(self)
+
     def checkpoint(self, where: str, partial: object | None = None) -> None:
         """Raise :class:`TimeLimitReached` (``where``: what was about to start; ``partial``:
         what was completed) once the deadline has passed."""
@@ -95,3 +103,25 @@ class Budget:
 
 UNLIMITED = Budget(0.0, None, None)
 """A budget without a deadline (its ``elapsed`` is meaningless)."""
+
+
+@dataclass
+class Steps:
+    """The steps of a loop of like work on a budget (rays of a locus, parts of a catalogue):
+    :meth:`another` is asked before each step and says whether to start it. A step is not
+    started once the budget has expired, nor when the time left is less than the longest
+    step so far, which would overrun the deadline by most of a step (the longest step is
+    measured as the loop runs, so on a loaded machine the loop stops earlier)."""
+
+    budget: Budget
+    longest: float = 0.0
+    done: int = 0
+    _last: float | None = None
+
+    def another(self) -> bool:
+        now = self.budget.clock()
+        if self._last is not None:
+            self.longest = max(self.longest, now - self._last)
+            self.done += 1
+        self._last = now
+        return not self.budget.expired() and self.budget.affords(self.longest)

@@ -171,8 +171,9 @@ def parallel_map(fn: Callable[[Any, float | None], Any], items: Sequence[Any], p
     late = remaining is not None and remaining < CONNECT_S and not connected(pool)
     if not pool.on_ray or late or importlib.util.find_spec("ray") is None:  # an image built without Ray
         results = []
+        steps = budget.steps()
         for item in items:
-            results.append(None if budget.expired() else fn(item, ends_at))
+            results.append(fn(item, ends_at) if steps.another() else None)
         return ParallelRun(tuple(results), "in_process", 1, 1, time.perf_counter() - t0)
     ray = _ray(pool)
     task = ray.remote(num_cpus=1, max_retries=0)(_call)

@@ -169,13 +169,15 @@ def certify_brackets(
     """Certify r_in = p - delta nu and r_out = p + delta nu for each claimed boundary point
     p (world) with unit outward normal nu. Consecutive queries are warm-started with the
     heaviest support points of the previous pair, and the compiled master is reused.
-    Stops before a new point once ``budget`` has expired (at least one point is always
-    done); the pairs done so far are returned."""
+    Stops before a new point once ``budget`` has expired or cannot afford another point
+    (:class:`solver.core.budget.Steps`; at least one point is always done); the pairs done
+    so far are returned."""
     strict = _strict(tol)
     pairs = []
     prev_in = prev_out = None
+    steps = budget.steps()
     for b, nu in zip(np.asarray(points, dtype=float), np.asarray(normals, dtype=float)):
-        if pairs and budget.expired():
+        if not steps.another() and pairs:
             break
         inner = membership(scene, b - delta * nu, footprint, tol=strict, warm_points=_warm(prev_in, prev_out),
                            verify_witness=False)
@@ -537,8 +539,9 @@ def certified_polygon_boundary(
     boundary, bisection as a fallback) to ``tol.boundary_bracket`` * L, and the final pair
     is certified. A failed certification widens the pair (up to ``MAX_WIDENINGS`` times).
     The result is honest about non-star-shaped loci only as far as the scan can see.
-    Once ``budget`` expires the rays not started are left out (``complete`` False).
-    ``trace``: a :func:`polygon_trace` of the same scene and footprint already built (the
+    Once ``budget`` expires, or cannot afford another ray (the longest so far:
+    :class:`solver.core.budget.Steps`), the rays not started are left out (``complete``
+    False). ``trace``: a :func:`polygon_trace` of the same scene and footprint already built (the
     caller traces more rays with it), else one is built here.
     """
     t_start = time.perf_counter()
@@ -546,8 +549,9 @@ def certified_polygon_boundary(
         trace = polygon_trace(scene, footprint, tol, scan_points)
     rays = []
     warm_prev = None  # support points near the previous ray's crossing
+    steps = budget.steps()
     for k in range(n_rays):
-        if budget.expired():
+        if not steps.another():
             break
         ang = 2.0 * math.pi * k / n_rays
         ray = trace_ray(trace, np.array([math.cos(ang), math.sin(ang)]), warm_prev)

@@ -164,8 +164,9 @@ def _refine_near_sticking_line(
     if not rays:
         return rays
     c, p = scene.contact_point, scene.push_hat
+    steps = budget.steps()
     for _ in range(REFINE_RAYS):
-        if budget.expired():
+        if not steps.another():
             break
         ok = [i for i, r in enumerate(rays) if np.all(np.isfinite(r.point))]
         if len(ok) < MIN_TRACED_POINTS:

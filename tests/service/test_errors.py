@@ -99,7 +99,8 @@ def test_a_time_limit_is_504_saying_where(client, monkeypatch):
     assert body == {
         "detail": [{"loc": ["body", "time_limit_s"], "type": "time_limit",
                     "msg": "ran out after 2.5 s (time_limit_s = 2 s) before the sketch at beta = 0.5: "
-                           "ask for less work, or raise time_limit_s"}],
+                           "ask for less work; or raise time_limit_s (up to 30 s on this deployment), or submit "
+                           "it as a job (POST /v1/jobs, up to 3600 s)"}],
         "reached": "the sketch at beta = 0.5", "time_limit_s": 2.0, "elapsed_s": 2.5, "partial": None,
     }
 
@@ -113,9 +114,19 @@ def test_time_limited_converts_the_partial_result():
     assert ans.reached is reached and ans.partial == {"stages": [1.0, 2.0], "nan": ans.partial["nan"]}
     body = time_limit_body(ans.reached, ans.partial, ans.hint)
     assert body["partial"] == {"stages": [1.0, 2.0], "nan": "nan"}  # JSON-safe
-    assert body["detail"][0]["msg"].endswith("before stage 2: lower n_nodes")
+    assert "before stage 2: lower n_nodes; or raise time_limit_s" in body["detail"][0]["msg"]
     with pytest.raises(TimeLimitAnswer) as info:  # nothing finished: no partial
         with time_limited(lambda done: {"never": done}):
             raise TimeLimitReached("stage 1", None, 0.5)
     assert info.value.partial is None
     assert "no time limit" in time_limit_body(info.value.reached, None, "x")["detail"][0]["msg"]
+
+
+def test_a_504_at_the_deployments_cap_points_to_a_job_not_a_longer_limit():
+    """Issue 35, point 11: raising time_limit_s past the cap is a 422, so a 504 at the cap
+    says to submit a job instead."""
+    from service.errors import limit_advice
+
+    assert "raise time_limit_s (up to 30 s" in limit_advice(10.0)
+    at_cap = limit_advice(30.0)
+    assert "raise" not in at_cap and "POST /v1/jobs" in at_cap and "30 s is this deployment's cap" in at_cap

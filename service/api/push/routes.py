@@ -46,7 +46,7 @@ from solver import align, disk_encounter
 
 router = APIRouter(tags=["push"], route_class=BodyRoute)
 
-GROSS_TIME_LIMIT_HINT = "lower n_nodes or n_points, or raise time_limit_s"
+GROSS_TIME_LIMIT_HINT = "lower n_nodes or n_points"
 
 
 @router.post(

@@ -47,7 +47,7 @@ from solver import critical_radii, plan_spiral
 router = APIRouter(tags=["spiral"], route_class=BodyRoute)
 
 FORMAT = Query("json", alias="format", description="`json` (default) or `svg` for a picture.")
-TABLE_TIME_LIMIT_HINT = "raise time_limit_s (a finished table is cached for later requests)"
+TABLE_TIME_LIMIT_HINT = "the rows finished are kept: a retry starts from them"
 
 
 @router.post(

@@ -65,3 +65,35 @@ def test_checkpoint_raises_with_where_and_the_partial_result():
     assert isinstance(exc, SolverError)
     assert exc.where == "step two" and exc.partial == {"done": 1} and exc.limit_s == 1.0
     assert "before step two" in str(exc) and "time limit 1 s" in str(exc)
+
+
+def _run_steps(budget: Budget, readings_per_step: int, use_steps: bool) -> tuple[int, float]:
+    """A loop of like steps (each reads the clock ``readings_per_step`` times, as a ray's
+    queries do); how many ran and by how much the last ended past the deadline."""
+    steps, done = budget.steps(), 0
+    while (steps.another() if use_steps else not budget.expired()):
+        for _ in range(readings_per_step):
+            budget.clock()
+        done += 1
+    return done, budget.clock() - budget.deadline
+
+
+def test_a_loop_of_steps_starts_none_it_cannot_finish():
+    """Steps (solver/core/budget.py): a step is not started when the time left is less than
+    the longest step so far, so the loop ends by its deadline; checking only `expired`
+    overruns it by most of a step (issue 35: a certified ray started just before the
+    deadline got its worker killed under load)."""
+    done, past = _run_steps(checks_budget(100), 10, use_steps=True)
+    assert past <= 0.0 and done >= 6  # ends by its deadline: 7 steps of 13 readings in 100
+    naive_done, naive_past = _run_steps(checks_budget(100), 10, use_steps=False)
+    assert naive_past >= 10 and naive_done > done  # the last step began just before the deadline
+
+
+def test_steps_never_start_after_the_deadline_and_count_what_ran():
+    budget = checks_budget(3)
+    steps = budget.steps()
+    assert steps.another()
+    while steps.another():
+        pass
+    assert budget.expired() or not budget.affords(steps.longest)
+    assert steps.done >= 1
