@@ -9,6 +9,7 @@ import tempfile
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 
+import anyio
 from fastapi import FastAPI
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi_offline import FastAPIOffline
@@ -19,11 +20,13 @@ from service.common.bodies import INLINE_STATE, body_limits
 from service.runtime import logs
 from service.runtime.access import PUBLIC_PATHS, Access, ApiKeys, KeyRates
 from service.runtime.context import RequestContext
-from service.runtime.deferred import DeferredRunner, JobStore
+from service.runtime.deferred import DeferredRunner
 from service.runtime.intake import Intake
 from service.runtime.jobs import Runner
+from service.runtime.jobstore import JobStore
 from service.runtime.slots import SLOT_DIR_ENV
 from service.settings import Settings
+from service.store import result_store
 
 DESCRIPTION = """\
 Planning service for pushed sliding workpieces, after M. A. Peshkin, *Robotic Manipulation
@@ -140,7 +143,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     server_dir = os.environ.get(SLOT_DIR_ENV)
     own_jobs_dir = None if settings.jobs_path or server_dir else tempfile.mkdtemp(prefix="peshkin-jobs-")
     deferred = DeferredRunner(
-        JobStore(settings.jobs_path or os.path.join(server_dir or str(own_jobs_dir), "jobs.sqlite3")),
+        JobStore(settings.jobs_path or os.path.join(server_dir or str(own_jobs_dir), "jobs.sqlite3"),
+                 max_bytes=settings.jobs_max_bytes, max_answer_bytes=settings.job_max_answer_bytes,
+                 max_client_bytes=settings.job_max_client_bytes),
         runner, {op: spec for module in routes for op, spec in getattr(module, "DEFERRABLE", {}).items()},
         concurrency=settings.job_concurrency(),
         max_time_s=settings.job_max_time_s, ttl_s=settings.job_ttl_s,
@@ -149,6 +154,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         await runner.start()
+        await anyio.to_thread.run_sync(deferred.check)  # the jobs file and the result store, tried at start
+        store = result_store()
+        if store is not None:
+            await anyio.to_thread.run_sync(store.check)
         deferred.start()
         try:
             yield
@@ -179,8 +188,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.add_middleware(Intake, gate=runner.requests, retry_after_s=settings.retry_after_s,
                        body_limits=body_limits([module.router for module in routes], inline, settings.max_body_bytes),
                        default_body_bytes=inline)
-    if settings.api_keys:
-        app.add_middleware(Access, keys=ApiKeys(settings.api_keys), rates=rates)
+    if settings.api_keys or settings.operator_keys:
+        app.add_middleware(Access, keys=ApiKeys(settings.api_keys + settings.operator_keys), rates=rates,
+                           operators=ApiKeys(settings.operator_keys))
     if settings.cors_origins:
         app.add_middleware(CORSMiddleware, allow_origins=list(settings.cors_origins), allow_methods=["GET", "POST", "DELETE"],
                            allow_headers=["content-type", "x-api-key", "authorization", "x-request-id"],

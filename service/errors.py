@@ -339,6 +339,16 @@ def unauthorized_response(key_given: bool) -> JSONResponse:
                         headers={"WWW-Authenticate": 'Bearer realm="peshkin"'})
 
 
+FORBIDDEN = 403
+
+
+def forbidden_response() -> JSONResponse:
+    """The 403 of an API key on a path for operators only (service.runtime.access)."""
+    return JSONResponse(status_code=FORBIDDEN, content=error_body(
+        ["header", "x-api-key"], "this path is for the server's operators: it needs an operator key "
+        "(PESHKIN_OPERATOR_KEYS)", "forbidden"))
+
+
 def rate_limited_response(retry_after_s: int, count: int, seconds: float) -> JSONResponse:
     """The 429 of a key past its rate (service.runtime.access): nothing was computed."""
     return JSONResponse(

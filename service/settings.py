@@ -49,6 +49,10 @@ variable                        default     meaning
                                             no spaces or commas); when set, every request but the
                                             probes and the API documents needs one (``X-API-Key``
                                             or ``Authorization: Bearer``), else 401
+``PESHKIN_OPERATOR_KEYS``       (none)      comma-separated keys of the server's operators (as API
+                                            keys; they are API keys too): with keys on, ``/metrics``
+                                            answers only to one (403 to another key), and
+                                            ``/readyz`` shows its counters and files only to one
 ``PESHKIN_RATE_LIMIT``          (none)      ``<requests>/<seconds>`` per API key, shared by the web
                                             processes (e.g. ``120/60``); past it 429 with
                                             ``Retry-After``; needs API keys
@@ -59,6 +63,13 @@ variable                        default     meaning
                                             <tmp>/peshkin-service/jobs.sqlite3; "" a file of the
                                             server's own (lost when it stops)
 ``PESHKIN_JOB_TTL_S``           86400       how long a finished job and its answer are kept
+``PESHKIN_JOBS_MAX_BYTES``      1073741824  the jobs file's size cap (SQLite's page limit): past it,
+                                            as with a full disk, submissions are refused 507 and
+                                            ends wait until space returns
+``PESHKIN_JOB_MAX_ANSWER_BYTES`` 33554432   the longest answer a job keeps (longer: the job fails,
+                                            saying so)
+``PESHKIN_JOB_MAX_CLIENT_BYTES`` 268435456  what one client's jobs may keep in all (bodies and
+                                            answers): a submission past it is refused 507
 ``PESHKIN_JOB_MAX_TIME_S``      3600        the longest time limit of a job (its default)
 ``PESHKIN_JOB_WORKERS``         auto        jobs a web process runs at once (auto: the server's job
                                             places, all its slots but one, which the server's jobs
@@ -127,10 +138,14 @@ class Settings:
     log_format: str = "json"
     access_log: bool = True
     api_keys: tuple[str, ...] = ()
+    operator_keys: tuple[str, ...] = ()
     rate_limit: tuple[int, float] | None = None
     cors_origins: tuple[str, ...] = ()
     jobs_path: str = ""  # from the environment: DEFAULT_JOBS_PATH unless set (Settings() in code: its own)
     job_ttl_s: float = 86400.0
+    jobs_max_bytes: int = 1 << 30
+    job_max_answer_bytes: int = 32 * 1024 * 1024
+    job_max_client_bytes: int = 256 * 1024 * 1024
     job_max_time_s: float = 3600.0
     job_workers: int = AUTO
     ray_workers: int = AUTO
@@ -154,6 +169,7 @@ class Settings:
     def __repr__(self) -> str:  # the keys never reach a log
         shown = {f.name: getattr(self, f.name) for f in fields(self)}
         shown["api_keys"] = f"<{len(self.api_keys)} keys>"
+        shown["operator_keys"] = f"<{len(self.operator_keys)} keys>"
         return "Settings(" + ", ".join(f"{k}={v!r}" for k, v in shown.items()) + ")"
 
     @classmethod
@@ -280,10 +296,14 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "log_format": _choice("json", "text"),
     "access_log": _flag,
     "api_keys": _api_keys,
+    "operator_keys": _api_keys,
     "rate_limit": _rate,
     "cors_origins": _origins,
     "jobs_path": lambda name, text: text,
     "job_ttl_s": _seconds(0.0, 365 * 86400.0),
+    "jobs_max_bytes": _integer(65536, 1 << 50),
+    "job_max_answer_bytes": _integer(1024, 1 << 40),
+    "job_max_client_bytes": _integer(1024, 1 << 50),
     "job_max_time_s": _seconds(0.0, TIME_LIMIT_HARD_MAX_S),
     "job_workers": _integer(0, 1024, auto=True),
     "ray_workers": _integer(0, 1024, auto=True),

@@ -7,17 +7,21 @@ every process and thread opens its own connection on first use (a connection is 
 shared), WAL mode so readers never wait for the writer, a busy timeout for concurrent
 writers. The file holds ``(namespace, key) -> JSON`` with a schema version; at most
 ``max_rows`` rows (the least recently written are dropped first). A file that cannot be
-opened, read or written is logged once and the service goes on without it: a store is an
-optimisation, never a reason to fail a request.
+opened, read or written is logged once and the service goes on without it (a store is an
+optimisation, never a reason to fail a request), trying it again later unless it is not a
+database; the readiness probe says its state (:class:`StorageHealth`, shared with the jobs
+file, service.runtime.jobstore).
 """
 
 from __future__ import annotations
 
+import errno
 import json
 import logging
 import os
 import sqlite3
 import threading
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
@@ -34,6 +38,73 @@ RESULTS_SCHEMA = (
     "CREATE TABLE IF NOT EXISTS results (namespace TEXT NOT NULL, key TEXT NOT NULL, "
     "value TEXT NOT NULL, schema INTEGER NOT NULL, PRIMARY KEY (namespace, key))",
 )
+
+
+FAULT_KINDS = ("full", "read_only", "broken", "unavailable")
+"""What can be wrong with a file of the service: its disk (or its own size cap) is full;
+it or its directory is read-only; it is not a SQLite database (or is corrupt); anything
+else (its directory is missing, the file is locked too long, an I/O error)."""
+
+_FULL = {"SQLITE_FULL"}
+_READ_ONLY = {"SQLITE_READONLY", "SQLITE_READONLY_DBMOVED", "SQLITE_READONLY_DIRECTORY", "SQLITE_PERM", "SQLITE_AUTH"}
+_BROKEN = {"SQLITE_NOTADB", "SQLITE_CORRUPT"}
+
+
+class StorageFault(Exception):
+    """A SQLite file of the service cannot be used now: ``kind`` (one of FAULT_KINDS),
+    its ``path`` and the ``reason`` in words (the library's own message)."""
+
+    def __init__(self, path: Path, kind: str, reason: str) -> None:
+        super().__init__(f"{path}: {reason}")
+        self.path, self.kind, self.reason = path, kind, reason
+
+    @property
+    def words(self) -> str:
+        return {"full": "full", "read_only": "read-only", "broken": "not a usable database",
+                "unavailable": "unavailable"}[self.kind]
+
+    @classmethod
+    def of(cls, path: Path, exc: BaseException) -> StorageFault:
+        """The fault ``exc`` (a ``sqlite3.Error`` or an ``OSError``) says the file has."""
+        name = str(getattr(exc, "sqlite_errorname", "") or "")
+        errno_ = getattr(exc, "errno", None)
+        text = str(exc) or type(exc).__name__
+        if name in _FULL or errno_ in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG) or "disk is full" in text:
+            kind = "full"
+        elif name in _READ_ONLY or errno_ in (errno.EROFS, errno.EACCES, errno.EPERM) or "readonly" in text:
+            kind = "read_only"
+        elif name in _BROKEN or "not a database" in text or "malformed" in text:
+            kind = "broken"
+        else:
+            kind = "unavailable"
+        return cls(path, kind, text)
+
+
+class StorageHealth:
+    """The state of one file of the service (``what`` it holds, at ``path``; what the service
+    does ``meanwhile``, for the log): None while it works, else its last
+    :class:`StorageFault`. Logged once per change (a fault, another fault, usable again),
+    never once per failed attempt."""
+
+    def __init__(self, what: str, path: Path, meanwhile: str) -> None:
+        self.what, self.path, self.meanwhile = what, path, meanwhile
+        self.fault: StorageFault | None = None
+        self._lock = threading.Lock()
+
+    def record(self, fault: StorageFault | None) -> None:
+        with self._lock:
+            old, self.fault = self.fault, fault
+        if fault is not None and (old is None or (old.kind, old.reason) != (fault.kind, fault.reason)):
+            log.warning("the %s file %s cannot be used (%s): %s; %s", self.what, self.path, fault.kind, fault.reason,
+                        self.meanwhile)
+        elif fault is None and old is not None:
+            log.warning("the %s file %s is usable again", self.what, self.path)
+
+    def state(self) -> dict[str, str]:
+        """For the readiness probe: ``{"name", "path", "state" ("ok" or the fault's kind), "reason"}``."""
+        fault = self.fault
+        return {"name": self.what, "path": str(self.path), "state": "ok" if fault is None else fault.kind,
+                "reason": "" if fault is None else fault.reason}
 
 
 def thread_connection(local: threading.local, path: Path, schema: Sequence[str], check_same_thread: bool = True,
@@ -58,28 +129,52 @@ def thread_connection(local: threading.local, path: Path, schema: Sequence[str],
     return conn
 
 
+RETRY_S = 30.0
+"""How long a store that failed (its disk full, say) is left alone before it is tried again;
+a file that is not a database is not tried again."""
+
+
 class SqliteStore:
-    """:class:`solver.ResultStore` on the SQLite file ``path``."""
+    """:class:`solver.ResultStore` on the SQLite file ``path``: a store is an optimisation, so
+    a file that fails is logged once (:class:`StorageHealth`) and the service goes on
+    without it; it is tried again :data:`RETRY_S` later, unless it is not a database."""
 
     def __init__(self, path: str | os.PathLike[str], max_rows: int = DEFAULT_MAX_ROWS) -> None:
         self.path = Path(path)
         self.max_rows = max_rows
         self._local = threading.local()
-        self._failed = False
+        self.health = StorageHealth("result store", self.path, "the service goes on without it")
+        self._retry_at = 0.0
 
     def _connection(self) -> sqlite3.Connection | None:
-        if self._failed:
+        fault = self.health.fault
+        if fault is not None and (fault.kind == "broken" or time.monotonic() < self._retry_at):
             return None
         try:
             return thread_connection(self._local, self.path, RESULTS_SCHEMA)
         except (sqlite3.Error, OSError) as exc:
-            self._give_up("open", exc)
+            self._failed(exc)
             return None
 
-    def _give_up(self, what: str, exc: BaseException) -> None:
-        if not self._failed:
-            log.warning("result store %s: cannot %s it (%s); going on without it", self.path, what, exc)
-        self._failed = True
+    def _failed(self, exc: BaseException) -> None:
+        self.health.record(StorageFault.of(self.path, exc))
+        self._retry_at = time.monotonic() + RETRY_S
+        self._local = threading.local()  # connections made again when it is tried again
+
+    def check(self) -> None:
+        """Open the file and read and write it once (at start: a garbage file is reported
+        then, not at its first use)."""
+        conn = self._connection()
+        if conn is None:
+            return
+        try:
+            conn.execute("BEGIN IMMEDIATE")
+            conn.execute("SELECT COUNT(*) FROM results").fetchone()
+            conn.execute("ROLLBACK")
+        except (sqlite3.Error, OSError) as exc:
+            self._failed(exc)
+            return
+        self.health.record(None)
 
     def get(self, namespace: str, key: str) -> dict[str, Any] | None:
         conn = self._connection()
@@ -89,9 +184,12 @@ class SqliteStore:
             row = conn.execute("SELECT value FROM results WHERE namespace = ? AND key = ? AND schema = ?",
                                (namespace, key, SCHEMA_VERSION)).fetchone()
             value = None if row is None else json.loads(row[0])
-        except (sqlite3.Error, ValueError) as exc:
-            self._give_up("read", exc)
+        except sqlite3.Error as exc:
+            self._failed(exc)
             return None
+        except ValueError:  # a row that is not JSON: as if it were not kept
+            return None
+        self.health.record(None)
         return value if isinstance(value, dict) else None
 
     def put(self, namespace: str, key: str, value: dict[str, Any]) -> None:
@@ -107,7 +205,9 @@ class SqliteStore:
                          (namespace, key, text, SCHEMA_VERSION))
             conn.execute("DELETE FROM results WHERE rowid <= (SELECT MAX(rowid) FROM results) - ?", (self.max_rows,))
         except sqlite3.Error as exc:
-            self._give_up("write", exc)
+            self._failed(exc)
+            return
+        self.health.record(None)
 
     def count(self) -> int:
         conn = self._connection()

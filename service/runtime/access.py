@@ -11,6 +11,12 @@ requests in any window of that many seconds, counted over every web process of t
 pyrate-limiter's sliding-window log in a SQLite file of the server's own (beside its solver
 slots), a file lock serialising the processes' updates. Past the rate the answer is 429 with
 ``Retry-After`` (whole seconds until the oldest request of the window leaves it).
+
+Operator keys (``PESHKIN_OPERATOR_KEYS``) are for the people who run the server: on a
+deployment with keys, ``/metrics`` (every key's routes and jobs) answers only to an operator
+key (401 without a known key, 403 to an API key), and ``/readyz`` shows its admission
+counters and files only to one (``scope["state"]["operator"]``); anyone gets its status. An
+operator key is an API key too. A deployment without keys is open to all.
 """
 
 from __future__ import annotations
@@ -28,7 +34,7 @@ import anyio
 from pyrate_limiter import Rate, RateItem, SQLiteBucket
 from starlette.types import ASGIApp, Receive, Scope, Send
 
-from service.errors import rate_limited_response, unauthorized_response
+from service.errors import forbidden_response, rate_limited_response, unauthorized_response
 
 PUBLIC_PATHS = frozenset({"/healthz", "/readyz", "/docs", "/redoc", "/openapi.json", "/docs/oauth2-redirect"})
 """Paths open without a key: the probes and the API's documents (they hold no data)."""
@@ -134,25 +140,47 @@ def is_public(path: str) -> bool:
     return path in PUBLIC_PATHS or path.startswith(PUBLIC_PREFIXES)
 
 
-class Access:
-    """401 without a known key, 429 past the key's rate (module docstring); the key's id
-    goes to ``scope["state"]["client"]``."""
+OPERATOR_PATHS = frozenset({"/metrics"})
+"""Paths only an operator key may read on a deployment with keys."""
 
-    def __init__(self, app: ASGIApp, keys: ApiKeys, rates: KeyRates | None) -> None:
+
+class Access:
+    """401 without a known key, 403 to a non-operator on an operator's path, 429 past the
+    key's rate (module docstring); the key's id goes to ``scope["state"]["client"]``, and
+    whether it is an operator's to ``scope["state"]["operator"]``."""
+
+    def __init__(self, app: ASGIApp, keys: ApiKeys, rates: KeyRates | None, operators: ApiKeys | None = None) -> None:
         self.app = app
         self.keys = keys
+        self.operators = operators if operators is not None else ApiKeys(())
         self.rates = rates
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] != "http" or not self.keys or is_public(scope.get("path", "")):
+        if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
+        path = scope.get("path", "")
         presented = presented_key(scope)
-        ident = None if presented is None else self.keys.identify(presented)
+        operator = None if presented is None else self.operators.identify(presented)
+        state = scope.setdefault("state", {})
+        state["operator"] = operator is not None or not (self.keys or self.operators)
+        if path in OPERATOR_PATHS and (self.keys or self.operators):
+            if operator is None:
+                known = presented is not None and self.keys.identify(presented) is not None
+                await (forbidden_response() if known else unauthorized_response(presented is not None))(
+                    scope, receive, send)
+                return
+            state["client"] = operator
+            await self.app(scope, receive, send)
+            return
+        if not self.keys or is_public(path):
+            await self.app(scope, receive, send)
+            return
+        ident = operator if operator is not None else (None if presented is None else self.keys.identify(presented))
         if ident is None:
             await unauthorized_response(presented is not None)(scope, receive, send)
             return
-        scope.setdefault("state", {})["client"] = ident
+        state["client"] = ident
         if self.rates is not None:
             try:
                 wait_s = await anyio.to_thread.run_sync(self.rates.admit, ident)

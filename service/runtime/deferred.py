@@ -1,23 +1,26 @@
 """Jobs for long work (``POST /v1/jobs``): an expensive operation's body run later, its
-state and answer kept in a SQLite file so that a restart loses nothing queued or finished.
+state and answer kept in a SQLite file (:mod:`service.runtime.jobstore`) so that a restart
+loses nothing queued or finished.
 
-* :class:`JobStore` — the jobs table (the standard library's ``sqlite3``, one connection per
-  process and thread, WAL, a busy timeout; every change one statement or one immediate
-  transaction, so the web processes of a server, or a restarted server, share it safely).
-  States: ``queued`` → ``running`` → ``succeeded`` | ``failed`` | ``cancelled``. A job's
-  answer is the operation's own: its status code and JSON body (a 504 with what was
-  finished, a 422, ...), kept until ``expires_at``.
-* :class:`DeferredRunner` — in every web process, a loop that claims queued jobs while the
-  server has a free *job place* (service.runtime.slots: all the server's slots but one, so
-  jobs never take the last slot from interactive requests; on a one-slot server, that
-  slot), runs each like an expensive request (it waits for a slot of the server, behind
-  every waiting request and never refused, runs in a solver worker under its time limit
-  counted from when it gets the slot; its run time is measured apart from the requests',
-  so a job's predicted end, and with it the Retry-After of the requests it delays, comes
-  from jobs of its own kind), writes a heartbeat and looks for a cancellation four times a
-  second: a cancelled job's worker is ended (Pebble) and replaced, so its slot is free
-  within half a second. A running job whose heartbeat stops (its server or web process
-  died) is queued again, at most ``MAX_ATTEMPTS`` times, then failed.
+:class:`DeferredRunner` — in every web process, a loop that claims queued jobs while the
+server has a free *job place* (service.runtime.slots: all the server's slots but one, so
+jobs never take the last slot from interactive requests; on a one-slot server, that slot),
+runs each like an expensive request (it waits for a slot of the server, behind every
+waiting request and never refused, runs in a solver worker under its time limit counted
+from when it gets the slot; its run time is measured apart from the requests', so a job's
+predicted end, and with it the Retry-After of the requests it delays, comes from jobs of
+its own kind), writes a heartbeat and looks for a cancellation four times a second: a
+cancelled job's worker is ended (Pebble) and replaced, so its slot is free within half a
+second. A running job whose heartbeat stops (its server or web process died) is queued
+again, at most ``MAX_ATTEMPTS`` times, then failed.
+
+A jobs file that fails (a full disk, a read-only place, a file that is not a database) is
+said once per change in the log and by the readiness probe, never a traceback per round: the
+loop goes on, claims nothing while it cannot, and an ended job whose end could not be
+written is written when the file works again (nothing accepted is lost; if its heartbeat went
+stale meanwhile it was queued again and runs again). A file found unusable at start turns
+the jobs off for this process's life (:attr:`DeferredRunner.off`): the routes answer 503
+saying why, the rest of the service serves as usual.
 
 Which operations can be deferred, and how, each route module says (``DEFERRABLE``, a
 mapping of operation ids to :class:`Deferrable`); the app gathers them.
@@ -30,13 +33,10 @@ import concurrent.futures
 import json
 import logging
 import os
-import sqlite3
-import threading
 import time
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import anyio
@@ -56,31 +56,14 @@ from service.runtime.jobs import (
     deadline_reply,
     execute,
 )
+from service.runtime.jobstore import JobStore
 from service.runtime.metrics import observe_backends
-from service.store import thread_connection
+from service.store import StorageFault
 
 log = logging.getLogger("service")
 
-STATES = ("queued", "running", "succeeded", "failed", "cancelled")
-FINISHED = ("succeeded", "failed", "cancelled")
-JOBS_SCHEMA = (
-    "CREATE TABLE IF NOT EXISTS jobs (id TEXT PRIMARY KEY, owner TEXT NOT NULL, operation TEXT NOT NULL, "
-    "body TEXT NOT NULL, state TEXT NOT NULL, created REAL NOT NULL, started REAL, finished REAL, "
-    "expires REAL, attempts INTEGER NOT NULL DEFAULT 0, runner TEXT, heartbeat REAL, "
-    "cancel INTEGER NOT NULL DEFAULT 0, status INTEGER, media_type TEXT, result BLOB, message TEXT, ran REAL, "
-    "predicted REAL)",
-    "CREATE INDEX IF NOT EXISTS jobs_state ON jobs (state, created)",
-)
-JOBS_COLUMNS_ADDED = ("ran REAL", "predicted REAL")
-"""Columns added since the first jobs files (a file made before them gets them on open)."""
 POLL_S = 0.25
 """How often a web process looks for queued jobs and for cancellations of its own."""
-STALE_S = 10.0
-"""A running job whose heartbeat is older than this has lost its process: queued again."""
-MAX_ATTEMPTS = 3
-"""Times a job is started before a lost one is failed."""
-MAX_QUEUED_PER_CLIENT = 100
-"""Jobs one client (API key, or everyone with keys off) may have queued at once."""
 
 
 def json_answer(req: Any) -> tuple[Any, bool]:
@@ -127,127 +110,6 @@ class Deferrable:
     width: Callable[[Any], int] = _one_slot
 
 
-def _add_columns(conn: sqlite3.Connection) -> None:
-    """Give a jobs file made before :data:`JOBS_COLUMNS_ADDED` those columns."""
-    have = {row[1] for row in conn.execute("PRAGMA table_info(jobs)").fetchall()}
-    for column in JOBS_COLUMNS_ADDED:
-        if column.split()[0] not in have:
-            conn.execute(f"ALTER TABLE jobs ADD COLUMN {column}")
-
-
-class JobStore:
-    """The jobs table in the SQLite file ``path`` (module docstring)."""
-
-    def __init__(self, path: str | os.PathLike[str]) -> None:
-        self.path = Path(path)
-        self._local = threading.local()
-
-    def _conn(self) -> sqlite3.Connection:
-        return thread_connection(self._local, self.path, JOBS_SCHEMA, check_same_thread=False, row_factory=sqlite3.Row,
-                                 migrate=_add_columns)
-
-    def submit(self, operation: str, body: dict[str, Any], owner: str) -> str:
-        job_id = uuid.uuid4().hex
-        self._conn().execute("INSERT INTO jobs (id, owner, operation, body, state, created) VALUES (?, ?, ?, ?, ?, ?)",
-                             (job_id, owner, operation, json.dumps(body), "queued", time.time()))
-        return job_id
-
-    def get(self, job_id: str, owner: str | None = None) -> dict[str, Any] | None:
-        """The job (None when unknown, or when ``owner`` is given and is not its owner)."""
-        row = self._conn().execute("SELECT * FROM jobs WHERE id = ?", (job_id,)).fetchone()
-        if row is None or (owner is not None and row["owner"] != owner):
-            return None
-        return dict(row)
-
-    def list(self, owner: str | None, limit: int) -> list[dict[str, Any]]:
-        sql = "SELECT * FROM jobs" + (" WHERE owner = ?" if owner is not None else "") + " ORDER BY created DESC LIMIT ?"
-        args: tuple[Any, ...] = (owner, limit) if owner is not None else (limit,)
-        return [dict(r) for r in self._conn().execute(sql, args).fetchall()]
-
-    def cancel(self, job_id: str, ttl_s: float) -> None:
-        """A queued job is cancelled at once (and expires ``ttl_s`` later); a running one is
-        asked to stop. One transaction: a job requeued meanwhile is not missed."""
-        now = time.time()
-        conn = self._conn()
-        conn.execute("BEGIN IMMEDIATE")
-        try:
-            conn.execute("UPDATE jobs SET state = 'cancelled', finished = ?, expires = ?, message = 'cancelled before "
-                         "it started' WHERE id = ? AND state = 'queued'", (now, now + ttl_s, job_id))
-            conn.execute("UPDATE jobs SET cancel = 1 WHERE id = ? AND state = 'running'", (job_id,))
-            conn.execute("COMMIT")
-        except BaseException:
-            conn.execute("ROLLBACK")
-            raise
-
-    def queued_of(self, owner: str) -> int:
-        row = self._conn().execute("SELECT COUNT(*) AS n FROM jobs WHERE owner = ? AND state = 'queued'",
-                                   (owner,)).fetchone()
-        return int(row["n"])
-
-    def running_for(self, job_id: str, runner: str, predicted_s: float | None) -> None:
-        """``runner``'s job has its slot and runs now, predicted to take ``predicted_s``."""
-        self._conn().execute("UPDATE jobs SET ran = ?, predicted = ? WHERE id = ? AND state = 'running' AND runner = ?",
-                             (time.time(), predicted_s, job_id, runner))
-
-    def claim(self, runner: str) -> dict[str, Any] | None:
-        """The oldest queued job, now running under ``runner`` (None when there is none)."""
-        now = time.time()
-        row = self._conn().execute(
-            "UPDATE jobs SET state = 'running', runner = ?, started = ?, heartbeat = ?, attempts = attempts + 1 "
-            "WHERE id = (SELECT id FROM jobs WHERE state = 'queued' ORDER BY created LIMIT 1) AND state = 'queued' "
-            "RETURNING *", (runner, now, now)).fetchone()
-        return None if row is None else dict(row)
-
-    def beat(self, runner: str, job_ids: list[str]) -> set[str]:
-        """Heartbeat of ``runner``'s running jobs; the ids among them whose cancellation was
-        asked, or that are no longer its own (queued again and claimed elsewhere: it stops
-        them too)."""
-        if not job_ids:
-            return set()
-        marks = ",".join("?" * len(job_ids))
-        conn = self._conn()
-        conn.execute(f"UPDATE jobs SET heartbeat = ? WHERE id IN ({marks}) AND state = 'running' AND runner = ?",
-                     (time.time(), *job_ids, runner))
-        rows = conn.execute(f"SELECT id FROM jobs WHERE id IN ({marks}) AND (cancel = 1 OR state != 'running' OR "
-                            "runner IS NOT ?)", (*job_ids, runner)).fetchall()
-        return {r["id"] for r in rows}
-
-    def finish(self, runner: str, job_id: str, state: str, ttl_s: float, reply: Reply | None, message: str) -> None:
-        """The end of a job that ``runner`` ran (a job it lost to another is left alone)."""
-        now = time.time()
-        self._conn().execute(
-            "UPDATE jobs SET state = ?, finished = ?, expires = ?, status = ?, media_type = ?, result = ?, "
-            "message = ? WHERE id = ? AND state = 'running' AND runner = ?",
-            (state, now, now + ttl_s, None if reply is None else reply.status,
-             None if reply is None else reply.media_type, None if reply is None else reply.body, message, job_id,
-             runner))
-
-    def recover(self, ttl_s: float) -> int:
-        """Queue again the running jobs whose process was lost (stale heartbeat), fail those
-        started MAX_ATTEMPTS times; drop the finished jobs past their expiry. How many were
-        queued again."""
-        now = time.time()
-        conn = self._conn()
-        conn.execute("BEGIN IMMEDIATE")
-        try:
-            conn.execute("UPDATE jobs SET state = 'failed', finished = ?, expires = ?, message = ? WHERE "
-                         "state = 'running' AND heartbeat < ? AND attempts >= ?",
-                         (now, now + ttl_s, f"its process was lost {MAX_ATTEMPTS} times", now - STALE_S, MAX_ATTEMPTS))
-            again = conn.execute("UPDATE jobs SET state = 'queued', runner = NULL, message = 'started again: its "
-                                 "process was lost' WHERE state = 'running' AND heartbeat < ?",
-                                 (now - STALE_S,)).rowcount
-            conn.execute("DELETE FROM jobs WHERE expires IS NOT NULL AND expires < ?", (now,))
-            conn.execute("COMMIT")
-        except BaseException:
-            conn.execute("ROLLBACK")
-            raise
-        return int(again)
-
-    def counts(self) -> dict[str, int]:
-        rows = self._conn().execute("SELECT state, COUNT(*) AS n FROM jobs GROUP BY state").fetchall()
-        return {r["state"]: int(r["n"]) for r in rows}
-
-
 def deferred_runner(request: Request) -> DeferredRunner:
     """The app's jobs loop of this web process (made by :func:`service.app.create_app`)."""
     run: DeferredRunner = request.app.state.deferred
@@ -269,6 +131,16 @@ RECOVER_S = 2.0
 """How often a web process queues lost jobs again and drops expired ones."""
 
 
+@dataclass(frozen=True)
+class Ended:
+    """The end of a job ran here, to be written to the jobs file."""
+
+    job_id: str
+    state: str
+    reply: Reply | None
+    message: str
+
+
 @dataclass
 class DeferredRunner:
     """The loop of one web process (module docstring): ``runner`` runs the jobs as it runs
@@ -283,13 +155,28 @@ class DeferredRunner:
     ttl_s: float
     name: str = field(default_factory=lambda: f"{os.getpid()}-{uuid.uuid4().hex[:8]}")
     running: dict[str, Running] = field(default_factory=dict)
+    unwritten: list[Ended] = field(default_factory=list)
+    off: StorageFault | None = None
     _loop_task: asyncio.Task[None] | None = None
+
+    def check(self) -> None:
+        """Try the jobs file (at start): one that cannot be used for a reason other than a
+        full disk turns the jobs off for this process (:attr:`off`; logged once)."""
+        try:
+            self.store.check()
+            self.off = None
+        except StorageFault as fault:
+            self.off = None if fault.kind == "full" else fault
+            if self.off is not None:
+                log.error("jobs are off in this web process: the jobs file %s cannot be used (%s): %s; the rest of "
+                          "the service serves as usual", fault.path, fault.kind, fault.reason)
 
     def start(self) -> None:
         """Start the loop on the running event loop (an app started again, as tests do,
-        forgets what ran on an earlier loop)."""
+        forgets what ran on an earlier loop); none while the jobs are off."""
         self.running.clear()
-        self._loop_task = asyncio.get_running_loop().create_task(self._loop())
+        if self.off is None:
+            self._loop_task = asyncio.get_running_loop().create_task(self._loop())
 
     async def stop(self) -> None:
         """Stop claiming and end the jobs running here (not cancelled: their heartbeat
@@ -306,6 +193,9 @@ class DeferredRunner:
         recovered = 0.0
         while True:
             try:
+                while self.unwritten:  # ends that a failing file could not take, oldest first
+                    await self._write(self.unwritten[0])
+                    self.unwritten.pop(0)
                 if time.monotonic() - recovered >= RECOVER_S:
                     await anyio.to_thread.run_sync(self.store.recover, self.ttl_s)
                     recovered = time.monotonic()
@@ -319,7 +209,9 @@ class DeferredRunner:
                             run.task.cancel()  # its worker is ended (the pebble future is cancelled)
             except asyncio.CancelledError:
                 raise
-            except Exception:  # the loop must outlive a locked or broken file
+            except StorageFault:  # said once per change by the store's health; tried again next round
+                pass
+            except Exception:  # a bug: the loop must outlive it
                 log.exception("the jobs loop failed a round; trying again")
             await asyncio.sleep(POLL_S)
 
@@ -340,6 +232,10 @@ class DeferredRunner:
                 queue.slots.give_back_place(place)
         if row is None:
             return False
+        if row["id"] in self.running:  # its own job, queued again while it was cut off from the file: still running
+            if place is not None:
+                queue.slots.give_back_place(place)
+            return True
         run = self.running[row["id"]] = Running(row["id"], place)
         run.task = asyncio.get_running_loop().create_task(self._run(run, row))
         return True
@@ -371,12 +267,21 @@ class DeferredRunner:
         except Exception as exc:  # a job that cannot run fails, saying why
             message = f"could not run: {exc}"
         self.running.pop(run.job_id, None)
+        ended = Ended(run.job_id, state, reply, message)
         try:
-            await anyio.to_thread.run_sync(self.store.finish, self.name, run.job_id, state, self.ttl_s, reply, message)
-        except Exception:  # the job stays running, its heartbeat stops: it is run again
-            log.exception("job %s: its end could not be written", run.job_id)
-            return
-        log.info("job %s %s: %s", run.job_id, state, message or "done")
+            await self._write(ended)
+        except StorageFault as fault:  # written by the loop when the file works again
+            log.warning("job %s %s, but its end cannot be written yet (%s): it will be", run.job_id, state,
+                        fault.kind)
+            self.unwritten.append(ended)
+
+    async def _write(self, ended: Ended) -> None:
+        reply = ended.reply
+        await anyio.to_thread.run_sync(
+            self.store.finish, self.name, ended.job_id, ended.state, self.ttl_s,
+            None if reply is None else reply.status, None if reply is None else reply.media_type,
+            None if reply is None else reply.body, ended.message)
+        log.info("job %s %s: %s", ended.job_id, ended.state, ended.message or "done")
 
     async def _execute(self, run: Running, spec: Deferrable, req: Any, limit_s: float) -> Reply:
         """Run the job like an expensive request, in a solver worker under its limit counted

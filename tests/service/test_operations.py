@@ -148,11 +148,31 @@ def test_a_request_without_a_key_is_refused_when_keys_are_on():
         assert c.post("/v1/cor/locus", json=LOCUS, headers={"X-API-Key": KEY_A}).status_code == 200
         assert c.post("/v1/cor/locus", json=LOCUS, headers={"Authorization": f"Bearer {KEY_B}"}).status_code == 200
         assert c.get("/metrics").status_code == 401
-        assert c.get("/metrics", headers={"X-API-Key": KEY_A}).status_code == 200
+        assert c.get("/metrics", headers={"X-API-Key": KEY_A}).status_code == 403  # an API key is not an operator's
         for open_path in ("/healthz", "/readyz", "/openapi.json", "/docs"):
             assert c.get(open_path).status_code == 200, open_path
     with client_of() as c:  # keys off: open
         assert c.post("/v1/cor/locus", json=LOCUS).status_code == 200
+
+
+OPERATOR = "o" * 24
+
+
+def test_metrics_and_the_readiness_counters_are_for_operators_only():
+    """Issue 35, point 9: with keys on, /metrics (every key's routes and jobs) answers only an
+    operator key, and /readyz shows its gates and files only to one; anyone sees its status."""
+    with client_of(api_keys=(KEY_A,), operator_keys=(OPERATOR,)) as c:
+        assert c.get("/metrics", headers={"X-API-Key": KEY_A}).status_code == 403
+        assert c.get("/metrics", headers={"X-API-Key": OPERATOR}).status_code == 200
+        public = c.get("/readyz").json()
+        assert public["status"] == "ready" and public["gates"] is None and public["storage"] is None
+        assert c.get("/readyz", headers={"X-API-Key": KEY_A}).json()["gates"] is None
+        shown = c.get("/readyz", headers={"X-API-Key": OPERATOR}).json()
+        assert [g["name"] for g in shown["gates"]] == ["requests", "expensive"]
+        assert shown["storage"][0]["name"] == "jobs" and shown["storage"][0]["state"] == "ok"
+        assert c.post("/v1/cor/locus", json=LOCUS, headers={"X-API-Key": OPERATOR}).status_code == 200
+    with client_of() as c:  # keys off: open to all
+        assert c.get("/metrics").status_code == 200 and c.get("/readyz").json()["gates"] is not None
 
 
 def test_the_access_log_names_the_key_never_the_key(access_records):

@@ -100,7 +100,7 @@ def test_a_broken_file_is_survived(tmp_path, caplog):
     s = SqliteStore(bad)
     s.put("ns", "k", {"x": 1})
     assert s.get("ns", "k") is None
-    assert "going on without it" in caplog.text
+    assert "goes on without it" in caplog.text
 
 
 def test_the_process_store_follows_the_setting(tmp_path, monkeypatch):

@@ -65,6 +65,8 @@ class JobOut(Out):
     attempts: int = Field(description="Times it was started (more than 1: its server or web process was lost while "
                           "it ran, and it was started again).")
     message: str = Field(description="What happened, in words (empty for a plain success).")
+    cancel_requested: bool = Field(description="True once its cancellation was asked while it ran (its worker is "
+                                   "ended within about a second; the state then becomes cancelled).")
     progress: JobProgressOut = Field(description="How far it is.")
     status_code: int | None = Field(description="The HTTP status the operation answered (200, or e.g. 504 with what "
                                     "was finished, 422); null until it ends, and for a cancelled job.")

@@ -151,3 +151,24 @@ def test_two_jobs_never_lock_requests_out(tmp_path):
             httpx.delete(f"{url}/v1/jobs/{i}", timeout=30)
     assert [r.status_code for r in answers] == [200] * 5, [r.text for r in answers if r.status_code != 200]
     assert states.count("running") <= 1, (states, progress)  # one job place on two slots
+
+
+def test_a_garbage_jobs_file_turns_the_jobs_off_and_the_server_serves(tmp_path):
+    """Issue 35, point 4: a jobs file of random bytes; the server starts, its readiness says
+    the jobs are off and why, every /v1/jobs route answers 503 with the file and the reason,
+    the rest is served, and the log says it once per web process, with no traceback."""
+    bad = tmp_path / "jobs.sqlite3"
+    bad.write_bytes(os.urandom(64 * 1024))
+    with live_server_process(jobs_path=str(bad), web_workers="2", solver_workers="1") as (url, proc):
+        ready = httpx.get(f"{url}/readyz", timeout=10).json()
+        answers = [httpx.post(f"{url}/v1/jobs", json={"operation": "push_disk_encounter", "body": ENCOUNTER},
+                              timeout=10) for _ in range(3)]
+        served = httpx.post(f"{url}/v1/push/disk-encounter", json=ENCOUNTER, timeout=60)
+        time.sleep(1.0)  # a few rounds of what was the jobs loop
+        proc.terminate()
+        _, err = proc.communicate(timeout=60)
+    assert ready["status"] == "degraded" and ready["storage"][0]["state"] == "off"
+    assert all(r.status_code == 503 and str(bad) in r.json()["detail"][0]["msg"] for r in answers)
+    assert served.status_code == 200
+    log = err.decode(errors="replace")
+    assert "Traceback" not in log and 1 <= log.count("jobs are off") <= 2
