@@ -230,13 +230,27 @@ HANDLERS: dict[str, Callable[[Work, Question, int], Answer]] = {
 }
 
 
+EXPENSIVE_ALWAYS = frozenset({"feeder_design", "aligning_fence"})
+"""Questions answered by a design search at every accuracy."""
+
+
+def answer_order(problem: SceneProblem, q: Question, k: int) -> tuple[int, int, str, int]:
+    """Where question ``q`` (the ``k``-th) is answered: those that answer others for free
+    first (ORDER), then the ones a closed form or the disk's bound answers before those that
+    certify or search, so a cheap answer is never cut by an expensive one's use of the time
+    limit; within those, by the question itself, so the answers do not depend on the order
+    in which the questions were asked (issue 35)."""
+    cheap = q.ask not in EXPENSIVE_ALWAYS and (problem.is_disk or not q.at_least("exact"))
+    return (ORDER.get(q.ask, 2), 0 if cheap else 1, repr(q), k)
+
+
 def analyze_scene(problem: SceneProblem, budget: Budget = UNLIMITED) -> SceneAnalysis:
     """Answer every question of ``problem`` within ``budget``; a question reached with no
     time left is "not_run", one whose model ran out of time "time_limited"."""
     t0 = time.perf_counter()
     work = Work(problem, budget)
     answers: dict[int, Answer] = {}
-    order = sorted(range(len(problem.questions)), key=lambda k: (ORDER.get(problem.questions[k].ask, 2), k))
+    order = sorted(range(len(problem.questions)), key=lambda k: answer_order(problem, problem.questions[k], k))
     for k in order:
         q = problem.questions[k]
         if budget.expired():

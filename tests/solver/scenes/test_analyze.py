@@ -194,3 +194,15 @@ def test_questions_the_scene_cannot_answer_are_refused(questions, mu, footprint,
         SceneProblem(polygon_scene(), PENTAGON, (0.2, 0.2), None, (Question("quasi_static"),))
     with pytest.raises(InvalidInput):
         Question("where_is_it")
+
+
+@pytest.mark.parametrize("checks", [6, 40])
+def test_the_answers_do_not_depend_on_the_order_of_the_questions(checks):
+    """Issue 35, point 7: [the exact locus, its bound] under a limit that the certified
+    locus uses up answered the bound 'not_run', the reverse order both; the cheap question is
+    answered first whatever the order, and the two orders give the same answers."""
+    asked = (Question("cor_locus", "exact", n_rays=256), Question("cor_locus"))
+    forward = analyze_scene(problem(*asked), checks_budget(checks)).answers
+    backward = analyze_scene(problem(*reversed(asked)), checks_budget(checks)).answers[::-1]
+    assert forward[1].status == "answered" and forward[1].model == "disk_bound"
+    assert [(a.status, a.model, a.accuracy) for a in forward] == [(a.status, a.model, a.accuracy) for a in backward]
