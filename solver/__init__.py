@@ -15,7 +15,14 @@ from solver.core.parallel import ParallelRun, RayPool, parallel_map, release_ray
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SOLVER_FAST, SOLVER_HIGH_ACCURACY, SolverTolerances
 from solver.feeder.catalogue import FeederCatalogueProblem, FeederCatalogueResult, feeder_catalogue
-from solver.feeder.design import BeltSpec, FeederDesignProblem, FeederDesignResult, angle_count, feeder_design
+from solver.feeder.design import (
+    BeltSpec,
+    FeederDesignProblem,
+    FeederDesignResult,
+    Relaxation,
+    angle_count,
+    feeder_design,
+)
 from solver.feeder.part_bound import PartBoundCost, PartBoundSettings
 from solver.feeder.simulate import (
     DEFAULT_FENCE_LENGTH_RADII,
@@ -119,6 +126,7 @@ __all__ = [
     "ENTRY_POINTS",
     "FeederDesignProblem",
     "FeederDesignResult",
+    "Relaxation",
     "FeederMapProblem",
     "FeederMapResult",
     "FeederSimProblem",

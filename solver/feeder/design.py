@@ -15,6 +15,7 @@ the design if one was found, the parts simulated).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -115,6 +116,21 @@ def angle_count(angle_min: float, angle_max: float, angle_step: float) -> float:
 
 
 @dataclass(frozen=True)
+class Relaxation:
+    """What the same search found with one restricting setting lifted, when the request's
+    own settings gave no design: ``setting`` ("alternate": sides free instead of alternating;
+    "gate": a reject gate allowed, with the defaults), its ``result`` (the design, or none:
+    then the setting did not rule one out; None: the time limit cut it)."""
+
+    setting: str
+    result: SearchResult | PlacedSearchResult | None  # None: cut by the time limit
+
+    @property
+    def design(self) -> Design | PlacedDesign | None:
+        return None if self.result is None else self.result.design
+
+
+@dataclass(frozen=True)
 class FeederDesignResult:
     maps: tuple[FenceMap, ...]  # the candidates' maps made
     search: SearchResult | None  # without a belt
@@ -131,6 +147,7 @@ class FeederDesignResult:
     progress: Progress | None = None
     accepted_set: Arcs | None = None  # the accepted bands' orientations (on a belt)
     fences_only_exhausted: bool | None = None  # on a belt with a gate allowed: no fences-only design at any depth
+    relaxed: tuple[Relaxation, ...] = ()  # no design: what the search found with a setting lifted
 
     @property
     def design(self) -> Design | PlacedDesign | None:
@@ -150,14 +167,31 @@ class FeederDesignResult:
             return (f"stopped after {len(self.maps)} candidate maps; no design shorter than {got + 1} fences "
                     "exists among them" if got else f"stopped after {len(self.maps)} candidate maps")
         if self.design is None:
-            return ("no design exists with these fences" if found.exhausted else
+            head = ("no design exists with these fences" if found.exhausted else
                     f"no design of {found.depth_proven} fences or fewer")
+            return "; ".join((head, *(_relaxed_words(r) for r in self.relaxed)))
         n = len(self.design.fences)
         if isinstance(self.design, PlacedDesign):
             kind = "fences only" if self.design.gate is None else "fences and a reject gate"
             return (f"a placed design of {n} fences ({kind}, guaranteed yield {100 * self.design.guaranteed_yield:.2f} % "
                     f"per pass), none shorter (searched {found.nodes} nodes)")
         return f"a design of {n} fences, none shorter (searched {found.nodes} nodes)"
+
+
+RELAXED_WORDS = {"alternate": "with alternate false (sides free)", "gate": "with a reject gate allowed"}
+
+
+def _relaxed_words(r: Relaxation) -> str:
+    if r.result is None:
+        return f"{RELAXED_WORDS[r.setting]}: not searched, the time limit was reached"
+    if r.design is None:
+        return f"{RELAXED_WORDS[r.setting]}, none either: that setting did not rule one out"
+    n = len(r.design.fences)
+    if isinstance(r.design, PlacedDesign):
+        kind = "fences only" if r.design.gate is None else "fences and a reject gate"
+        return (f"{RELAXED_WORDS[r.setting]} the same search finds a placed design of {n} fences ({kind}, "
+                f"guaranteed yield {100 * r.design.guaranteed_yield:.2f} % per pass)")
+    return f"{RELAXED_WORDS[r.setting]} the same search finds a design of {n} fences"
 
 
 MAPS_AT_ONCE = 16
@@ -205,6 +239,26 @@ def _search_placed(problem: FeederDesignProblem, graph: DesignGraph, profiles: l
     return gated, res.exhausted
 
 
+def _relax_placed(problem: FeederDesignProblem, graph: DesignGraph, profiles: list[ReachBound], belt: Belt,
+                  budget: Budget) -> tuple[Relaxation, ...]:
+    """No placed design with the request's settings: the same search with the sides free
+    (when they alternated) and with a gate allowed (when none was), each alone, so the
+    answer says which setting ruled a design out (issue 35)."""
+    lifted = []
+    if problem.alternate:
+        lifted.append(("alternate", dataclasses.replace(problem, alternate=False)))
+    if problem.gate is None:
+        lifted.append(("gate", dataclasses.replace(problem, gate=GateSpec())))
+    out = []
+    for setting, relaxed in lifted:
+        try:
+            res, _ = _search_placed(relaxed, graph, profiles, belt, budget, Progress())
+        except TimeLimitReached:  # the request's own answer stands; this one is said to be cut
+            res = None
+        out.append(Relaxation(setting, res))
+    return tuple(out)
+
+
 def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> FeederDesignResult:
     t0 = time.perf_counter()
     # what would fail only after the maps and the search is refused first
@@ -216,7 +270,7 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
     maps: list[FenceMap] = []
     progress = Progress()
     out: dict = dict(search=None, cp_sat=None, final_set=None, product=None, validation=None, baseline=None,
-                     placed_search=None, placement=None)
+                     placed_search=None, placement=None, relaxed=())
     extra: dict = {}
     status = "ok"
     try:
@@ -247,6 +301,13 @@ def _sequence_design(problem: FeederDesignProblem, graph: DesignGraph, budget: B
                                            checkpoint=budget.checkpoint, progress=progress)
     timings["search"] = time.perf_counter() - t
     design = search.design
+    if design is None and problem.alternate:  # what the same search finds with the sides free
+        try:
+            free: SearchResult | None = search_design(graph, problem.max_depth, False, problem.design_tol,
+                                                      checkpoint=budget.checkpoint)
+        except TimeLimitReached:
+            free = None
+        out["relaxed"] = (Relaxation("alternate", free),)
     if problem.prove_with_cp_sat:
         t = time.perf_counter()
         depth = problem.max_depth if design is None else len(design.fences)
@@ -279,6 +340,7 @@ def _placed_design(problem: FeederDesignProblem, graph: DesignGraph, belt: Belt,
     timings["search"] = time.perf_counter() - t
     design = res.design
     if design is None:
+        out["relaxed"] = _relax_placed(problem, graph, profiles, belt, budget)
         return
     fences = [graph.maps[f].fence for f in design.fences]
     out["final_set"] = graph.occupied_set(design.fences[-1], design.final_bands)

@@ -40,6 +40,7 @@ from service.api.feeder.schemas import (
     FeederProductBandOut,
     FeederProductOut,
     FeederPushPlanOut,
+    FeederRelaxedOut,
     FeederSimulateRequest,
     FeederSimulateResponse,
     FeederValidationOut,
@@ -63,6 +64,7 @@ from solver import (
     PartBoundCost,
     PartBoundSettings,
     RayPool,
+    Relaxation,
     angle_count,
 )
 
@@ -222,8 +224,10 @@ def simulate_response(req: FeederSimulateRequest, res: FeederSimResult, elapsed_
                                   message=res.message, solve_time_ms=res.solve_time_s * 1e3, elapsed_ms=elapsed_ms)
 
 
-def design_settings(d: FeederDesignSettingsIn, part: Footprint, loc: tuple = ()) -> FeederDesignProblem:
-    """The design problem of ``part`` with the search settings ``d`` (at ``loc`` in the request)."""
+def design_settings(d: FeederDesignSettingsIn, part: Footprint, loc: tuple = (), on_belt: bool = False
+                    ) -> FeederDesignProblem:
+    """The design problem of ``part`` with the search settings ``d`` (at ``loc`` in the
+    request; ``on_belt``: the design is placed, so the sides are free unless asked)."""
     a = d.angles
     if a.max < a.min:
         raise FieldError((*loc, "angles", "max"), "must be at least angles.min")
@@ -237,13 +241,14 @@ def design_settings(d: FeederDesignSettingsIn, part: Footprint, loc: tuple = ())
         raise FieldError((*loc, "mu_c_range"), "must be [low, high] with low <= high")
     return FeederDesignProblem(
         part=part, angle_min=a.min, angle_max=a.max, angle_step=a.step, mu_c=(float(mu[0]), float(mu[1])),
-        max_depth=d.max_depth, alternate=d.alternate, prove_with_cp_sat=d.prove_with_cp_sat,
+        max_depth=d.max_depth, alternate=not on_belt if d.alternate is None else d.alternate,
+        prove_with_cp_sat=d.prove_with_cp_sat,
         validation_parts=d.validation_parts, seed=d.seed)
 
 
 def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
     part = part_of(req.part)
-    problem = design_settings(req, part)
+    problem = design_settings(req, part, on_belt=req.belt is not None)
     if req.belt is not None:  # the belt's own checks are the solver's (models/feeder/placed.py)
         for name in ("width", "clearance", "spacing", "entry_x", "entry_spread"):
             value = getattr(req.belt, name)
@@ -256,7 +261,8 @@ def design_problem(req: FeederDesignRequest) -> FeederDesignProblem:
                          "gate.min_yield": ("gate", "min_yield"), "goal.side": ("goal", "side"),
                          "goal.tolerance": ("goal", "tolerance")}):
         goal = goal_of(req.goal, part)
-        gate = None if req.gate is None else gate_of(req.gate, part)
+        asked = req.gate if "gate" in req.model_fields_set or req.belt is None else FeederGateIn()
+        gate = None if asked is None else gate_of(asked, part)
     b = req.belt
     return dataclasses.replace(
         problem, belt=None if b is None else BeltSpec(b.width, b.clearance, b.spacing, b.entry_x, b.entry_spread),
@@ -369,6 +375,15 @@ def _layout_out(res: FeederDesignResult) -> FeederLayoutOut | None:
                            entry_spread=pl.belt.entry_spread, belt_length=pl.length, fences=fences, gate=gate)
 
 
+def _relaxed_out(r: Relaxation) -> FeederRelaxedOut:
+    d = r.design
+    placed = isinstance(d, PlacedDesign)
+    return FeederRelaxedOut(setting=r.setting, searched=r.result is not None,  # type: ignore[arg-type]
+                            fences=None if d is None else len(d.fences),
+                            gated=(d.gate is not None) if placed else None,
+                            guaranteed_yield=d.guaranteed_yield if placed else None)
+
+
 def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignResponse:
     cp = None
     if res.cp_sat is not None:
@@ -396,6 +411,7 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
         depth_proven=search.depth_proven if search is not None else (progress.depth_proven if progress else 0),
         exhausted=bool(search is not None and search.exhausted),
         fences_only_exhausted=res.fences_only_exhausted,
+        relaxed=[_relaxed_out(r) for r in res.relaxed],
         candidates=len(res.maps),
         nodes=search.nodes if search is not None else (progress.nodes if progress else 0),
         pruned=search.pruned if search is not None else (progress.pruned if progress else 0),

@@ -407,7 +407,10 @@ class FeederDesignSettingsIn(Strict):
         default=None, description="An interval [low, high] of mu_c instead: the design must work for all of it.")
     max_depth: Annotated[int, Field(strict=True, ge=1, le=FEEDER_MAX_DESIGN_DEPTH)] = Field(
         default=8, description="The most fences a design may have.")
-    alternate: bool = Field(default=True, description="Consecutive fences on opposite sides of the belt.")
+    alternate: bool | None = Field(default=None, description="Consecutive fences on opposite sides of the belt. "
+                                   "Default: true without a belt (the book's parts feeder, 5.3), false on a belt "
+                                   "(alternating sides rules out designs that exist for asymmetric parts, "
+                                   "docs/mechanics.md).")
     prove_with_cp_sat: bool = Field(default=False, description="Prove the least number of fences again with CP-SAT.")
     validation_parts: Annotated[int, Field(strict=True, ge=0, le=FEEDER_MAX_VALIDATION_PARTS)] = Field(
         default=0, description="Simulated parts (random support, orientation, mu_c) run through the design.")
@@ -431,7 +434,9 @@ class FeederDesignRequest(FeederDesignSettingsIn):
     goal: FeederGoalIn | None = Field(default=None, description="With a belt: the final orientations accepted "
                                                                 "(default: one band per symmetry class, 5.3.1).")
     gate: FeederGateIn | None = Field(default=None, description="With a belt: allow a reject gate when no design of "
-                                                                "fences alone reaches min_yield up to max_depth.")
+                                                                "fences alone reaches min_yield up to max_depth. Left "
+                                                                "out on a belt: a gate with these defaults is allowed; "
+                                                                "null: fences only.")
     min_yield: Annotated[float, Field(strict=True, allow_inf_nan=False, gt=0.0, le=1.0)] = Field(
         default=0.995, description="With a belt: least guaranteed yield per pass of a design of fences alone.")
     time_limit_s: TimeLimit | None = None
@@ -558,6 +563,15 @@ class FeederPushPlanOut(Out):
                                         "max_depth; `pushes` is then null and says nothing.")
 
 
+class FeederRelaxedOut(Out):
+    setting: Literal["alternate", "gate"] = Field(description="The setting lifted: alternate (the same search with "
+                                                  "sides free) or gate (with a reject gate allowed, its defaults).")
+    searched: bool = Field(description="False: the time limit was reached before this search.")
+    fences: int | None = Field(description="Fences of the design it found (null: none, or not searched).")
+    gated: bool | None = Field(description="On a belt: whether that design ends with a reject gate.")
+    guaranteed_yield: float | None = Field(description="On a belt: that design's guaranteed yield per pass.")
+
+
 class FeederDesignResponse(Out):
     design: FeederDesignOut | None = Field(
         description="The design found: fences in order with angle and side, final band and edges, margin, and on a "
@@ -569,6 +583,9 @@ class FeederDesignResponse(Out):
                                                                          "design of fences alone was found (the gate "
                                                                          "search then ran): whether none exists at "
                                                                          "any depth (false: none up to max_depth).")
+    relaxed: list[FeederRelaxedOut] = Field(default_factory=list, description="When no design was found: what the "
+                                            "same search finds with each restricting setting lifted alone (sides "
+                                            "alternating, no gate), so the answer says which one ruled a design out.")
     candidates: int = Field(description="Candidate fences whose maps were made.")
     nodes: int = Field(
         description="Search nodes made: states (a fence and the set of orientations the part may have after it) kept "

@@ -376,3 +376,19 @@ def test_the_push_plan_baseline_of_a_64_gon_is_cut_and_reported_not_a_504(client
     out = r.json()
     assert out["push_plan_baseline"]["complete"] is False and out["push_plan_baseline"]["pushes"] is None
     assert out["candidates"] == 12 and out["push_plan_baseline"]["solve_time_ms"] < 10_000
+
+
+def test_on_a_belt_the_defaults_find_what_exists_and_a_refusal_says_which_setting(client):
+    """Issue 35, point 12: the right triangle on a belt with the defaults (no `alternate`, no
+    `gate`) has its placed design (sides free on a belt); asked to alternate, there is none,
+    and the answer says that the same search with the sides free finds one."""
+    base = {"part": TRIANGLE, "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(10)},
+            "mu_c": 0.25, "belt": {"width": 20 * TRIANGLE_A}, "time_limit_s": 30}
+    found = client.post("/v1/feeder/design", json=base).json()
+    assert found["design"] is not None and found["relaxed"] == [], found["message"]
+    alternating = client.post("/v1/feeder/design", json={**base, "alternate": True, "gate": None}).json()
+    assert alternating["design"] is None
+    lifted = {r["setting"]: r for r in alternating["relaxed"]}
+    assert lifted["alternate"]["searched"] and lifted["alternate"]["fences"] == len(found["design"]["fences"])
+    assert "with alternate false (sides free) the same search finds a placed design" in alternating["message"]
+    assert "gate" in lifted  # the gate was off too: what it would add is said
