@@ -161,6 +161,13 @@ class FeederDesignResult:
 
     @property
     def message(self) -> str:
+        v = self.validation
+        if v is not None and v.cut:
+            return (f"{self._found()}; the time limit stopped {v.cut} of the {v.parts} simulated parts before they "
+                    f"ended: the validation is of {v.simulated}")
+        return self._found()
+
+    def _found(self) -> str:
         found = self.search if self.placed_search is None else self.placed_search
         if found is None:
             got = self.progress.depth_proven if self.progress is not None else 0
@@ -288,6 +295,8 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
         else:
             _placed_design(problem, graph, belt, budget, progress, out, extra, timings)
     except TimeLimitReached:
+        status = "time_limit"
+    if out["validation"] is not None and out["validation"].cut:  # some parts never ended: not a complete check
         status = "time_limit"
     return FeederDesignResult(tuple(maps), status=status, solve_time_s=time.perf_counter() - t0, timings=timings,
                               progress=progress, **out, **extra)

@@ -38,6 +38,8 @@ VALIDATION_EXAMPLES = 3
 """Validation parts on a belt whose runs are kept for the top view."""
 ROOT_OVERHANG = 2.0
 """Part radii by which a simulated fence runs on past its root into the side rail."""
+TIME_LIMITED = "time_limit"
+"""The status of a simulated run the budget stopped (solver/feeder/simulate.py)."""
 ENTRY_CLEARANCE = 0.05
 """Parts enter a belt with their CM this many part radii more than a radius above the
 first fence's root (so the outline is clear of every fence)."""
@@ -48,10 +50,13 @@ class Validation:
     """Simulated parts through the design (module docstring): ``in_band`` accepted in an
     accepted band, ``outside`` accepted elsewhere, ``rejected`` by the gate, and the
     failures: ``unflushed`` (left a fence still turning, without a gate), ``missed`` (passed a
-    fence untouched, on a belt only), ``off_belt`` (crossed a side), ``unfinished``. Each part
-    is counted once; ``unflushed_gated`` says how many of those the gate judged had left a
-    fence still turning. ``on_belt``: the placed fences in the world
-    frame; ``examples``: the first few parts' runs (for the top view)."""
+    fence untouched, on a belt only), ``off_belt`` (crossed a side), ``unfinished`` (jammed,
+    stalled, met two fences at once or ran out of steps). Each part is counted once;
+    ``unflushed_gated`` says how many of those the gate judged had left a fence still turning.
+    ``parts`` is the parts asked for; ``cut`` of them were stopped by the time limit before
+    they ended and count as no outcome (the shares are of the parts simulated to their end).
+    ``on_belt``: the placed fences in the world frame; ``examples``: the first few parts'
+    runs (for the top view)."""
 
     parts: int
     in_band: int
@@ -64,7 +69,13 @@ class Validation:
     off_belt: int = 0
     rejected: int = 0
     unflushed_gated: int = 0  # with a gate: parts that left a fence still turning and were judged by it
+    cut: int = 0  # stopped by the time limit before they ended: no outcome
     examples: tuple[BeltRun, ...] = ()
+
+    @property
+    def simulated(self) -> int:
+        """Parts simulated to their end (the others were cut by the time limit)."""
+        return self.parts - self.cut
 
     @property
     def rate(self) -> float:
@@ -80,12 +91,12 @@ class Validation:
     def succeeded(self) -> float:
         """The share of parts that ended as the design promised: accepted in band, or
         rejected by the gate."""
-        return (self.in_band + self.rejected) / self.parts if self.parts else math.nan
+        return (self.in_band + self.rejected) / self.simulated if self.simulated else math.nan
 
     @property
     def yield_per_pass(self) -> float:
         """The share of parts accepted in an accepted band."""
-        return self.in_band / self.parts if self.parts else math.nan
+        return self.in_band / self.simulated if self.simulated else math.nan
 
 
 def _random_parts(part: Footprint, n: int, mu_c: tuple[float, float], seed: int
@@ -106,6 +117,7 @@ def validate_in_own_frames(part: Footprint, fences: list[Fence], final: Arcs, mu
     t0 = time.perf_counter()
     supports, mu_of, theta, _ = _random_parts(part, n, mu_c, seed)
     finished = np.ones(n, dtype=bool)
+    cut = np.zeros(n, dtype=bool)
     unflushed = np.zeros(n, dtype=bool)
     for fence in fences:
         ids = np.nonzero(finished)[0]
@@ -113,14 +125,15 @@ def validate_in_own_frames(part: Footprint, fences: list[Fence], final: Arcs, mu
         for i, run in zip(ids, runs):
             if run.status != "left" or run.theta_final is None:
                 finished[i] = False
+                cut[i] = run.status == TIME_LIMITED
                 continue
             unflushed[i] |= not run.flushed
             theta[i] = run.theta_final
     ok = finished & ~unflushed
     in_band = int(sum(final.contains(float(theta[i]), VALIDATION_SLACK) for i in np.nonzero(ok)[0]))
     return Validation(parts=n, in_band=in_band, outside=int(ok.sum()) - in_band,
-                      unflushed=int((finished & unflushed).sum()), unfinished=int((~finished).sum()),
-                      solve_time_s=time.perf_counter() - t0)
+                      unflushed=int((finished & unflushed).sum()), unfinished=int((~finished & ~cut).sum()),
+                      cut=int(cut.sum()), solve_time_s=time.perf_counter() - t0)
 
 
 def validate_on_belt(part: Footprint, fences: list[Fence], placement: Placement, accepted: Arcs, gate: Gate | None,
@@ -137,7 +150,7 @@ def validate_on_belt(part: Footprint, fences: list[Fence], placement: Placement,
     y0 = float(placement.fences[0].root[1]) + part.circumradius * (1.0 + ENTRY_CLEARANCE)
     starts = np.column_stack([xs, np.full(n, y0)])
     runs = simulate_belt_batch(part, segs, mu_of, supports, theta, starts, budget=budget)
-    counts = dict(in_band=0, outside=0, rejected=0, unflushed=0, missed=0, off_belt=0, unfinished=0)
+    counts = dict(in_band=0, outside=0, rejected=0, unflushed=0, missed=0, off_belt=0, unfinished=0, cut=0)
     gated = 0
     for run in runs:
         outcome = _outcome(part, run, 0.5 * belt.width, accepted, gate)
@@ -152,6 +165,8 @@ def _outcome(part: Footprint, run: BeltRun, half_width: float, accepted: Arcs, g
     A part that left a fence still turning fails without a gate; with one, the gate judges
     it like any other (its orientation is then not one the maps bound: the guaranteed yield
     counts it as lost, the gate may still reject it)."""
+    if run.status == TIME_LIMITED:
+        return "cut"
     if run.status != "left" or run.theta_final is None:
         return "unfinished"
     if run.missed:

@@ -5,7 +5,10 @@ Method "analytic": :func:`models.sketch.disk_sketch.cor_sketch`, the disk's anal
 the book's sweep of the force over the cone (4.1.4); a polygon is bounded by its
 circumscribing disk (3.1.8). Method "certified":
 :func:`solver.sketch.certified_sketch.certified_sketch`, every piece certified by the
-minimum-power engine (with a footprint, the polygon's own sketch), within the budget.
+minimum-power engine (with a footprint, the polygon's own sketch), within the budget; one
+not whole (the time limit, or a piece not certified) answers the disk's analytic sketch,
+which bounds the polygon's (7.5), beside its certification report, never a verdict drawn
+from the pieces finished.
 """
 
 from __future__ import annotations
@@ -54,8 +57,8 @@ class SketchProblem:
 
 @dataclass(frozen=True)
 class SketchResult:
-    """The sketch, the certification report of method "certified" (else None) and, when
-    asked for, the tip line."""
+    """The sketch (the certified one when whole, else the disk's), the certification report
+    of method "certified" (else None) and, when asked for, the tip line."""
 
     problem: SketchProblem
     sketch: CorSketch
@@ -66,6 +69,11 @@ class SketchResult:
     @property
     def complete(self) -> bool:
         return self.certified is None or self.certified.complete
+
+    @property
+    def bounded(self) -> bool:
+        """A certified sketch not whole: the sketch answered is the (circumscribing) disk's."""
+        return self.certified is not None and not self.certified.complete
 
     @property
     def status(self) -> str:
@@ -87,8 +95,9 @@ def cor_sketch(problem: SketchProblem, budget: Budget = UNLIMITED) -> SketchResu
     if problem.method == "certified":
         certified = certified_sketch(problem.scene, problem.mu_c, footprint=problem.footprint, n_rays=problem.n_rays,
                                      n_points=problem.n_points, tol=problem.tol, budget=budget)
+    if certified is not None and certified.complete:
         sk = certified.sketch
-    else:
+    else:  # analytic; or a certified one not whole: the (circumscribing) disk's sketch bounds it (7.5)
         sk = disk_cor_sketch(problem.scene, problem.mu_c, n_points=problem.n_points)
     tip_line = disk_cor_locus(problem.scene, outputs=["tip_line"]).tip_line if problem.with_tip_line else None
     return SketchResult(problem, sk, certified, tip_line, time.perf_counter() - t0)

@@ -293,7 +293,7 @@ def catalogue_response(req: FeederCatalogueRequest, result: FeederCatalogueResul
             fences=None if d is None else _fences_out(res, d.fences),
             depth_proven=None if res.search is None else res.search.depth_proven,
             margin=None if d is None else design_margin(d.margin),
-            validation_parts=0 if v is None else v.parts, validation_in_band=0 if v is None else v.in_band,
+            validation_parts=0 if v is None else v.simulated, validation_in_band=0 if v is None else v.in_band,
             solve_time_ms=res.solve_time_s * 1e3))
     run = result.run
     return FeederCatalogueResponse(status=result.status, designs=items, finished=run.finished, backend=run.backend,
@@ -393,10 +393,11 @@ def design_response(res: FeederDesignResult, elapsed_ms: float) -> FeederDesignR
     if res.validation is not None:
         v = res.validation
         val = FeederValidationOut(parts=v.parts, in_band=v.in_band, outside=v.outside, unflushed=v.unflushed,
-                                  unfinished=v.unfinished, missed=v.missed, on_belt=v.on_belt, off_belt=v.off_belt,
+                                  unfinished=v.unfinished, cut=v.cut, missed=v.missed, on_belt=v.on_belt,
+                                  off_belt=v.off_belt,
                                   rejected=v.rejected, unflushed_gated=v.unflushed_gated, rate=None if math.isnan(v.rate) else v.rate,
-                                  yield_per_pass=v.yield_per_pass if v.on_belt and v.parts else None,
-                                  succeeded=v.succeeded if v.on_belt and v.parts else None)
+                                  yield_per_pass=v.yield_per_pass if v.on_belt and v.simulated else None,
+                                  succeeded=v.succeeded if v.on_belt and v.simulated else None)
     base = None
     if res.baseline is not None:
         b = res.baseline

@@ -526,13 +526,16 @@ class FeederCpSatOut(Out):
 
 class FeederValidationOut(Out):
     parts: int = Field(
-        description="Number of simulated parts run through the design (the request's `validation_parts`)."
+        description="Number of simulated parts run through the design (the request's `validation_parts`), `cut` of "
+                    "them stopped by the time limit."
     )
+    cut: int = Field(default=0, description="Parts the time limit stopped before they ended: no outcome, not in any "
+                                            "count or share below (the design's answer is then `time_limit`).")
     in_band: int = Field(description="Parts that ended in the promised band.")
     outside: int = Field(description="Parts that came flush on every fence and ended elsewhere (a failure).")
     unflushed: int = Field(description="Parts that left some fence without an edge flush (too short a fence): a "
                                        "failure (with a gate, see unflushed_gated).")
-    unfinished: int = Field(description="Parts that jammed, stalled, met two fences at once or ran out of steps or time.")
+    unfinished: int = Field(description="Parts that jammed, stalled, met two fences at once or ran out of steps.")
     missed: int = Field(description="Parts that passed some placed fence untouched (on a belt only; a failure).")
     rejected: int = Field(default=0, description="On a belt with a gate: parts the gate returned to the start.")
     unflushed_gated: int = Field(default=0, description="On a belt with a gate: parts that left a fence still turning "
@@ -665,7 +668,8 @@ class FeederCatalogueItemOut(Out):
                                                                   "(or not finished).")
     depth_proven: int | None = Field(description="No design has fewer fences than this + 1.")
     margin: float | None = Field(description="The design's margin, radians (1.8.6).")
-    validation_parts: int = Field(description="Simulated parts run through the design.")
+    validation_parts: int = Field(description="Simulated parts run through the design to their end (parts the "
+                                  "time limit stopped are not counted).")
     validation_in_band: int = Field(description="Of them, those that ended in the design's final band.")
     solve_time_ms: float | None = Field(description="This part's design time, milliseconds.")
 

@@ -78,14 +78,17 @@ def sketch_of(prep: PreparedPush, certified: bool) -> str:
     return "polygon" if certified else "circumscribing_disk"
 
 
-def provisional_note(certified: CertifiedSketch | None) -> str:
-    """What the message says first when a certified sketch is not whole: its verdict is
-    drawn from the pieces finished (the time limit, or a piece not certified, left some
-    out), so another run with more time may find another sketch."""
+def bounded_note(prep: PreparedPush, certified: CertifiedSketch | None) -> str:
+    """What the message says first when a certified sketch is not whole: the sketch answered
+    is the disk's analytic one, which bounds the polygon's (7.5; for a disk it is the sketch
+    the certification checks), not a verdict drawn from the pieces finished."""
     if certified is None or certified.complete:
         return ""
     why = "the time limit cut it short" if certified.time_limited else "a piece is not certified"
-    return f"PROVISIONAL ({why}; see certification): "
+    whose = "the polygon's" if prep.footprint is not None else "the"
+    answered = ("its circumscribing disk's sketch, which bounds it (7.5), is answered" if prep.footprint is not None
+                else "the analytic sketch is answered")
+    return f"{whose} certified sketch is incomplete ({why}; see certification): {answered}: "
 
 
 def sketch_message(prep: PreparedPush, sk: CorSketch, certified: bool = False) -> str:
@@ -150,6 +153,7 @@ def sketch_response(prep: PreparedPush, result: SketchResult, elapsed_ms: float)
     scene = prep.scene
     sk = result.sketch
     certified = result.certified
+    whole = certified is not None and not result.bounded  # the polygon's own sketch was answered
     sticking = None
     if sk.sticking is not None:
         s = sk.sticking
@@ -170,13 +174,13 @@ def sketch_response(prep: PreparedPush, result: SketchResult, elapsed_ms: float)
         )
     return CorSketchResponse(
         kind="translation" if is_translation(sk) else "sketch",
-        message=provisional_note(certified) + sketch_message(prep, sk, certified is not None),
+        message=bounded_note(prep, certified) + sketch_message(prep, sk, whole),
         mu_c=sk.mu_c,
         nu=sk.nu,
         sense=sk.sense,
         disk_radius=scene.disk_radius,
         center_of_mass=listed(scene.center_of_mass),
-        sketch_of=sketch_of(prep, certified is not None),
+        sketch_of=sketch_of(prep, whole),
         method="analytic" if certified is None else "certified",
         certification=None if certified is None else certification_out(certified),
         sticking_line=LineOut(

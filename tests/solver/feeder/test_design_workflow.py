@@ -143,3 +143,25 @@ def test_the_push_plan_baseline_is_cut_first_and_never_sinks_the_design():
     assert res.baseline is not None and not res.baseline.complete and res.baseline.alphas is None
     assert res.status == "ok" and res.complete and len(res.maps) == 12
     assert clock.now < 30.0
+
+
+def test_validation_cut_by_the_time_limit_is_no_outcome_and_no_complete_design(monkeypatch):
+    """Issue 35, point 11: a design whose simulated parts were all stopped by the time limit
+    answered 'ok, complete' with every part 'unfinished'. Parts the limit stops are `cut`:
+    no outcome, the design is not complete, and its message says how many."""
+    from solver.feeder import design as design_module
+
+    clock = Clock()
+    real = design_module.validate_in_own_frames
+
+    def late(*args, **kwargs):
+        clock.run_out = True  # the limit passes as the validation starts
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(design_module, "validate_in_own_frames", late)
+    res = feeder_design(problem("rectangle", validation_parts=20, seed=4), Budget.of(60.0, clock=clock))
+    v = res.validation
+    assert res.design is not None and v is not None
+    assert (v.parts, v.cut, v.simulated, v.unfinished, v.in_band) == (20, 20, 0, 0, 0)
+    assert res.status == "time_limit" and not res.complete
+    assert "stopped 20 of the 20 simulated parts" in res.message

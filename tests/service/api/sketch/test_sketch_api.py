@@ -416,10 +416,11 @@ def test_certified_sketch_bad_knobs_are_422(client, change, field):
 
 
 @pytest.mark.slow
-def test_a_certified_sketch_cut_by_its_time_limit_says_its_verdict_is_provisional(client, monkeypatch):
-    """With a work limit the certified sketch stops early; its verdict comes from the pieces
-    finished, and the message says so first (before, only certification.complete did, and
-    the verdict changed with the server's load). The whole sketch has no such note."""
+def test_a_certified_sketch_cut_by_its_time_limit_answers_the_disks_bound(client, monkeypatch):
+    """With a work limit the certified sketch stops early; the answer is then the
+    circumscribing disk's sketch, which bounds the polygon's (7.5), and the message says so
+    first (issue 35: a cut one answered "PROVISIONAL ... matches none of the nine
+    sketches", a verdict drawn from the pieces finished). The whole sketch has no such note."""
     from service.runtime.deadline import Deadline
     from tests.budgets import ChecksBudgets, NoLimitBudgets, deadline_budgets
 
@@ -428,11 +429,16 @@ def test_a_certified_sketch_cut_by_its_time_limit_says_its_verdict_is_provisiona
             "time_limit_s": 10.0}
     monkeypatch.setattr(Deadline, "budget", deadline_budgets(ChecksBudgets(3)))
     cut = client.post(URL, json=body).json()
-    assert cut["message"].startswith("PROVISIONAL (the time limit cut it short")
+    assert cut["message"].startswith("the polygon's certified sketch is incomplete (the time limit cut it short")
+    assert "circumscribing disk's sketch, which bounds it (7.5), is answered" in cut["message"]
+    assert "matches none" not in cut["message"] and cut["sketch_of"] == "circumscribing_disk"
     assert cut["certification"]["complete"] is False
+    analytic = client.post(URL, json={**body, "method": "analytic"}).json()
+    assert cut["sketch"] == analytic["sketch"] and cut["allowed_modes"] == analytic["allowed_modes"]
     monkeypatch.setattr(Deadline, "budget", deadline_budgets(NoLimitBudgets))  # a busy machine cannot cut it
     whole = client.post(URL, json=body).json()
-    assert whole["certification"]["complete"] is True and not whole["message"].startswith("PROVISIONAL")
+    assert whole["certification"]["complete"] is True and "incomplete" not in whole["message"]
+    assert whole["sketch_of"] == "polygon"
 
 
 def test_the_book_6_3_experiment_is_certified_whole_by_the_service():
