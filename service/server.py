@@ -125,12 +125,62 @@ def ensure_port_free(host: str, port: int) -> None:
                                     "there?") from exc
 
 
+def listen_when_ready(arbiter: Any, worker: Any) -> None:
+    """gunicorn's ``post_fork``: with SO_REUSEPORT each web process's socket is made, and
+    listening, right after its fork, so while it imports the app and starts its solver
+    workers (seconds; 24-48 s on a loaded machine) the kernel queued connections that hung.
+    Its sockets are replaced by ones bound to the same address but not listening; asyncio
+    listens on them when uvicorn serves, after the app's startup. Until then a connection
+    goes to another web process that listens, or is refused at once."""
+    bound = []
+    for listening in worker.sockets:
+        real = getattr(listening, "sock", listening)
+        fresh = socket.socket(real.family, socket.SOCK_STREAM)
+        fresh.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        fresh.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
+        fresh.bind(real.getsockname())
+        fresh.setblocking(False)
+        listening.close()
+        bound.append(fresh)
+    worker.sockets = bound
+
+
+class ControlSocketInUse(SystemExit):
+    """Another server answers on the control socket's path: this one does not start."""
+
+
+def ensure_control_socket_free(path: str) -> None:
+    """Refuse to start when a server answers on the control socket ``path`` (gunicorn would
+    take the path over and delete it on exit, leaving the first server without one); a path
+    left by a server that is gone is fine (gunicorn replaces it)."""
+    if not path or not os.path.exists(path):
+        return
+    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as probe:
+        probe.settimeout(1.0)
+        try:
+            probe.connect(path)
+        except OSError:
+            return  # nobody listens there: a stale path
+    raise ControlSocketInUse(f"the control socket {path} is in use by another server; give this one a path of its "
+                             "own (PESHKIN_CONTROL_SOCKET) or none")
+
+
+class NoEmptyListening(logging.Filter):
+    """gunicorn's supervisor logs "Listening at:  (<pid>)" with no address when each web
+    process listens on a socket of its own (SO_REUSEPORT); share_slots logs the address."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not (isinstance(record.msg, str) and record.msg.startswith("Listening at:")
+                    and record.args and not record.args[0])  # type: ignore[index]
+
+
 def share_slots(arbiter: Any) -> None:
     """gunicorn's ``on_starting``: the slot directory of this server, for its web processes,
     with the directory of their metrics' samples in it (before any of them imports
     prometheus-client, which reads it then; service.runtime.metrics), and the address in
     the log: with SO_REUSEPORT the supervisor itself listens on none, so gunicorn's own
     "Listening at" line shows no address."""
+    logging.getLogger("gunicorn.error").addFilter(NoEmptyListening())
     os.environ[SLOT_DIR_ENV] = make_slot_directory()
     os.environ[SERVER_PID_ENV] = str(os.getpid())  # the server's one Ray (solver.core.ray_head) ends with it
     samples = os.path.join(os.environ[SLOT_DIR_ENV], "metrics")
@@ -215,6 +265,7 @@ class Server(BaseApplication):  # type: ignore[misc]
         # a directory of this instance's own, made when the supervisor starts (before the
         # web processes are forked; a reload keeps it), removed when it exits
         options["on_starting"] = share_slots
+        options["post_fork"] = listen_when_ready
         options["on_exit"] = remove_slots
         options["child_exit"] = web_process_ended
         if s.log_format == "json":
@@ -224,6 +275,7 @@ class Server(BaseApplication):  # type: ignore[misc]
 
     def run(self) -> None:
         ensure_port_free(self.settings.host, self.settings.port)
+        ensure_control_socket_free(self.settings.control_socket)
         super().run()
 
     def load(self) -> Any:

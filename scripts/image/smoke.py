@@ -80,7 +80,7 @@ def main() -> int:
                 t0 = time.monotonic()
                 r = client.post(f"{url}{route}", params=params, content=body,
                                 headers={"content-type": "application/json"})
-                ok = r.status_code == 200
+                ok = r.status_code == (202 if route == "/v1/jobs" else 200)
                 failures += not ok
                 where = ""
                 if ok and route == "/v1/feeder/catalogue":

@@ -50,6 +50,10 @@ def contact_warnings(scene: PushScene) -> list[str]:
     return []
 
 
+DEPRECATED_WORKPIECE = ("`workpiece` is deprecated: send the polygon as `footprint` (the same meaning); `workpiece` "
+                        "is kept for existing clients only")
+
+
 def prepare_push(req) -> PreparedPush:
     """The scene of a request with ``disk_radius``, ``workpiece``, ``footprint`` (exactly one),
     ``center_of_mass``, ``contact_point``, ``edge_angle`` and ``push_direction``: a polygon
@@ -83,6 +87,8 @@ def prepare_push(req) -> PreparedPush:
                 "workpiece there"
             )
     warnings += contact_warnings(scene)
+    if field == "workpiece":
+        warnings.append(DEPRECATED_WORKPIECE)
     return PreparedPush(scene, footprint, field, outline_distance, tuple(warnings))
 
 

@@ -42,7 +42,7 @@ def test_no_scale_is_a_server_error(client, url, body, scale):
 
 EVERY_LENGTH_KEY = LENGTH_KEYS | {"footprint", "workpiece", "v_x", "mg", "speed", "g"}
 """Every length (and the quantities with a length in their unit: speeds, weights, g)."""
-EVERY_CASE = [(u, b) for u, b in EXAMPLES if b]
+EVERY_CASE = [(u, b) for u, b in EXAMPLES if b and not u.startswith("/v1/jobs")]  # a job's body: its route's case
 
 
 @pytest.mark.slow

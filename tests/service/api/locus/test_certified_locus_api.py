@@ -15,6 +15,7 @@ import pytest
 
 from models.core.footprint import Footprint
 from models.core.scene import PushScene
+from service.common.scene import DEPRECATED_WORKPIECE
 from service.limits import MAX_CERTIFIED_POINTS, MAX_TIME_LIMIT_S, MIN_CERTIFIED_POINTS
 from solver.locus.certified_locus import certified_disk_boundary, certified_polygon_boundary
 
@@ -97,8 +98,10 @@ def test_footprint_analytic_keeps_the_workpiece_behaviour(client):
     old = post(client, {"workpiece": RECT, "contact_point": [-1.0, -0.3], "edge_angle": HALF_PI})
     new = post(client, POLY)
     assert new["locus_of"] == old["locus_of"] == "circumscribing_disk"
-    for key in ("disk_radius", "center_of_mass", "r_tip", "tip", "boundary", "warnings", "contact_distance_to_outline"):
+    for key in ("disk_radius", "center_of_mass", "r_tip", "tip", "boundary", "contact_distance_to_outline"):
         assert new[key] == old[key], key
+    # the old name still works, and the answer says it is deprecated (issue 35)
+    assert old["warnings"] == [*new["warnings"], DEPRECATED_WORKPIECE]
     assert post(client, DISK)["locus_of"] == "disk"
 
 
