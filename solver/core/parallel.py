@@ -106,8 +106,10 @@ def _ray(pool: RayPool) -> Any:
         if pool.address is None and pool.server_dir is not None and _connected != key:
             head = server_ray(pool.server_dir, pool.workers, pool.server_pid)
             # before Ray is imported (it reads its authentication mode once): this process
-            # drives the server's Ray only
+            # drives the server's Ray only; and no crash handler of Ray's own, which writes
+            # lines that are not the service's log when the server stops its workers
             os.environ.update(head.environment())
+            os.environ.setdefault("RAY_DISABLE_FAILURE_SIGNAL_HANDLER", "1")
         import ray  # imported on first use: a process that never maps does not load it
 
         if ray.is_initialized() and _connected == key:
