@@ -11,7 +11,9 @@ the outline seen from r. :func:`decide` then runs the loop
    ``tol.membership_residual`` after the polish: **inside**, with the witness support (a
    master that stalls below ``POLISH_LAST_TRY`` is polished once more before giving up);
 3. otherwise the master's dual (scaled to max(|y|, |lambda|) <= 1) is priced over the
-   outline (:mod:`solver.certify.pricing`): grid local minima refined by golden section;
+   outline (:mod:`solver.certify.pricing`): grid local minima refined by golden section
+   (new columns where they price below -min(``tol.pricing_tol``, residual -
+   ``tol.membership_residual``), :func:`pricing_threshold`);
    when none lies below y . b + ``tol.certificate_margin`` and the point-mass value does
    not either, the branch and bound bounds phi over the whole outline: a bound with
    margin over y . b is a Farkas certificate, **outside**; points below its target become
@@ -183,8 +185,21 @@ class _Pricing:
     bnb_intervals: int = 0
 
 
+def pricing_threshold(res: float, tol: SolverTolerances) -> float:
+    """How far below zero a column must price to be added: ``tol.pricing_tol``, or
+    res - ``tol.membership_residual`` once the residual res is that small. The L1 master's
+    dual has |y|_inf <= 1 and the weights sum to about 1, so (weak duality) the columns
+    pricing at -d or above can lower the residual by about d at most: only d <
+    res - membership_residual shows that no column brings it to the acceptance threshold.
+    The absolute tolerance alone stopped queries whose residual was already below it (a
+    candidate 1.3e-7 L inside its locus, |s| = 66 L: residual 1.1e-11 after the polish,
+    columns pricing at -9.4e-11; tests/solver/sketch/test_sticking_locus.py, the far
+    locus). Pricing sees res > membership_residual (else the query was decided inside)."""
+    return min(tol.pricing_tol, res - tol.membership_residual)
+
+
 def _grid_pricing(gf: np.ndarray, minima: tuple[np.ndarray, np.ndarray, np.ndarray], yb: float, pm_val: float,
-                  tol: SolverTolerances) -> _Pricing:
+                  res: float, tol: SolverTolerances) -> _Pricing:
     """Uncertified pricing on the grid: outside as far as the grid sees, or its improving
     local minima as new columns."""
     lp, lt, lf = minima
@@ -194,7 +209,7 @@ def _grid_pricing(gf: np.ndarray, minima: tuple[np.ndarray, np.ndarray, np.ndarr
         # (the certified pricing stops on the same margin, bounded soundly).
         return _Pricing(stop="grid pricing separates the candidate (not a certificate)", status="outside",
                         lower=lower, method="grid")
-    improving = lf < -tol.pricing_tol
+    improving = lf < -pricing_threshold(res, tol)
     if not np.any(improving):
         return _Pricing(stop="restricted master optimal on the grid; residual too small to decide", lower=lower,
                         method="grid")
@@ -210,7 +225,7 @@ def _certified_pricing(fn: DualFunctional, pieces: Pieces, grid_points: tuple[np
     lp, lt, lf = minima
     gp, gt = grid_points
     t_cert = yb + tol.certificate_margin
-    improving = lf < -tol.pricing_tol
+    improving = lf < -pricing_threshold(res, tol)
     if not (not np.any(lf < t_cert) and pm_val >= t_cert):  # some column prices below: no certificate yet
         new_p, new_t = lp[improving], lt[improving]
         if new_p.size == 0:
@@ -305,7 +320,7 @@ def _decide(rows: Rows, tol: SolverTolerances, budget: Budget, messages: Message
         if certify:
             pr = _certified_pricing(fn, pieces, (gp, gt), minima, yb, pm_val, res, tol, budget, messages)
         else:
-            pr = _grid_pricing(gf, minima, yb, pm_val, tol)
+            pr = _grid_pricing(gf, minima, yb, pm_val, res, tol)
         bnb_total += pr.bnb_intervals
         if pr.lower is not None:
             lower, margin, method = pr.lower, pr.lower - yb, pr.method

@@ -37,7 +37,8 @@ class SolverTolerances:
             re-verified by the forward solver.
         certificate_margin: certified dual margin above which a candidate COR is outside.
         pricing_tol: column generation stops once no point of the footprint has a reduced
-            cost below -pricing_tol.
+            cost below -pricing_tol, or below -(residual - membership_residual) when the
+            residual is smaller than that (:func:`solver.certify.colgen.pricing_threshold`).
         max_cg_iter: cap on column-generation rounds of one membership query.
         max_bnb_intervals: cap on the intervals of one branch-and-bound lower bound.
         boundary_bracket: width |r_out - r_in| / L of the certified bracket around a

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from models.locus.cor_disk import disk_cor_locus
-from solver.certify.colgen import MAX_WARM_POINTS, Messages, decide
+from solver.certify.colgen import MAX_WARM_POINTS, Messages, decide, pricing_threshold
 from solver.certify.outline import grid
 from solver.certify.witness import residual
 from solver.core.budget import UNLIMITED, Budget
@@ -133,3 +133,15 @@ def test_a_query_the_direct_master_leaves_undecided_is_decided_again_on_the_comp
         got = decide(_rows(_boundary_pair()[0]), TOL, budget, MESSAGES)
         assert got.status == want and len(calls) == n_calls
         assert calls[0] is master_for and all(m is compiled_master_for for m in calls[1:])
+
+
+def test_a_residual_below_the_pricing_tolerance_does_not_stop_improving_columns():
+    """Weak duality: a column pricing at -d lowers the L1 residual by about d at most, so
+    once the residual is below pricing_tol, columns pricing below -(residual -
+    membership_residual) are still improving (the far sticking end of
+    tests/solver/sketch/test_sticking_locus.py stalled at residual 1.1e-11 with columns at
+    -9.4e-11, 'no improving column found'); with a larger residual pricing_tol rules."""
+    assert pricing_threshold(1e-6, TOL) == TOL.pricing_tol
+    assert pricing_threshold(TOL.pricing_tol + TOL.membership_residual, TOL) == pytest.approx(TOL.pricing_tol)
+    assert pricing_threshold(1.1e-11, TOL) == pytest.approx(1.1e-11 - TOL.membership_residual)
+    assert -9.4e-11 < -pricing_threshold(1.1e-11, TOL) and pricing_threshold(2e-12, TOL) > 0.0
