@@ -19,6 +19,7 @@ CASES = [
 ]
 
 
+@pytest.mark.wall_clock  # about the time limit itself: its real deadline (tests/service/conftest.py)
 @pytest.mark.parametrize("path, body, before", CASES, ids=[c[0] for c in CASES])
 def test_a_limit_that_leaves_no_time_is_a_504_not_an_empty_200(client, path, body, before):
     r = client.post(path, json={**body, "time_limit_s": 1e-6})

@@ -157,9 +157,11 @@ def print_concurrent(case: str) -> None:
 def concurrent_in_child(case: str) -> list[object]:
     code = f"from tests.solver.test_concurrency import print_concurrent; print_concurrent({case!r})"
     env = {**os.environ, "PYTHONPATH": str(REPO)}
-    proc = subprocess.run([sys.executable, "-c", code], cwd=REPO, env=env, capture_output=True, text=True,
-                          timeout=JOIN_LIMIT_S)
-    assert proc.returncode == 0, f"the child process ended with {proc.returncode}: {proc.stderr[-2000:]}"
+    # -X faulthandler: a native crash (SIGSEGV, SIGABRT, ...) prints every thread's Python stack,
+    # the crashing thread's first, to stderr, whose last 20 kB the failure message shows
+    proc = subprocess.run([sys.executable, "-X", "faulthandler", "-c", code], cwd=REPO, env=env,
+                          capture_output=True, text=True, timeout=JOIN_LIMIT_S)
+    assert proc.returncode == 0, f"the child process ended with {proc.returncode}:\n{proc.stderr[-20000:]}"
     rows = json.loads(proc.stdout.strip().splitlines()[-1])
     return [row if isinstance(row, str) else np.array([float.fromhex(x) for x in row]) for row in rows]
 

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from tests.service.live import live_server
+from tests.timing import stretched
 
 pytestmark = pytest.mark.slow
 
@@ -61,4 +62,4 @@ def test_padded_and_large_bodies_do_not_freeze_the_web_process():
         assert r.json()["detail"][0]["loc"] == ["body", "padding"]
     assert answers[2].status_code == 200
     assert len(msgpack.unpackb(answers[2].content)["columns"]["cor_x"]) == 100_000
-    assert stalls and max(stalls) < PROBE_STALL_S, f"a probe waited {max(stalls):.2f} s"
+    assert stalls and max(stalls) < stretched(PROBE_STALL_S), f"a probe waited {max(stalls):.2f} s"

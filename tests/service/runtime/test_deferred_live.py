@@ -15,6 +15,7 @@ import httpx
 import pytest
 
 from tests.service.live import PENTAGON, live_server, live_server_process
+from tests.timing import stretched
 
 pytestmark = pytest.mark.slow
 
@@ -124,7 +125,7 @@ def test_a_cancelled_job_frees_its_worker_within_a_second(tmp_path):
             time.sleep(0.05)
         freed_s = time.monotonic() - t0
         assert cancelled["state"] == "cancelled" and cancelled["result"] is None
-        assert freed_s <= CANCELLED_WITHIN_S, f"the worker was freed after {freed_s:.2f} s"
+        assert freed_s <= stretched(CANCELLED_WITHIN_S), f"the worker was freed after {freed_s:.2f} s"
         after = wait_for(url, submit(url, "push_disk_encounter", ENCOUNTER), ("succeeded", "failed"), 60)
         assert after["state"] == "succeeded"  # a new worker took the ended one's place
         assert httpx.delete(f"{url}/v1/jobs/{'0' * 32}", timeout=30).status_code == 404

@@ -20,6 +20,7 @@ import pytest
 
 from tests.service.live import DESIGN, REPO, live_server, live_server_process, server_command
 from tests.service.runtime.test_live import SLOW_LOCUS
+from tests.timing import stretched
 
 pytestmark = pytest.mark.slow
 
@@ -44,7 +45,7 @@ def test_one_slot_is_shared_by_both_web_processes():
         holder.join()
     for r, took in answers:
         assert r.status_code == 503, r.text
-        assert took < REFUSED_WITHIN_S and int(r.headers["retry-after"]) >= 1
+        assert took < stretched(REFUSED_WITHIN_S) and int(r.headers["retry-after"]) >= 1
         assert r.json()["detail"][0]["type"] == "busy"
 
 
@@ -62,7 +63,7 @@ def test_a_flood_of_designs_is_served_or_refused_at_once():
         out = r.json()
         assert out["status"] == "ok" and out["complete"] and out["design"] is not None and out["timings_ms"]
     for r, took in refused:
-        assert took < REFUSED_WITHIN_S, f"refused after {took:.2f} s: {r.text}"
+        assert took < stretched(REFUSED_WITHIN_S), f"refused after {took:.2f} s: {r.text}"
         assert int(r.headers["retry-after"]) >= 1
 
 

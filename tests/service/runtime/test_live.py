@@ -14,6 +14,7 @@ import httpx
 import pytest
 
 from tests.service.live import live_server
+from tests.timing import stretched
 
 pytestmark = pytest.mark.slow
 
@@ -67,11 +68,11 @@ def test_clients_that_give_up_free_their_worker_within_a_second(server):
     assert gave_up, "no client got as far as giving up"
     gave_up = max(gave_up)
     while _gate(server)["in_use"] > 0:
-        assert time.monotonic() - gave_up < FREED_WITHIN_S, "abandoned jobs still hold the solver worker"
+        assert time.monotonic() - gave_up < stretched(FREED_WITHIN_S), "abandoned jobs still hold the solver worker"
         time.sleep(0.02)
     t0 = time.monotonic()
     r = httpx.post(f"{server}/v1/cor/membership", json=MEMBERSHIP, timeout=30.0)
-    assert r.status_code == 200 and time.monotonic() - t0 < FREED_WITHIN_S + 1.0
+    assert r.status_code == 200 and time.monotonic() - t0 < stretched(FREED_WITHIN_S + 1.0)
 
 
 @pytest.mark.parametrize("path, body", TIME_LIMITED, ids=[p for p, _ in TIME_LIMITED])
@@ -82,7 +83,7 @@ def test_a_one_second_limit_is_answered_within_one_and_a_half(server, path, body
     assert r.status_code in (200, 422, 504), r.text[:300]
     if r.status_code == 422:  # refused at once by the cost prediction, saying so
         assert "predict" in r.text
-    assert took < ANSWERED_WITHIN_S, f"{path}: {took:.2f} s, status {r.status_code}"
+    assert took < stretched(ANSWERED_WITHIN_S), f"{path}: {took:.2f} s, status {r.status_code}"
 
 
 def test_a_client_that_sends_too_slowly_is_cut_off(server):

@@ -47,6 +47,7 @@ def test_bad_parts_and_settings_are_422_at_their_field(client, change, loc):
     assert r.json()["detail"][0]["loc"][:len(loc)] == loc, r.text
 
 
+@pytest.mark.wall_clock  # about the time limit itself: its real deadline (tests/service/conftest.py)
 def test_no_time_for_any_part_is_a_504(client):
     r = client.post(URL, json={"parts": PARTS, "design": DESIGN, "time_limit_s": 1e-6})
     assert r.status_code == 504, r.text

@@ -81,6 +81,7 @@ def test_certified_polygon_is_the_solver_answer(client):
     assert max(np.hypot(*p) for p in c["boundary"]) < disk["r_tip"]
 
 
+@pytest.mark.wall_clock  # about the time limit itself: its real deadline (tests/service/conftest.py)
 def test_time_limit_stops_early_and_says_so(client):
     r = client.post("/v1/cor/locus", json={**POLY, "method": "certified", "n_certified": 64, "time_limit_s": 1e-6,
                                            "outputs": []})

@@ -207,7 +207,7 @@ L_SHAPE = [[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]]  # area 5, centroid (
 
 
 def test_polygon_uses_area_centroid_and_max_vertex_distance(client):
-    r = post(client, {"workpiece": L_SHAPE, "contact_point": [0, 0.5], "edge_angle": HALF_PI})
+    r = post(client, {"footprint": L_SHAPE, "contact_point": [0, 0.5], "edge_angle": HALF_PI})
     assert r.status_code == 200, r.text
     got = r.json()
     np.testing.assert_allclose(got["center_of_mass"], [1.1, 1.1], atol=1e-12)
@@ -239,10 +239,10 @@ def test_polygon_with_explicit_center_of_mass(client):
 
 def test_contact_off_the_outline_is_a_warning(client):
     square = [[0, 0], [2, 0], [2, 2], [0, 2]]
-    got = post(client, {"workpiece": square, "contact_point": [0.25, 1.5], "edge_angle": HALF_PI}).json()
+    got = post(client, {"footprint": square, "contact_point": [0.25, 1.5], "edge_angle": HALF_PI}).json()
     assert got["contact_distance_to_outline"] == pytest.approx(0.25)
     assert len(got["warnings"]) == 1 and "outline" in got["warnings"][0]
-    on = post(client, {"workpiece": square, "contact_point": [1e-12, 1.5], "edge_angle": HALF_PI}).json()
+    on = post(client, {"footprint": square, "contact_point": [1e-12, 1.5], "edge_angle": HALF_PI}).json()
     assert on["warnings"] == []  # within CONTACT_ON_OUTLINE_REL * a
 
 

@@ -107,6 +107,7 @@ def test_the_analytic_tip_separates_inside_from_outside(client):
     assert out["status"] == "outside" and out["certificate_kind"] == "dual"
 
 
+@pytest.mark.wall_clock  # about the time limit itself: its real deadline (tests/service/conftest.py)
 def test_time_limit_gives_undecided(client):
     got = post(client, {**DISK, "cor": [0.0, 3.0], "time_limit_s": 1e-9})
     assert got["status"] == "undecided" and got["certificate_kind"] == "none"

@@ -313,6 +313,7 @@ def test_align_quasi_static_verdict(client):
         ({"edge_angle": 1.0}, ["body", "edge_angle"], "extra_forbidden"),
     ],
 )
+@pytest.mark.wall_clock  # about the time limit itself: its real deadline (tests/service/conftest.py)
 def test_align_bad_inputs_are_422_naming_the_field(client, change, loc, type_):
     body = {k: v for k, v in {**SQUARE_30, **change}.items() if v is not None}
     r, got = post(client, ALIGN, body)
@@ -320,6 +321,7 @@ def test_align_bad_inputs_are_422_naming_the_field(client, change, loc, type_):
     assert detail(got)[:2] == (loc, type_)
 
 
+@pytest.mark.wall_clock  # about the time limit itself: its real deadline (tests/service/conftest.py)
 def test_time_budget(client, monkeypatch):
     """The cost model refuses before any work (422); if the prediction is too optimistic the
     clock stops the request between exact bounds (504, saying where it got to, with what
@@ -451,6 +453,7 @@ def test_encounter_warns_about_a_poor_quadrature(client):
         ({"alpha": 1.0}, ["body", "alpha"], "extra_forbidden"),
     ],
 )
+@pytest.mark.wall_clock  # about the time limit itself: its real deadline (tests/service/conftest.py)
 def test_encounter_bad_inputs_are_422_naming_the_field(client, change, loc, type_):
     base = {"disk_radius": 1.0, "beta_initial": 0.5, "mu_c": 0.5, "method": "closed_form"}
     body = {k: v for k, v in {**base, **change}.items() if v is not None}

@@ -85,6 +85,7 @@ def test_what_cannot_be_answered_is_422_at_its_field(client, change, loc):
     assert r.json()["detail"][0]["loc"][:len(loc)] == loc, r.text
 
 
+@pytest.mark.wall_clock  # about the time limit itself: its real deadline (tests/service/conftest.py)
 def test_no_time_for_any_answer_is_a_504_with_what_there_is(client):
     r = client.post(URL, json={**EXAMPLE, "time_limit_s": 1e-6})
     assert r.status_code == 504, r.text

@@ -401,6 +401,7 @@ def test_certified_sketch_of_a_disk_has_exact_sticking_ends(client):
     assert got["sticking"]["t_high"] == pytest.approx(sweep["sticking"]["t_high"], abs=1e-4)
 
 
+@pytest.mark.wall_clock  # about the time limit itself: its real deadline (tests/service/conftest.py)
 def test_certified_sketch_out_of_time_says_so(client):
     r, got = post(client, {**MUST_STICK, "method": "certified", "time_limit_s": 1e-6})
     assert r.status_code == 200, r.text
