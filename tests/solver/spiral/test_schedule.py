@@ -75,7 +75,7 @@ def test_robot_limits(dense_sweep_025):
 def test_cp_sat_backend_agrees(dense_sweep_025):
     env = dense_sweep_025.envelope
     mcf = spiral_schedule(env, 10.0, 2.5, resolution=3)
-    cps = spiral_schedule(env, 10.0, 2.5, resolution=3, backend="cp_sat", budget=Budget.of(20.0))
+    cps = spiral_schedule(env, 10.0, 2.5, resolution=3, backend="cp_sat", budget=Budget.of(120.0))  # far above its time on any machine
     assert cps.solver_status == "OPTIMAL" and cps.certificate.certified
     assert cps.revolutions == mcf.revolutions
 
