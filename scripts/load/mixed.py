@@ -34,9 +34,9 @@ import loky
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 
-from tests.benchmarks._docs import write_section  # noqa: E402
-from tests.service.live import REPO as LIVE_REPO  # noqa: E402
-from tests.service.live import STARTUP_TIMEOUT_S, free_port, server_command  # noqa: E402
+from tests.benchmarks._docs import write_section
+from tests.service.live import REPO as LIVE_REPO
+from tests.service.live import STARTUP_TIMEOUT_S, free_port, server_command
 
 CHEAP = {"disk_radius": 1, "contact_point": [-0.5, -0.3], "edge_angle": 1.5707963267948966}
 CERTIFIED = {"footprint": [[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]], "contact_point": [0, 0.5],
