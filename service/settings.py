@@ -15,6 +15,9 @@ variable                        default     meaning
 ``PESHKIN_SOLVER_QUEUE``        16          expensive requests that may wait for a slot, per web
                                             process; beyond, or when one is predicted not to start
                                             in time, 503 at once with ``Retry-After``
+``PESHKIN_SOLVER_QUEUE_WAIT_S``  1          longest an expensive request waits in the queue for a
+                                            slot: predicted to wait longer, or not started by then,
+                                            503 (so each gets its slot or its refusal within it)
 ``PESHKIN_MAX_REQUESTS_IN_FLIGHT`` 512     requests in flight per web process (cheap ones are
                                             computed at once, expensive ones wait in the queue
                                             for a slot); beyond, 503 at once
@@ -122,6 +125,7 @@ class Settings:
     web_workers: int = 2
     solver_workers: int = AUTO
     solver_queue: int = 16
+    solver_queue_wait_s: float = 1.0
     max_requests_in_flight: int = 512
     max_time_limit_s: float = MAX_TIME_LIMIT_S
     deadline_grace_s: float = 0.25
@@ -281,6 +285,7 @@ _PARSERS: dict[str, Callable[[str, str], Any]] = {
     "web_workers": _integer(1, 256),
     "solver_workers": _integer(0, 1024, auto=True),
     "solver_queue": _integer(0, 100_000),
+    "solver_queue_wait_s": _seconds(0.0, 3600.0),
     "max_requests_in_flight": _integer(1, 100_000),
     "max_time_limit_s": _seconds(0.0, TIME_LIMIT_HARD_MAX_S),
     "deadline_grace_s": _seconds(0.0, 60.0),

@@ -83,7 +83,12 @@ class AdmissionPolicy:
     (nothing computed is never answered 200). The head of the queue looks for a slot freed
     by another web process every ``poll_s``; the others, and jobs waiting for a slot, every
     ``idle_poll_s``. A refusal whose predicted wait is under ``at_once_s`` says that the
-    request would start at once but does not fit its limit, not that it would start late."""
+    request would start at once but does not fit its limit, not that it would start late.
+
+    ``max_wait_s`` bounds the queue: a request predicted to wait longer is refused at once,
+    and one that has waited that long without a slot leaves with a 503 then, so every
+    expensive request gets its slot or its refusal within about ``max_wait_s`` of arriving
+    (a prediction that came out short never holds it longer)."""
 
     unknown_share: float = 0.5
     start_share: float = 0.25
@@ -93,6 +98,7 @@ class AdmissionPolicy:
     poll_s: float = 0.005
     idle_poll_s: float = 0.05
     at_once_s: float = 0.5
+    max_wait_s: float = 1.0
 
 
 DEFAULT_ADMISSION = AdmissionPolicy()
@@ -261,19 +267,25 @@ class RunQueue:
             raise self._refuse(f"all {self.capacity} places in the queue are taken", wait)
         if wait * (1.0 + p.wait_margin) + needed > deadline.solver_s():
             raise self._refuse(self._too_late(ticket, wait, needed), wait)
+        if wait > p.max_wait_s:
+            raise self._refuse(f"it would wait about {wait:.2g} s for a solver slot, more than the "
+                               f"{p.max_wait_s:g} s a request waits here", wait)
         self.waiting.append(ticket)
         self.admitted += 1
         self._publish()
+        queued = time.monotonic()
         try:
             while True:
                 if self.waiting[0] is ticket and self._start(ticket):
                     return ticket
-                if deadline.solver_s() < needed:
+                waited = time.monotonic() - queued
+                if deadline.solver_s() < needed or waited >= p.max_wait_s:
                     self._dequeue(ticket)
                     self._publish()
                     self.peers = Peers.of(self.slots.peers())
-                    raise self._refuse("it waited too long for a solver worker to start in time",
-                                       self.predicted_wait())
+                    why = ("it waited too long for a solver worker to start in time" if deadline.solver_s() < needed
+                           else f"no solver slot came free within {p.max_wait_s:g} s, as predicted it would")
+                    raise self._refuse(why, self.predicted_wait())
                 ticket.wake.clear()  # woken by a slot given back here, or after the poll
                 poll = p.poll_s if self.waiting[0] is ticket else p.idle_poll_s
                 timer = asyncio.get_running_loop().call_later(poll, ticket.wake.set)

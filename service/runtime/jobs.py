@@ -34,7 +34,7 @@ from starlette.requests import Request
 from starlette.responses import JSONResponse, Response
 
 from service.errors import BUSY, GATEWAY_TIMEOUT, FieldError, busy_response, error_body, limit_advice, response_for
-from service.runtime.admission import Gate, Refused, RunQueue, Ticket
+from service.runtime.admission import DEFAULT_ADMISSION, Gate, Refused, RunQueue, Ticket
 from service.runtime.deadline import Deadline, arrival
 from service.runtime.metrics import observe_backends
 from service.runtime.pool import SolverPool
@@ -180,7 +180,8 @@ class Runner:
         expensive: Gate | RunQueue
         if workers > 0:
             pool: SolverPool | None = SolverPool(workers, settings.worker_max_tasks, preload)
-            expensive = RunQueue(Slots.of_server(workers), settings.solver_queue)
+            expensive = RunQueue(Slots.of_server(workers), settings.solver_queue,
+                                 dataclasses.replace(DEFAULT_ADMISSION, max_wait_s=settings.solver_queue_wait_s))
         else:
             pool, expensive = None, Gate("expensive", 1 + settings.solver_queue)
         return cls(

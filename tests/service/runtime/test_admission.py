@@ -13,7 +13,7 @@ import time
 
 import pytest
 
-from service.runtime.admission import Gate, Refused, RunQueue
+from service.runtime.admission import AdmissionPolicy, Gate, Refused, RunQueue
 from service.runtime.deadline import Deadline
 from service.runtime.jobs import abandon
 from service.runtime.slots import Slots
@@ -123,9 +123,13 @@ def test_a_request_waits_for_a_slot_freed_by_another_web_process():
     assert got < stretched(0.5) and admitted == 1  # the head polls every 5 ms
 
 
+LONG_QUEUE = AdmissionPolicy(max_wait_s=1e6)
+"""A queue whose waits are bounded by the deadlines alone (the tests of the predictions)."""
+
+
 def test_the_predicted_wait_uses_the_measured_cost_and_refuses_what_would_start_too_late():
     async def scenario() -> None:
-        queue = RunQueue(Slots(1).open(), capacity=4)
+        queue = RunQueue(Slots(1).open(), capacity=4, policy=LONG_QUEUE)
         try:
             queue.cost_s["POST /x"] = 5.0
             running = await queue.enter("POST /x", _deadline(30.0))
@@ -176,8 +180,8 @@ def test_a_web_process_admits_by_the_whole_servers_backlog_and_learns_costs_from
     route and adds A's waiting work to its predicted wait (4 s for the slot + 3 x 4 s), so
     it refuses a request with a 20 s limit at once, with that wait as Retry-After."""
     async def scenario() -> float:
-        a = RunQueue(Slots(1).open(), capacity=8)
-        b = RunQueue(Slots(1, a.slots.directory).open(), capacity=8)
+        a = RunQueue(Slots(1).open(), capacity=8, policy=LONG_QUEUE)
+        b = RunQueue(Slots(1, a.slots.directory).open(), capacity=8, policy=LONG_QUEUE)
         try:
             a.cost_s["POST /x"] = 4.0
             held = await a.enter("POST /x", _deadline(1000.0))
@@ -337,3 +341,31 @@ def test_a_wide_ticket_takes_more_slots_only_while_another_stays_free():
             queue.slots.close()
 
     assert asyncio.run(scenario()) == (3, 3, 1)
+
+
+def test_a_request_gets_its_slot_or_its_refusal_within_the_queue_wait():
+    """Issue 35: under the mixed load requests were refused after 2 s of waiting (a catalogue
+    ran longer than predicted). A request predicted to wait more than max_wait_s is refused
+    at once; one queued on a shorter prediction that gets no slot leaves at max_wait_s."""
+    async def scenario() -> tuple[str, str, float]:
+        queue = RunQueue(Slots(1).open(), capacity=4, policy=AdmissionPolicy(max_wait_s=0.3))
+        try:
+            queue.cost_s["POST /long"] = 5.0
+            queue.cost_s["POST /x"] = 0.1
+            held = await queue.enter("POST /long", _deadline(30.0))
+            with pytest.raises(Refused) as at_once:  # 5 s predicted: more than 0.3 s
+                await queue.enter("POST /x", _deadline(30.0))
+            queue.cost_s["POST /long"] = 0.1  # the prediction now says the slot frees at once: it does not
+            t0 = time.monotonic()
+            with pytest.raises(Refused) as waited:
+                await queue.enter("POST /x", _deadline(30.0))
+            took = time.monotonic() - t0
+            queue.leave(held, measured=False)
+            return at_once.value.reason, waited.value.reason, took
+        finally:
+            queue.slots.close()
+
+    at_once, waited, took = asyncio.run(scenario())
+    assert "more than the 0.3 s a request waits here" in at_once
+    assert "within 0.3 s" in waited and 0.3 <= took < stretched(0.3 + 0.5)
+

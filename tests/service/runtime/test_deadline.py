@@ -9,6 +9,8 @@ import pytest
 
 from service.runtime.deadline import DEFAULT_RESERVE, Deadline, ReservePolicy
 
+pytestmark = pytest.mark.wall_clock  # the deadline itself: its real clock (tests/service/conftest.py)
+
 
 def test_the_reserve_is_a_bounded_fraction_of_the_limit():
     p = ReservePolicy(fraction=0.1, min_s=0.05, max_s=2.0)

@@ -80,14 +80,15 @@ def test_a_request_that_cannot_start_in_time_is_refused_at_once_with_the_predict
     """One slot: while a 1.5 s job runs, a request whose limit leaves no time after the
     predicted wait is refused at once (Retry-After from the prediction, not the setting);
     one with time to spare waits and is served."""
-    with TestClient(pool_app(solver_workers=1, solver_queue=4), raise_server_exceptions=False) as c:
+    with TestClient(pool_app(solver_workers=1, solver_queue=4, solver_queue_wait_s=30.0),
+                    raise_server_exceptions=False) as c:
         with ThreadPoolExecutor(2) as ex:
             first = hold_a_slot(c, ex, 1.5)
             t0 = time.monotonic()
             r = c.post("/test/pid", params={"limit": 2.0})  # the sleep's cost is unknown: half its limit, 5 s
             assert time.monotonic() - t0 < 1.0
             assert r.status_code == 503 and int(r.headers["retry-after"]) >= 4
-            assert "too late for its time limit" in r.json()["detail"][0]["msg"]
+            assert "too late for the 1 s it needs" in r.json()["detail"][0]["msg"]
             waited = c.post("/test/pid", params={"limit": 20.0})
             assert waited.status_code == 200 and first.result().status_code == 200
         gate = c.get("/readyz").json()["gates"][1]
