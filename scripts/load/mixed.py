@@ -3,7 +3,7 @@ feeder catalogues, 4 sending certified loci (the L-shape, 64 rays, 3 s limit), 4
 cheap analytic locus, and a probe of ``/healthz`` every 50 ms; each expensive client waits
 out a 503's ``Retry-After`` (not counted as its latency). Starts ``python -m service`` with
 its defaults (2 web processes, a slot per CPU, the server's one Ray for catalogues) and a
-jobs file of its own, samples the memory of the server's processes (and its Ray's) every
+jobs file of its own, samples the memory (PSS) of the server's processes and its Ray's every
 second, and after it stops reads its log for tracebacks and lines that are not JSON.
 
 What it checks: every expensive request served (200, or 504 with what it finished) or
@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing
 import os
 import platform
 import subprocess
@@ -88,12 +89,13 @@ def ray_heads(server_pid: int) -> list[int]:
     return heads
 
 
-def rss_mb(pids: list[int]) -> float:
+def pss_mb(pids: list[int]) -> float:
+    """The processes' proportional set size, summed (shared pages counted once in all)."""
     total = 0
     for pid in pids:
         try:
-            for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-                if line.startswith("VmRSS:"):
+            for line in Path(f"/proc/{pid}/smaps_rollup").read_text().splitlines():
+                if line.startswith("Pss:"):
                     total += int(line.split()[1])
         except OSError:
             pass
@@ -123,6 +125,23 @@ def client_loop(base: str, kind: str, path: str, body: dict, stop: threading.Eve
             tally.add(kind, status, time.monotonic() - t0, limit)
             if status == 503:
                 stop.wait(min(float(r.headers.get("retry-after", "1")), 10.0))
+
+
+def padded_client(base: str, seconds: float) -> list[tuple[int, float, float]]:
+    """A hostile client, in a process of its own (so that its sending does not slow the
+    measuring clients' own interpreter): ~29 MiB msgpack bodies, a valid push padded with an
+    unknown field of 1.9 million small lists, to /v1/cor/solve, one after another."""
+    import msgpack
+
+    body = msgpack.packb({**CHEAP, "padding": [[i, i + 1, i + 2] for i in range(1_900_000)]})
+    rows = []
+    ends = time.monotonic() + seconds
+    with httpx.Client(timeout=120.0) as c:
+        while time.monotonic() < ends:
+            t0 = time.monotonic()
+            r = c.post(f"{base}/v1/cor/solve", content=body, headers={"content-type": "application/msgpack"})
+            rows.append((r.status_code, time.monotonic() - t0, 30.0))
+    return rows
 
 
 def probe_loop(base: str, stop: threading.Event, tally: Tally) -> None:
@@ -169,6 +188,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--seconds", type=float, default=45.0)
     ap.add_argument("--write", action="store_true")
+    ap.add_argument("--bodies", action="store_true", help="two more clients sending 29 MiB padded msgpack bodies")
     args = ap.parse_args()
     work = Path(tempfile.mkdtemp(prefix="peshkin-mixed-"))
     log_path = work / "server.log"
@@ -179,16 +199,25 @@ def main() -> None:
     threads = [threading.Thread(target=client_loop, args=(base, k, p, b, stop, tally), daemon=True)
                for k, p, b in clients]
     threads.append(threading.Thread(target=probe_loop, args=(base, stop, tally), daemon=True))
+    hostile = None
+    if args.bodies:
+        hostile = multiprocessing.get_context("spawn").Pool(2)
+        padded = hostile.starmap_async(padded_client, [(base, args.seconds)] * 2)
     memory: list[float] = []
     t0 = time.monotonic()
     for t in threads:
         t.start()
     while time.monotonic() - t0 < args.seconds:
-        memory.append(rss_mb(tree(proc.pid) + [p for h in ray_heads(proc.pid) for p in tree(h)]))
+        memory.append(pss_mb(tree(proc.pid) + [p for h in ray_heads(proc.pid) for p in tree(h)]))
         time.sleep(1.0)
     stop.set()
     for t in threads:
         t.join(timeout=130)
+    if hostile is not None:
+        for rows_of_one in padded.get(timeout=300):
+            for row in rows_of_one:
+                tally.add("padded", *row)
+        hostile.close()
     heads = len(ray_heads(proc.pid))
     proc.terminate()
     proc.wait(timeout=60)
@@ -196,7 +225,8 @@ def main() -> None:
     tracebacks = sum("Traceback" in line for line in log)
     not_json = [line for line in log if line.strip() and not line.lstrip().startswith("{")]
     errors = [line for line in log if line.lstrip().startswith("{") and json.loads(line).get("level") == "ERROR"]
-    rows = [summary(k, tally.rows[k]) for k in ("cheap", "healthz", "certified", "catalogue")]
+    kinds = ("cheap", "healthz", "certified", "catalogue", *(("padded",) if args.bodies else ()))
+    rows = [summary(k, tally.rows[k]) for k in kinds]
     for r in rows:
         print(r, flush=True)
     third = max(len(memory) // 3, 1)
@@ -204,17 +234,18 @@ def main() -> None:
           f"peak {max(memory):.0f}; Ray heads {heads}; log: {len(log)} lines, {tracebacks} tracebacks, "
           f"{len(not_json)} not JSON, {len(errors)} errors", flush=True)
     if args.write:
-        write(args.seconds, rows, memory, heads, len(log), tracebacks, not_json, errors)
+        write(args.seconds, rows, memory, heads, len(log), tracebacks, not_json, errors, args.bodies)
 
 
 def write(seconds: float, rows: list[dict], memory: list[float], heads: int, lines: int, tracebacks: int,
-          not_json: list[str], errors: list[str]) -> None:
+          not_json: list[str], errors: list[str], bodies: bool) -> None:
     load = os.getloadavg()[0]
     third = max(len(memory) // 3, 1)
     table = ["| clients | requests | answers by status | p50 (ms) | p99 (ms) | slowest answer (s) | slowest refusal (s) "
              "| late (over 1 s) |", "|---|---:|---|---:|---:|---:|---:|---:|"]
     names = {"cheap": "4 cheap (analytic locus)", "healthz": "probe (/healthz, every 50 ms)",
-             "certified": "4 certified loci (64 rays, 3 s)", "catalogue": "2 catalogues (2 parts, 20 s)"}
+             "certified": "4 certified loci (64 rays, 3 s)", "catalogue": "2 catalogues (2 parts, 20 s)",
+             "padded": "2 hostile (29 MiB padded msgpack bodies)"}
     for r in rows:
         statuses = ", ".join(f"{k}: {v}" for k, v in r["statuses"].items())
         table.append(f"| {names[r['kind']]} | {r['n']} | {statuses} | {r['p50_ms']:.1f} | {r['p99_ms']:.1f} | "
@@ -229,12 +260,12 @@ def write(seconds: float, rows: list[dict], memory: list[float], heads: int, lin
         "",
         *table,
         "",
-        f"Memory of the server's processes and its Ray (RSS, summed, sampled each second): at most "
+        f"Memory of the server's processes and its Ray (PSS, summed, sampled each second): at most "
         f"{max(memory[:third]):.0f} MB in the first third of the run, {max(memory[-third:]):.0f} MB in the last; "
         f"{heads} Ray head for the server. The log: {lines} lines, {tracebacks} tracebacks, {len(not_json)} lines "
         f"that are not JSON, {len(errors)} at level ERROR.",
     ]
-    write_section("Mixed load (issue 35)", out)
+    write_section("Mixed load with large bodies (issue 35)" if bodies else "Mixed load (issue 35)", out)
 
 
 if __name__ == "__main__":

@@ -210,14 +210,17 @@ def in_worker(job: Callable[..., Any], model: type[BaseModel]) -> Callable[..., 
     return functools.partial(validated_in_worker, job, model)
 
 
-LargeHandler = Callable[[Request, RawBody], Awaitable[Response]]
+BodyReader = Callable[[], Awaitable[RawBody]]
+"""Reads a request's body when awaited (a large one is read only if its handler needs it)."""
+LargeHandler = Callable[[Request, BodyReader], Awaitable[Response]]
 LARGE_BODY_ATTRIBUTE = "large_body_handler"
 
 
 def large_bodies(handler: LargeHandler) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Decorate a route's endpoint (below its ``@router.post``): its bodies may be as long
-    as the service reads, and one over the inline limit is answered by ``handler`` with
-    the raw bytes (which must hand them to a solver worker, :func:`in_worker`)."""
+    as the service reads, and one over the inline limit is answered by ``handler`` with a
+    reader of the raw bytes (it may refuse before reading them, and must hand them to a
+    solver worker, :func:`in_worker`)."""
 
     def mark(endpoint: Callable[..., Any]) -> Callable[..., Any]:
         setattr(endpoint, LARGE_BODY_ATTRIBUTE, handler)
@@ -254,6 +257,13 @@ settings' ``inline_body_bytes``; :data:`DEFAULT_INLINE_BYTES` when the app sets 
 DEFAULT_INLINE_BYTES = 2 * 1024 * 1024
 
 
+def _declared_length(request: Request) -> int | None:
+    try:
+        return int(request.headers["content-length"])
+    except (KeyError, ValueError):
+        return None
+
+
 class BodyRoute(APIRoute):
     """A route whose body is read by :func:`decode_object` (module docstring); large bodies
     of an operation marked by :func:`large_bodies` go to its handler undecoded."""
@@ -271,11 +281,23 @@ class BodyRoute(APIRoute):
             media = media_type(request.headers.get("content-type", ""))
             if not (is_json(media) or (media in MSGPACK_TYPES and takes_msgpack)):
                 return await handler(request)  # not a body it reads: FastAPI's own 422
+            inline = getattr(request.app.state, INLINE_STATE, DEFAULT_INLINE_BYTES)
+            declared = _declared_length(request)
+            if large is not None and declared is not None and declared > inline:
+
+                async def read() -> RawBody:
+                    return RawBody(await request.body(), media)
+
+                return await large(request, read)
             raw = await request.body()
             if not raw:
                 return await handler(request)
-            if large is not None and len(raw) > getattr(request.app.state, INLINE_STATE, DEFAULT_INLINE_BYTES):
-                return await large(request, RawBody(raw, media))
+            if large is not None and len(raw) > inline:  # a long body sent without its length
+
+                async def read_already() -> RawBody:
+                    return RawBody(raw, media)
+
+                return await large(request, read_already)
             try:
                 document = decode_object(raw, media, fields, MAX_COLUMN_POINTS)
             except BodyInvalid as exc:

@@ -86,9 +86,9 @@ class AdmissionPolicy:
     request would start at once but does not fit its limit, not that it would start late.
 
     ``max_wait_s`` bounds the queue: a request predicted to wait longer is refused at once,
-    and one that has waited that long without a slot leaves with a 503 then, so every
-    expensive request gets its slot or its refusal within about ``max_wait_s`` of arriving
-    (a prediction that came out short never holds it longer)."""
+    and one still without a slot ``refusal_margin_s`` before that time since it arrived
+    leaves with a 503 then, so every expensive request gets its slot or its refusal within
+    ``max_wait_s`` of arriving (a prediction that came out short never holds it longer)."""
 
     unknown_share: float = 0.5
     start_share: float = 0.25
@@ -99,6 +99,7 @@ class AdmissionPolicy:
     idle_poll_s: float = 0.05
     at_once_s: float = 0.5
     max_wait_s: float = 1.0
+    refusal_margin_s: float = 0.1
 
 
 DEFAULT_ADMISSION = AdmissionPolicy()
@@ -253,6 +254,31 @@ class RunQueue:
         if head and self.waiting:
             self.waiting[0].wake.set()
 
+    def _refusal(self, ticket: Ticket, needed: float) -> Refused | None:
+        """Why ``ticket``, needing ``needed`` s, may not wait for a slot (None: it may)."""
+        p = self.policy
+        wait = self.predicted_wait()
+        if len(self.waiting) >= self.capacity:
+            return Refused(f"all {self.capacity} places in the queue are taken", wait)
+        if wait * (1.0 + p.wait_margin) + needed > ticket.deadline.solver_s():
+            return Refused(self._too_late(ticket, wait, needed), wait)
+        if wait > p.max_wait_s:
+            return Refused(f"it would wait about {wait:.2g} s for a solver slot, more than the {p.max_wait_s:g} s a "
+                           "request waits here", wait)
+        return None
+
+    def refusal_now(self, kind: str, deadline: Deadline, anytime: bool = False) -> Refused | None:
+        """What :meth:`enter` would refuse now, without waiting or taking anything (counted as
+        a refusal when it is one): a route asks it before it reads a large body, so that a
+        request refused anyway is not read."""
+        self.peers = Peers.of(self.slots.peers())
+        if not self.waiting and self.peers.waiting_s == 0.0 and self.slots.free() > 0:
+            return None
+        refused = self._refusal(Ticket(kind, deadline, anytime), self.needed(kind, deadline.limit_s, anytime))
+        if refused is not None:
+            self.refused += 1
+        return refused
+
     async def enter(self, kind: str, deadline: Deadline, anytime: bool = False, width: int = 1) -> Ticket:
         """A slot for the request (and more, up to ``width``, while others stay free), or
         :class:`Refused`."""
@@ -262,24 +288,18 @@ class RunQueue:
         if not self.waiting and self.peers.waiting_s == 0.0 and self._start(ticket):
             return ticket
         needed = self.needed(kind, deadline.limit_s, anytime)
-        wait = self.predicted_wait()
-        if len(self.waiting) >= self.capacity:
-            raise self._refuse(f"all {self.capacity} places in the queue are taken", wait)
-        if wait * (1.0 + p.wait_margin) + needed > deadline.solver_s():
-            raise self._refuse(self._too_late(ticket, wait, needed), wait)
-        if wait > p.max_wait_s:
-            raise self._refuse(f"it would wait about {wait:.2g} s for a solver slot, more than the "
-                               f"{p.max_wait_s:g} s a request waits here", wait)
+        refused = self._refusal(ticket, needed)
+        if refused is not None:
+            self.refused += 1
+            raise refused
         self.waiting.append(ticket)
         self.admitted += 1
         self._publish()
-        queued = time.monotonic()
         try:
             while True:
                 if self.waiting[0] is ticket and self._start(ticket):
                     return ticket
-                waited = time.monotonic() - queued
-                if deadline.solver_s() < needed or waited >= p.max_wait_s:
+                if deadline.solver_s() < needed or deadline.elapsed() >= p.max_wait_s - p.refusal_margin_s:
                     self._dequeue(ticket)
                     self._publish()
                     self.peers = Peers.of(self.slots.peers())

@@ -265,6 +265,24 @@ class Runner:
             queue.leave(ticket, measured=reply.status in MEASURED_STATUSES)
         return delivered(request, reply)
 
+    def refused_now(self, request: Request, time_limit_s: float | None = None, cost_key: str = "",
+                    anytime: bool = False) -> Response | None:
+        """The 503 that an expensive job of this request would get now (None: it would be
+        admitted), asked before a large body is read: a request refused anyway is answered
+        without reading its body (and its connection closed, the body left unsent)."""
+        queue = self.expensive
+        if not isinstance(queue, RunQueue):
+            return None
+        deadline = self.deadline(request, time_limit_s, asked=False)
+        refused = queue.refusal_now(f"{where(request)} {cost_key}".rstrip(), deadline, anytime)
+        if refused is None:
+            return None
+        retry = max(self.retry_after_s, math.ceil(refused.retry_after_s))
+        log.info("refused %s before reading its body: %s", where(request), refused.reason)
+        response = busy_response(queue.name, retry, refused.reason)
+        response.headers["connection"] = "close"
+        return response
+
     async def queued(self, request: Request, enter: Coroutine[Any, Any, Ticket]) -> Ticket | None:
         """The request's slot (``enter``: its wait in the queue; :class:`Refused` passes
         through); None when its client went away while it waited. Whatever ends the wait

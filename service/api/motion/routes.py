@@ -28,7 +28,7 @@ from service.api.motion.schemas import (
     TripodStatisticsResponse,
 )
 from service.common.binary import in_msgpack, msgpack_openapi, wants_msgpack
-from service.common.bodies import BodyRoute, in_worker, large_bodies
+from service.common.bodies import BodyReader, BodyRoute, in_worker, large_bodies
 from service.common.inputs import located
 from service.common.responses import IN_WORKER
 from service.runtime.deadline import Deadline
@@ -39,23 +39,13 @@ from solver import solve_motion, tripod_statistics
 router = APIRouter(tags=["cor"], route_class=BodyRoute)
 
 
-@router.post(
-    "/v1/cor/solve",
-    operation_id="cor_solve",
-    summary="Motion of a pushed workpiece for a known pressure distribution",
-    response_model=CorSolveResponse,
-    responses=IN_WORKER,
-    openapi_extra=msgpack_openapi("CorSolveRequest", "CorSolveResponse"),
-)
-@large_bodies(lambda request, body: _answered(request, SOLVE_RAW, body))
-async def cor_solve(req: CorSolveRequest, request: Request) -> Response:
-    """The motion (COR, rotation and slip per unit push, contact mode, forces) that
-    minimises the frictional power (book 3.2-3.3.3; with pusher friction mu_c, 4.1), for
-    one support, a batch of supports (as objects or as columns), or a modelled uniform
-    pressure (figure 7-1). The body and the answer may be msgpack (`Content-Type`,
-    `Accept: application/msgpack`). A body over the inline limit (2 MiB by default) is
-    decoded and checked in the solver worker that solves it, never in a web process."""
-    return await _answered(request, solve_job, req)
+async def _large(request: Request, read: BodyReader) -> Response:
+    """A body over the inline limit: refused before it is read when the request would be
+    refused anyway, else read and decoded in the solver worker (service.common.bodies)."""
+    refused = runner(request).refused_now(request)
+    if refused is not None:
+        return refused
+    return await _answered(request, SOLVE_RAW, await read())
 
 
 async def _answered(request: Request, job: Job, req: Any) -> Response:
@@ -67,6 +57,25 @@ async def _answered(request: Request, job: Job, req: Any) -> Response:
         response = await runner(request).expensive_job(request, job, req)
     response.headers["vary"] = "Accept"
     return response
+
+
+@router.post(
+    "/v1/cor/solve",
+    operation_id="cor_solve",
+    summary="Motion of a pushed workpiece for a known pressure distribution",
+    response_model=CorSolveResponse,
+    responses=IN_WORKER,
+    openapi_extra=msgpack_openapi("CorSolveRequest", "CorSolveResponse"),
+)
+@large_bodies(_large)
+async def cor_solve(req: CorSolveRequest, request: Request) -> Response:
+    """The motion (COR, rotation and slip per unit push, contact mode, forces) that
+    minimises the frictional power (book 3.2-3.3.3; with pusher friction mu_c, 4.1), for
+    one support, a batch of supports (as objects or as columns), or a modelled uniform
+    pressure (figure 7-1). The body and the answer may be msgpack (`Content-Type`,
+    `Accept: application/msgpack`). A body over the inline limit (2 MiB by default) is
+    decoded and checked in the solver worker that solves it, never in a web process."""
+    return await _answered(request, solve_job, req)
 
 
 def solve_job(req: CorSolveRequest, deadline: Deadline) -> CorSolveResponse:

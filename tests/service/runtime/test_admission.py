@@ -367,5 +367,5 @@ def test_a_request_gets_its_slot_or_its_refusal_within_the_queue_wait():
 
     at_once, waited, took = asyncio.run(scenario())
     assert "more than the 0.3 s a request waits here" in at_once
-    assert "within 0.3 s" in waited and 0.3 <= took < stretched(0.3 + 0.5)
+    assert "within 0.3 s" in waited and 0.2 <= took < stretched(0.3)  # it leaves the answer's margin before
 

@@ -63,3 +63,28 @@ def test_padded_and_large_bodies_do_not_freeze_the_web_process():
     assert answers[2].status_code == 200
     assert len(msgpack.unpackb(answers[2].content)["columns"]["cor_x"]) == 100_000
     assert stalls and max(stalls) < stretched(PROBE_STALL_S), f"a probe waited {max(stalls):.2f} s"
+
+
+def test_a_large_body_that_would_be_refused_is_refused_unread():
+    """With every slot held, a 30 MiB body to /v1/cor/solve is answered 503 as soon as its
+    headers arrive: the server does not read 30 MiB to refuse it (the client here sends 1 MiB
+    and waits)."""
+    import socket
+
+    from tests.service.runtime.test_live import SLOW_LOCUS
+
+    with live_server(web_workers="1", solver_workers="1") as url:
+        host, port = url.removeprefix("http://").split(":")
+        with ThreadPoolExecutor(1) as pool:
+            holder = pool.submit(httpx.post, f"{url}/v1/cor/locus", json={**SLOW_LOCUS, "time_limit_s": 8},
+                                 timeout=60.0)
+            time.sleep(1.0)  # the only slot is held
+            with socket.create_connection((host, int(port)), timeout=30.0) as s:
+                s.sendall(b"POST /v1/cor/solve HTTP/1.1\r\nHost: x\r\nContent-Type: application/msgpack\r\n"
+                          b"Content-Length: 31457280\r\n\r\n" + b"\x00" * (1 << 20))
+                t0 = time.monotonic()
+                head = s.recv(4096)
+                took = time.monotonic() - t0
+            holder.result()
+    assert head.startswith(b"HTTP/1.1 503"), head[:200]
+    assert b"connection: close" in head.lower() and took < stretched(2.0)
