@@ -49,6 +49,9 @@ CATALOGUE = {"parts": [
     "design": {"angles": {"min": 0.1745, "max": 1.3963, "step": 0.0873}, "mu_c": 0.25, "alternate": False,
                "validation_parts": 10}, "time_limit_s": 20}
 """The API guide's catalogue example, with a 20 s limit."""
+HOSTILE_PAUSE_S = 1.0
+"""A hostile client's pause between two bodies (without it, two clients push ~480 MB/s of
+padding through loopback and the two cores go to copying it)."""
 PROMPT_S = 1.0
 """An expensive request is answered or refused within this of sending, or its limit plus this."""
 
@@ -130,7 +133,7 @@ def client_loop(base: str, kind: str, path: str, body: dict, stop: threading.Eve
 def padded_client(base: str, seconds: float) -> list[tuple[int, float, float]]:
     """A hostile client, in a process of its own (so that its sending does not slow the
     measuring clients' own interpreter): ~29 MiB msgpack bodies, a valid push padded with an
-    unknown field of 1.9 million small lists, to /v1/cor/solve, one after another."""
+    unknown field of 1.9 million small lists, to /v1/cor/solve, one a second."""
     import msgpack
 
     body = msgpack.packb({**CHEAP, "padding": [[i, i + 1, i + 2] for i in range(1_900_000)]})
@@ -141,6 +144,7 @@ def padded_client(base: str, seconds: float) -> list[tuple[int, float, float]]:
             t0 = time.monotonic()
             r = c.post(f"{base}/v1/cor/solve", content=body, headers={"content-type": "application/msgpack"})
             rows.append((r.status_code, time.monotonic() - t0, 30.0))
+            time.sleep(HOSTILE_PAUSE_S)
     return rows
 
 
@@ -245,7 +249,7 @@ def write(seconds: float, rows: list[dict], memory: list[float], heads: int, lin
              "| late (over 1 s) |", "|---|---:|---|---:|---:|---:|---:|---:|"]
     names = {"cheap": "4 cheap (analytic locus)", "healthz": "probe (/healthz, every 50 ms)",
              "certified": "4 certified loci (64 rays, 3 s)", "catalogue": "2 catalogues (2 parts, 20 s)",
-             "padded": "2 hostile (29 MiB padded msgpack bodies)"}
+             "padded": "2 hostile (29 MiB padded msgpack bodies, 1 s apart)"}
     for r in rows:
         statuses = ", ".join(f"{k}: {v}" for k, v in r["statuses"].items())
         table.append(f"| {names[r['kind']]} | {r['n']} | {statuses} | {r['p50_ms']:.1f} | {r['p99_ms']:.1f} | "

@@ -269,7 +269,8 @@ class Runner:
                     anytime: bool = False) -> Response | None:
         """The 503 that an expensive job of this request would get now (None: it would be
         admitted), asked before a large body is read: a request refused anyway is answered
-        without reading its body (and its connection closed, the body left unsent)."""
+        without reading its body into the web process (the server discards the rest as it
+        arrives, so the client gets its 503 on a connection that stays usable)."""
         queue = self.expensive
         if not isinstance(queue, RunQueue):
             return None
@@ -279,9 +280,7 @@ class Runner:
             return None
         retry = max(self.retry_after_s, math.ceil(refused.retry_after_s))
         log.info("refused %s before reading its body: %s", where(request), refused.reason)
-        response = busy_response(queue.name, retry, refused.reason)
-        response.headers["connection"] = "close"
-        return response
+        return busy_response(queue.name, retry, refused.reason)
 
     async def queued(self, request: Request, enter: Coroutine[Any, Any, Ticket]) -> Ticket | None:
         """The request's slot (``enter``: its wait in the queue; :class:`Refused` passes

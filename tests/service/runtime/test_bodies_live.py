@@ -67,8 +67,8 @@ def test_padded_and_large_bodies_do_not_freeze_the_web_process():
 
 def test_a_large_body_that_would_be_refused_is_refused_unread():
     """With every slot held, a 30 MiB body to /v1/cor/solve is answered 503 as soon as its
-    headers arrive: the server does not read 30 MiB to refuse it (the client here sends 1 MiB
-    and waits)."""
+    headers arrive: the web process does not read 30 MiB to refuse it (the client here sends
+    1 MiB and waits)."""
     import socket
 
     from tests.service.runtime.test_live import SLOW_LOCUS
@@ -87,4 +87,4 @@ def test_a_large_body_that_would_be_refused_is_refused_unread():
                 took = time.monotonic() - t0
             holder.result()
     assert head.startswith(b"HTTP/1.1 503"), head[:200]
-    assert b"connection: close" in head.lower() and took < stretched(2.0)
+    assert took < stretched(2.0)
