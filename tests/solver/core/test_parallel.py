@@ -224,3 +224,15 @@ def test_the_processes_of_a_server_share_one_ray_which_ends_with_the_server():
         time.sleep(0.1)
     else:
         pytest.fail("the server's Ray head outlived its directory")
+
+
+def test_a_map_short_of_time_does_not_start_ray_but_runs_in_process():
+    """Issue 35, point 5: a catalogue with a limit of a few seconds always answered 504 with
+    nothing, its local Ray's start (2-4 s) eating the limit. A map with less than CONNECT_S
+    left in a process not yet connected runs in process and hands back what it finished."""
+    from solver.core.parallel import CONNECT_S, connected
+
+    pool = RayPool(workers=2)
+    assert not connected(pool)
+    run = parallel_map(sleep_for, [0.0, 0.0, 0.0], pool, Budget.of(CONNECT_S / 2))
+    assert run.backend == "in_process" and run.complete and not connected(pool)
