@@ -15,7 +15,7 @@ CA_BUILD_FLAGS = $(if $(HOST_CA_BUNDLE),-v $(HOST_CA_BUNDLE):/run/host-ca-bundle
 PORT          ?= 8000
 SMOKE_PORT    ?= 18000
 
-.PHONY: help venv serve test test-fast openapi bench load docker-local-base docker-local docker-smoke docker-run-local
+.PHONY: help venv serve test test-fast openapi bench load load-mixed docker-local-base docker-local docker-smoke docker-run-local
 
 help:
 	@echo "make serve             run the service (bash scripts/serve.sh)"
@@ -24,6 +24,7 @@ help:
 	@echo "make openapi           write the OpenAPI document (scripts/gen_openapi.py)"
 	@echo "make bench             run the benchmarks (tests/benchmarks)"
 	@echo "make load              load test on loopback with wrk (scripts/load/run.py)"
+	@echo "make load-mixed        issue 35's mixed load, then with hostile bodies (scripts/load/mixed.py)"
 	@echo "make docker-local-base debootstrap a Debian base image into podman ($(LOCAL_BASE))"
 	@echo "make docker-local      podman build $(IMAGE) on that base (no dangling image left)"
 	@echo "make docker-smoke      build, start, send every documented example, stop; size and cold start"
@@ -50,6 +51,10 @@ bench: venv
 
 load: venv
 	$(PYTHON) scripts/load/run.py
+
+load-mixed: venv
+	$(PYTHON) scripts/load/mixed.py --write
+	$(PYTHON) scripts/load/mixed.py --write --bodies
 
 docker-local-base:
 	bash scripts/docker-local-base.sh $(LOCAL_BASE)
