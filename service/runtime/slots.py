@@ -111,12 +111,22 @@ class Slots:
 
     def try_take(self) -> int | None:
         """A free slot, now held by this process (None: all are held)."""
+        return self._take(self._fds, self._held)
+
+    def _take(self, fds: list[int], held: set[int]) -> int | None:
         with self._lock:
-            for i, fd in enumerate(self._fds):
-                if i not in self._held and _lock(fd):
-                    self._held.add(i)
+            for i, fd in enumerate(fds):
+                if i not in held and _lock(fd):
+                    held.add(i)
                     return i
             return None
+
+    def _give_back(self, fds: list[int], held: set[int], i: int, what: str) -> None:
+        with self._lock:
+            if i not in held:
+                raise RuntimeError(f"{what} {i} given back but not held")
+            held.discard(i)
+            fcntl.flock(fds[i], fcntl.LOCK_UN)
 
     def free(self) -> int:
         """Slots free now, by any holder (probed without blocking; advisory)."""
@@ -129,27 +139,14 @@ class Slots:
             return free
 
     def give_back(self, slot: int) -> None:
-        with self._lock:
-            if slot not in self._held:
-                raise RuntimeError(f"slot {slot} given back but not held")
-            self._held.discard(slot)
-            fcntl.flock(self._fds[slot], fcntl.LOCK_UN)
+        self._give_back(self._fds, self._held, slot, "slot")
 
     def try_take_place(self) -> int | None:
         """A free place for a job, now held by this process (None: jobs hold them all)."""
-        with self._lock:
-            for i, fd in enumerate(self._place_fds):
-                if i not in self._places_held and _lock(fd):
-                    self._places_held.add(i)
-                    return i
-            return None
+        return self._take(self._place_fds, self._places_held)
 
     def give_back_place(self, place: int) -> None:
-        with self._lock:
-            if place not in self._places_held:
-                raise RuntimeError(f"job place {place} given back but not held")
-            self._places_held.discard(place)
-            fcntl.flock(self._place_fds[place], fcntl.LOCK_UN)
+        self._give_back(self._place_fds, self._places_held, place, "job place")
 
     def publish(self, state: dict[str, Any]) -> None:
         """Tell the other holders this one's queue (``state``: JSON), in a file of its own,

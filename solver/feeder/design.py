@@ -177,12 +177,16 @@ class FeederDesignResult:
             head = ("no design exists with these fences" if found.exhausted else
                     f"no design of {found.depth_proven} fences or fewer")
             return "; ".join((head, *(_relaxed_words(r) for r in self.relaxed)))
-        n = len(self.design.fences)
-        if isinstance(self.design, PlacedDesign):
-            kind = "fences only" if self.design.gate is None else "fences and a reject gate"
-            return (f"a placed design of {n} fences ({kind}, guaranteed yield {100 * self.design.guaranteed_yield:.2f} % "
-                    f"per pass), none shorter (searched {found.nodes} nodes)")
-        return f"a design of {n} fences, none shorter (searched {found.nodes} nodes)"
+        return f"{_design_words(self.design)}, none shorter (searched {found.nodes} nodes)"
+
+
+def _design_words(design: Design | PlacedDesign) -> str:
+    """"a design of n fences", or on a belt what it is made of and its guaranteed yield."""
+    n = len(design.fences)
+    if isinstance(design, PlacedDesign):
+        kind = "fences only" if design.gate is None else "fences and a reject gate"
+        return f"a placed design of {n} fences ({kind}, guaranteed yield {100 * design.guaranteed_yield:.2f} % per pass)"
+    return f"a design of {n} fences"
 
 
 RELAXED_WORDS = {"alternate": "with alternate false (sides free)", "gate": "with a reject gate allowed"}
@@ -193,12 +197,7 @@ def _relaxed_words(r: Relaxation) -> str:
         return f"{RELAXED_WORDS[r.setting]}: not searched, the time limit was reached"
     if r.design is None:
         return f"{RELAXED_WORDS[r.setting]}, none either: that setting did not rule one out"
-    n = len(r.design.fences)
-    if isinstance(r.design, PlacedDesign):
-        kind = "fences only" if r.design.gate is None else "fences and a reject gate"
-        return (f"{RELAXED_WORDS[r.setting]} the same search finds a placed design of {n} fences ({kind}, "
-                f"guaranteed yield {100 * r.design.guaranteed_yield:.2f} % per pass)")
-    return f"{RELAXED_WORDS[r.setting]} the same search finds a design of {n} fences"
+    return f"{RELAXED_WORDS[r.setting]} the same search finds {_design_words(r.design)}"
 
 
 MAPS_AT_ONCE = 16
