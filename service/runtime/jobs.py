@@ -252,9 +252,7 @@ class Runner:
             ticket = await self.queued(request, queue.enter(f"{where(request)} {cost_key}".rstrip(), deadline,
                                                             anytime, width))
         except Refused as refused:
-            retry = max(self.retry_after_s, math.ceil(refused.retry_after_s))
-            log.info("refused %s: %s", where(request), refused.reason)
-            return busy_response(queue.name, retry, refused.reason)
+            return self._busy(request, refused)
         if ticket is None:
             log.info("client gone on %s after %.3g s in the queue", where(request), deadline.elapsed())
             return Reply(CLIENT_GONE, None, b"").response()
@@ -276,11 +274,13 @@ class Runner:
             return None
         deadline = self.deadline(request, time_limit_s, asked=False)
         refused = queue.refusal_now(f"{where(request)} {cost_key}".rstrip(), deadline, anytime)
-        if refused is None:
-            return None
+        return None if refused is None else self._busy(request, refused, " before reading its body")
+
+    def _busy(self, request: Request, refused: Refused, when: str = "") -> Response:
+        """The 503 of a refusal, its Retry-After the predicted wait (at least the setting's)."""
         retry = max(self.retry_after_s, math.ceil(refused.retry_after_s))
-        log.info("refused %s before reading its body: %s", where(request), refused.reason)
-        return busy_response(queue.name, retry, refused.reason)
+        log.info("refused %s%s: %s", where(request), when, refused.reason)
+        return busy_response(self.expensive.name, retry, refused.reason)
 
     async def queued(self, request: Request, enter: Coroutine[Any, Any, Ticket]) -> Ticket | None:
         """The request's slot (``enter``: its wait in the queue; :class:`Refused` passes
