@@ -31,6 +31,11 @@ log = logging.getLogger("service")
 SCHEMA_VERSION = 1
 BUSY_TIMEOUT_S = 5.0
 """How long a writer waits for another process's write to finish."""
+WAL_RETRY_S = 0.01
+"""The pause between tries of switching a file to WAL: SQLite answers "database is locked"
+at once, without its busy timeout, to a connection that switches while another does (two
+processes opening a new file together: about one opening in four lost its store)."""
+_BUSY = {"SQLITE_BUSY", "SQLITE_BUSY_RECOVERY", "SQLITE_BUSY_SNAPSHOT", "SQLITE_LOCKED", "SQLITE_LOCKED_SHAREDCACHE"}
 DEFAULT_MAX_ROWS = 200_000
 """About 40 MB of r* rows (a table is ~60 rows)."""
 
@@ -120,13 +125,27 @@ def thread_connection(local: threading.local, path: Path, schema: Sequence[str],
     path.parent.mkdir(parents=True, exist_ok=True)
     conn = sqlite3.connect(path, timeout=BUSY_TIMEOUT_S, isolation_level=None, check_same_thread=check_same_thread)
     conn.row_factory = row_factory
-    conn.execute("PRAGMA journal_mode=WAL")
+    _to_wal(conn)
     for statement in schema:
         conn.execute(statement)
     if migrate is not None:
         migrate(conn)
     local.conn, local.pid = conn, os.getpid()
     return conn
+
+
+def _to_wal(conn: sqlite3.Connection) -> None:
+    """Switch the file to WAL, trying again while another connection holds it (for at most
+    the busy timeout; see WAL_RETRY_S)."""
+    give_up = time.monotonic() + BUSY_TIMEOUT_S
+    while True:
+        try:
+            conn.execute("PRAGMA journal_mode=WAL")
+            return
+        except sqlite3.OperationalError as exc:
+            if getattr(exc, "sqlite_errorname", "") not in _BUSY or time.monotonic() > give_up:
+                raise
+        time.sleep(WAL_RETRY_S)
 
 
 RETRY_S = 30.0

@@ -15,6 +15,8 @@ from pathlib import Path
 
 import httpx
 
+from service.settings import Settings
+
 REPO = Path(__file__).resolve().parents[2]
 PENTAGON = {"vertices": [[0, 0], [3, 0], [3.5, 1.5], [1.5, 2.5], [-0.5, 1.2]], "center_of_mass": [1.4, 1.0]}
 DESIGN = {"part": PENTAGON, "angles": {"min": math.radians(20), "max": math.radians(70), "step": math.radians(10)},
@@ -24,6 +26,20 @@ the expensive request of the floods (tests/service/runtime/test_flood_live.py, m
 
 STARTUP_TIMEOUT_S = 120.0
 """How long the server may take to start (its workers import the solver stack)."""
+LISTEN = "0A"
+"""TCP_LISTEN, as /proc/net/tcp writes a socket's state."""
+
+
+def listening_sockets(port: int) -> int:
+    """How many sockets listen on loopback ``port`` (each web process has its own, with
+    SO_REUSEPORT, once its app is ready: service/server.py)."""
+    count = 0
+    with open("/proc/net/tcp") as table:
+        next(table)
+        for line in table:
+            local, _, state = line.split()[1:4]
+            count += state == LISTEN and int(local.rsplit(":", 1)[1], 16) == port
+    return count
 
 
 def free_port() -> int:
@@ -57,13 +73,14 @@ def live_server_process(**settings: str) -> Iterator[tuple[str, subprocess.Popen
     env.update({f"PESHKIN_{k.upper()}": v for k, v in settings.items()})
     proc = subprocess.Popen(server_command(), cwd=REPO, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     url = f"http://127.0.0.1:{port}"
+    web = int(settings.get("web_workers", Settings.web_workers))
     try:
         deadline = time.monotonic() + STARTUP_TIMEOUT_S
-        while True:
+        while True:  # ready, and every web process listening (one answers /readyz before the others listen)
             if proc.poll() is not None:
                 raise RuntimeError(f"the server exited: {proc.stderr.read().decode(errors='replace')[-2000:]}")
             try:
-                if httpx.get(f"{url}/readyz", timeout=1.0).status_code == 200:
+                if httpx.get(f"{url}/readyz", timeout=1.0).status_code == 200 and listening_sockets(port) >= web:
                     break
             except httpx.HTTPError:
                 pass
