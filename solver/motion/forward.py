@@ -40,7 +40,7 @@ from models.core.scene import PushScene
 from models.core.support import Support
 from solver.core.backends import in_backend
 from solver.core.errors import BackendNotFound, NotConverged
-from solver.core.threads import PerThreadCache, ignore_inaccurate_solution_warning
+from solver.core.threads import CasadiFunction, PerThreadCache, ignore_inaccurate_solution_warning
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.motion import newton as _newton
 
@@ -347,7 +347,7 @@ class _CasadiBackend(_Backend):
     def solve(self, w, p, m, q, tol):
         b, k, _ = w.shape
         rows = m.shape[1]
-        solver = _IPOPT_SOLVERS.get((k, rows, tol.casadi_tol), lambda: self._build(k, rows, tol))
+        solver = _IPOPT_SOLVERS.get((k, rows, tol.casadi_tol), lambda: CasadiFunction(lambda: self._build(k, rows, tol)))
         xs = np.zeros((b, 3))
         its = np.zeros(b, dtype=int)
         lbg = np.concatenate([np.zeros(3), np.zeros(k)])

@@ -64,6 +64,7 @@ from models.core.support import Support
 from solver.core.backends import in_backend
 from solver.core.budget import Budget
 from solver.core.errors import NotConverged, SolverError
+from solver.core.threads import CasadiFunction
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.motion.forward import solve_forward
 
@@ -240,7 +241,8 @@ def draw_start(rng: np.random.Generator, tris: np.ndarray | None, areas: np.ndar
 
 
 def _build_nlp(kind: str, tol: SolverTolerances, max_iter: int, wall_time_s: float):
-    """The tripod NLP in the locus frame, built once per search (CasADi SX, IPOPT).
+    """The tripod NLP in the locus frame, built once per search (CasADi SX, IPOPT; under
+    the process's CasADi lock, solver.core.threads.CasadiFunction).
 
     Variables z (11): disk: feet w (6); polygon: barycentric (u_i, v_i) (6), the foot being
     A + u (B - A) + v (C - A) in its triangle; then P (3), r (2).
@@ -249,6 +251,17 @@ def _build_nlp(kind: str, tol: SolverTolerances, max_iter: int, wall_time_s: flo
     (3); mu - r_x - margin >= 0; disk: 1 - |w_i|^2 >= 0 (3), polygon: 1 - u_i - v_i >= 0 (3).
     Objective: minimise -(d . r).
     """
+    nlp = CasadiFunction(lambda: _nlp_function(kind, tol, max_iter, wall_time_s))
+    lbg = np.zeros(12)
+    ubg = np.concatenate([np.zeros(5), np.full(7, np.inf)])
+    lo_q, hi_q = (-1.0, 1.0) if kind == "disk" else (0.0, 1.0)
+    lbx = np.concatenate([np.full(6, lo_q), np.zeros(3), np.full(2, -np.inf)])
+    ubx = np.concatenate([np.full(6, hi_q), np.ones(3), np.full(2, np.inf)])
+    return nlp, lbx, ubx, lbg, ubg
+
+
+def _nlp_function(kind: str, tol: SolverTolerances, max_iter: int, wall_time_s: float):
+    """The nlpsol of :func:`_build_nlp` (called with the CasADi lock held)."""
     z = ca.SX.sym("z", 11)
     par = ca.SX.sym("p", 22)
     mu, dx, dy, margin = par[0], par[1], par[2], par[3]
@@ -286,13 +299,7 @@ def _build_nlp(kind: str, tol: SolverTolerances, max_iter: int, wall_time_s: flo
         "ipopt.sb": "yes",
         "print_time": 0,
     }
-    nlp = ca.nlpsol("tripod_extreme_cor", "ipopt", {"x": z, "p": par, "f": -(dx * r[0] + dy * r[1]), "g": g}, opts)
-    lbg = np.zeros(12)
-    ubg = np.concatenate([np.zeros(5), np.full(7, np.inf)])
-    lo_q, hi_q = (-1.0, 1.0) if kind == "disk" else (0.0, 1.0)
-    lbx = np.concatenate([np.full(6, lo_q), np.zeros(3), np.full(2, -np.inf)])
-    ubx = np.concatenate([np.full(6, hi_q), np.ones(3), np.full(2, np.inf)])
-    return nlp, lbx, ubx, lbg, ubg
+    return ca.nlpsol("tripod_extreme_cor", "ipopt", {"x": z, "p": par, "f": -(dx * r[0] + dy * r[1]), "g": g}, opts)
 
 
 # ---------------------------------------------------------------------------------------

@@ -28,6 +28,7 @@ from models.particle import balance as mp
 from solver.core.backends import in_backend
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import NotConverged, SolverError
+from solver.core.threads import CasadiFunction, PerThreadCache
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 
 
@@ -96,22 +97,34 @@ def _scales(scene: mp.ParticleScene) -> tuple[float, float]:
     return k, math.exp(log_k if log_k <= 0.0 else log_k / scene.n)
 
 
+def _particle_nlp(options: dict) -> ca.Function:
+    """(2.30) in tau, divided by K s, with the parameters (K, s, n): one nlpsol for every
+    scene (called with the CasADi lock held: solver.core.threads.CasadiFunction)."""
+    tau, par = ca.SX.sym("tau"), ca.SX.sym("p", 3)
+    k, scale, n = par[0], par[1], par[2]
+    t = scale * tau
+    objective = (-k * t + (1.0 + t * t) ** (0.5 * (n + 1.0))) / (k * scale)
+    return ca.nlpsol("particle_mpp", "ipopt", {"x": tau, "p": par, "f": objective}, options)
+
+
+_PARTICLE_NLPS: PerThreadCache[tuple, CasadiFunction] = PerThreadCache(4)
+"""Each thread's particle NLP, by its IPOPT options."""
+
+
 def minimise_power(scene: mp.ParticleScene, tol: SolverTolerances = SOLVER_DEFAULT) -> tuple[float, str, int, float]:
     """IPOPT's minimiser v_y of (2.30) for a validated scene: (v_y, status, iterations,
     seconds). Raises SolverError when CasADi cannot build the problem, NotConverged when
     IPOPT fails or does not succeed."""
     k, scale = _scales(scene)
-    tau = ca.SX.sym("tau")
-    t = scale * tau
-    objective = (-k * t + (1.0 + t * t) ** (0.5 * (scene.n + 1.0))) / (k * scale)
     t0 = time.perf_counter()
     try:
-        nlp = ca.nlpsol("particle_mpp", "ipopt", {"x": tau, "f": objective}, ipopt_options(tol))
+        options = ipopt_options(tol)
+        nlp = _PARTICLE_NLPS.get(tuple(sorted(options.items())), lambda: CasadiFunction(lambda: _particle_nlp(options)))
     except RuntimeError as exc:
         raise SolverError(f"CasADi could not build the particle power (2.30): {exc}") from exc
     try:
         with in_backend("casadi"):
-            out = nlp(x0=1.0)  # tau = 1: the a-priori scale, not the answer
+            out = nlp(x0=1.0, p=[k, scale, scene.n])  # tau = 1: the a-priori scale, not the answer
         stats = nlp.stats()
     except RuntimeError as exc:
         raise NotConverged(f"IPOPT failed on the particle power (2.30): {exc}") from exc
