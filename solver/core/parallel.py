@@ -14,14 +14,16 @@ results are None: a map never reports as done a task that did not finish.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import logging
 import os
 import shutil
+import signal
 import tempfile
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -117,20 +119,38 @@ def _ray(pool: RayPool) -> Any:
         if ray.is_initialized():
             _shutdown(ray)
         os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
-        if pool.address is not None or head is not None:
-            address = pool.address if head is None else head.address
-            ray.init(address=address, log_to_driver=False, logging_level=logging.WARNING)
-        else:
-            temp = tempfile.mkdtemp(prefix="pk-ray-", dir="/tmp")  # short: Ray's socket paths must fit 107 bytes
-            _local_dirs.append(temp)
-            try:
-                ray.init(address="local", num_cpus=pool.workers, include_dashboard=False, log_to_driver=False,
-                         object_store_memory=LOCAL_OBJECT_STORE_BYTES, _temp_dir=temp)
-            except Exception:
-                _shutdown(ray)  # what a failed start left: its processes and its folder
-                raise
+        with _own_sigterm():
+            if pool.address is not None or head is not None:
+                address = pool.address if head is None else head.address
+                ray.init(address=address, log_to_driver=False, logging_level=logging.WARNING)
+            else:
+                temp = tempfile.mkdtemp(prefix="pk-ray-", dir="/tmp")  # short: Ray's socket paths must fit 107 bytes
+                _local_dirs.append(temp)
+                try:
+                    ray.init(address="local", num_cpus=pool.workers, include_dashboard=False, log_to_driver=False,
+                             object_store_memory=LOCAL_OBJECT_STORE_BYTES, _temp_dir=temp)
+                except Exception:
+                    _shutdown(ray)  # what a failed start left: its processes and its folder
+                    raise
         _connected = key
         return ray
+
+
+@contextlib.contextmanager
+def _own_sigterm() -> Iterator[None]:
+    """Keep this process's SIGTERM handler across ``ray.init``, which installs its own on the
+    main thread (``sys.exit``): a Python handler runs only when the main thread runs Python,
+    so a worker idle in a blocking call, with Ray's threads beside it, could ignore SIGTERM
+    (a pool of two Ray drivers hung in ``Pool.terminate``). The default handler ends the
+    process whichever thread the signal reaches."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.getsignal(signal.SIGTERM)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
 
 
 def _key(pool: RayPool) -> tuple[str | None, int]:

@@ -185,17 +185,21 @@ def _head_pids(directory: str) -> list[int]:
         return []
 
 
-def ray_of_server(directory: str) -> tuple[str, int, int]:
+def ray_of_server(directory: str) -> tuple[str, int, int, bool]:
     """In a process of its own (one of a server's solver workers): the server's Ray as this
-    process sees it, after a map on it."""
+    process sees it, after a map on it, and whether its SIGTERM handler is still the one it
+    had (ray.init installs its own, which an idle worker may never run: Pool.terminate hung)."""
+    import signal
+
     from solver.core.ray_head import server_ray
 
     address = server_ray(directory, 2).address
+    handler = signal.getsignal(signal.SIGTERM)
     try:
         run = parallel_map(sleep_for, [0.0, 0.0, 0.0], RayPool(workers=2, parallel=1, server_dir=directory),
                            Budget.of(60.0))
         assert run.complete and run.backend == "ray"
-        return address, run.cpus, os.getpid()
+        return address, run.cpus, os.getpid(), signal.getsignal(signal.SIGTERM) is handler
     finally:
         release_ray()
 
@@ -210,7 +214,8 @@ def test_the_processes_of_a_server_share_one_ray_which_ends_with_the_server():
         with multiprocessing.get_context("spawn").Pool(2) as workers:
             seen = workers.map(ray_of_server, [directory, directory])
         assert seen[0][0] == seen[1][0] and seen[0][2] != seen[1][2]
-        assert [cpus for _, cpus, _ in seen] == [1, 1]
+        assert [cpus for _, cpus, _, _ in seen] == [1, 1]
+        assert [kept for _, _, _, kept in seen] == [True, True]
         pids = _head_pids(directory)
         assert len(pids) == 1
     finally:
