@@ -29,6 +29,8 @@ if [[ "$(cat "$stamp" 2>/dev/null || true)" != "$want" ]]; then
     echo "$want" >"$stamp"
 fi
 
+warm_kernels
+
 export PESHKIN_HOST="${HOST:-${PESHKIN_HOST:-127.0.0.1}}"
 export PESHKIN_PORT="${PORT:-${PESHKIN_PORT:-8000}}"
 exec "$VENV/bin/python" -m service

@@ -32,6 +32,8 @@ if [[ "$(cat "$dev_stamp" 2>/dev/null || true)" != "$want_dev" ]]; then
     cat requirements.txt | sha256sum | cut -d' ' -f1 >"$runtime_stamp"
 fi
 
+warm_kernels
+
 workers="${PYTEST_WORKERS:-2}"
 if [[ "${1:-}" == "--fast" ]]; then
     shift

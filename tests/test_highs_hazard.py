@@ -3,9 +3,10 @@
 The full ``cvxpy`` distribution pulls in ``highspy``, whose bundled
 libhighs.so crashes the interpreter when it is loaded next to the HiGHS
 copies inside OR-Tools and CasADi.  The project therefore depends on
-``cvxpy-base`` only.  These tests load cvxpy, OR-Tools and CasADi into one
-fresh interpreter, in both import orders, and solve a small problem with
-each solver we rely on; a segfault shows up as a non-zero exit code.
+``cvxpy-base`` only.  These tests load cvxpy, OR-Tools, CasADi and numba (with
+its own LLVM, for the compiled kernels) into one fresh interpreter, in both
+import orders, and solve a small problem with each solver we rely on; a
+segfault shows up as a non-zero exit code.
 """
 
 from __future__ import annotations
@@ -28,6 +29,8 @@ _IMPORTS = {
     "cvxpy": "import cvxpy as cp",
     "ortools": "from ortools.linear_solver import pywraplp\nfrom ortools.sat.python import cp_model",
     "casadi": "import casadi as ca",
+    # numba bundles LLVM (llvmlite): the compiled kernels load beside the three
+    "numba": "import numba\nfrom solver.kernels import forward as kernels",
 }
 
 _SOLVES = textwrap.dedent(
@@ -75,6 +78,13 @@ _SOLVES = textwrap.dedent(
     out["ipopt"] = {"success": bool(nlp.stats()["success"]),
                     "value": float(sol["f"]), "x": [float(t) for t in np.array(sol["x"]).ravel()]}
 
+    # numba: the compiled forward solve of one tripod, frictionless (solver/kernels/forward.py)
+    w = np.array([[[0.5, 0.0], [-0.25, 0.4], [-0.25, -0.4]]])
+    two = lambda v: np.array([v], dtype=float)
+    res = kernels.solve_rows(w, np.full((1, 3), 1 / 3), two([-0.9, 0.1]), two([1.0, 0.0]), two([0.0, 1.0]),
+                             two([1.0, 0.0]), np.ones(1), 0.0, 1e-10, 1e-10, 80)
+    out["numba"] = {"kkt": float(res[3][0]), "failed": bool(res[8][0])}
+
     # SciPy's own (statically linked) HiGHS: min -x - 2y  s.t. x + y <= 4, x, y >= 0  ->  -8
     from scipy.optimize import linprog
     res = linprog([-1, -2], A_ub=[[1, 1]], b_ub=[4], bounds=[(0, None)] * 2, method="highs")
@@ -95,7 +105,7 @@ def _script(order: tuple[str, ...]) -> str:
     )
 
 
-ORDERS = [("cvxpy", "ortools", "casadi"), ("casadi", "ortools", "cvxpy")]
+ORDERS = [("cvxpy", "ortools", "casadi", "numba"), ("numba", "casadi", "ortools", "cvxpy")]
 
 
 @pytest.mark.slow
@@ -125,6 +135,7 @@ def test_solver_stack_coexists(order: tuple[str, ...]) -> None:
     assert out["ipopt"]["success"] and out["ipopt"]["value"] == pytest.approx(0.0, abs=1e-10)
     assert out["ipopt"]["x"] == pytest.approx([1.0, 1.0], abs=1e-6)
     assert out["scipy_highs"]["success"] and out["scipy_highs"]["value"] == pytest.approx(-8.0)
+    assert out["numba"]["kkt"] <= 1e-10 and not out["numba"]["failed"]
     assert out["loaded_highspy"] is False
 
 

@@ -12,8 +12,10 @@ moves so as to minimise the frictional power (the minimum power principle, ch. 2
 
 Three independent back ends solve the convex minimum-power problem:
 
-* ``newton``: solver.motion.newton, vectorised over batches; exact non-smooth optima (COR on a
-  support point) by a subgradient test, damped Newton elsewhere;
+* ``newton``: exact non-smooth optima (COR on a support point) by a subgradient test,
+  damped Newton elsewhere; compiled a problem at a time (solver.kernels.forward), with
+  solver.motion.newton (vectorised over batches) as the reference and the path of the rare
+  problem the kernel leaves unsolved;
 * ``cvxpy``: the second-order cone programme, compiled once per support size and thread
   with cvxpy Parameters (DPP) and re-solved with Clarabel; optionally polished by exact
   KKT steps;
@@ -42,6 +44,7 @@ from solver.core.backends import in_backend
 from solver.core.errors import BackendNotFound, NotConverged
 from solver.core.threads import CasadiFunction, PerThreadCache, ignore_inaccurate_solution_warning
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
+from solver.kernels import forward as _kernel
 from solver.motion import newton as _newton
 
 Method = Literal["newton", "cvxpy", "casadi"]
@@ -103,7 +106,9 @@ class BatchResult(_newton.BatchConvergence):
     """Arrays over a batch; ``cor`` rows are NaN for translations; ``mode`` holds indices
     into MODES; ``converged`` is True where kkt <= tol.kkt_accept and the mode was
     consistent (``status`` "optimal" when it is everywhere). ``slip``, ``gap`` and
-    ``iterations`` as in ForwardResult."""
+    ``iterations`` as in ForwardResult. ``reference_rows``: problems the compiled Newton
+    solve did not solve, solved again on the reference path; ``fallbacks``: those of them
+    the conic solver re-solved."""
 
     cor: np.ndarray
     omega: np.ndarray
@@ -119,14 +124,16 @@ class BatchResult(_newton.BatchConvergence):
     gap: np.ndarray
     iterations: np.ndarray
     fallbacks: int = 0
+    reference_rows: int = 0
 
     MODES = _MODE_NAMES
 
     @property
     def message(self) -> str:
         text = f"{self.converged_count()} supports converged"
-        if self.fallbacks:
-            text += f" ({self.fallbacks} re-solved by the conic solver)"
+        if self.reference_rows:
+            text += f" ({self.reference_rows} re-solved on the reference path"
+            text += f", {self.fallbacks} of them by the conic solver)" if self.fallbacks else ")"
         return text
 
 
@@ -483,6 +490,33 @@ def _solve_normalised(geo: SceneArrays, w_rel, p, mu_c: float, backend: _Backend
     )
 
 
+def _solve_compiled(geo: SceneArrays, w_rel, p, mu_c: float, tol: SolverTolerances) -> tuple[dict, int, int]:
+    """:func:`_solve_normalised` with the Newton back end, compiled (solver.kernels.forward:
+    the same algorithm a problem at a time); a problem the kernel did not solve to
+    ``tol.kkt`` is solved again on the reference path (solver.motion.newton, whose own
+    failures go to the conic solver). Returns the dict of :func:`_solve_normalised`
+    (world-frame vectors), the problems handed to the reference and those the conic
+    solver re-solved."""
+    ell = _length_scale(geo.contact_rel, w_rel)
+    v, omega, force, kkt, vertex, iters, mode, consistent, failed = _kernel.solve_rows(
+        w_rel, p, geo.contact_rel, geo.normal, geo.alpha_hat, geo.push_hat, geo.sin_alpha, mu_c, tol.kkt, tol.kkt,
+        tol.max_newton_iter)
+    out = dict(v=v, omega=omega, ell=ell, force=force, kkt=kkt, vertex=vertex, iters=iters, mode=mode,
+               consistent=consistent)
+    redo = np.nonzero(failed)[0]
+    if redo.size == 0:
+        return out, 0, 0
+    backend = _NewtonBackend()
+    ref = _solve_normalised(SceneArrays(*(getattr(geo, f)[redo] for f in _GEOMETRY)), w_rel[redo], p[redo], mu_c,
+                            backend, tol)
+    for key in out:
+        out[key][redo] = ref[key]
+    return out, int(redo.size), backend.fallbacks
+
+
+_GEOMETRY = ("contact_rel", "normal", "alpha_hat", "push_hat", "sin_alpha")
+
+
 def _power_world(v, omega, w_rel, p):
     vel = v[:, None, :] + omega[:, None, None] * np.stack([-w_rel[..., 1], w_rel[..., 0]], axis=-1)
     return np.einsum("bk,bk->b", p, np.linalg.norm(vel, axis=2))
@@ -505,7 +539,11 @@ def solve_forward(
     w_rel = (support.points - scene.center_of_mass)[None]
     p = support.weights[None]
     t0 = time.perf_counter()
-    out = _solve_normalised(SceneArrays.repeat(scene, 1), w_rel, p, float(mu_c), backend, tol)
+    if method == "newton":
+        out, _, _ = _solve_compiled(SceneArrays.repeat(scene, 1), w_rel, p, float(mu_c), tol)
+        out["raw"] = np.full(1, np.nan)
+    else:
+        out = _solve_normalised(SceneArrays.repeat(scene, 1), w_rel, p, float(mu_c), backend, tol)
     elapsed = time.perf_counter() - t0
     return _single_result(scene, out, w_rel, p, backend.name, tol, elapsed)
 
@@ -555,17 +593,19 @@ def solve_forward_batch(
     mu_c: float = 0.0,
     tol: SolverTolerances = SOLVER_DEFAULT,
     check_centroid: bool = True,
+    compiled: bool = True,
 ) -> BatchResult:
     """Solve many supports of equal size k at once with the Newton back end.
 
     ``points`` (B, k, 2) world frame, ``weights`` (B, k) non-negative (normalised here);
-    each centroid must be the CM unless ``check_centroid`` is False.
+    each centroid must be the CM unless ``check_centroid`` is False. ``compiled``: the
+    compiled per-problem solve (False: the vectorised reference, solver.motion.newton).
     """
     w = np.asarray(points, dtype=float)
     if w.ndim != 3 or w.shape[2] != 2:
         raise InvalidInput("points", "need points of shape (batch, k, 2) and weights (batch, k)")
     cms = np.broadcast_to(np.asarray(scene.center_of_mass, dtype=float), (w.shape[0], 2))
-    return _solve_batch(SceneArrays.repeat(scene, w.shape[0]), cms, w, weights, mu_c, tol, check_centroid)
+    return _solve_batch(SceneArrays.repeat(scene, w.shape[0]), cms, w, weights, mu_c, tol, check_centroid, compiled)
 
 
 def solve_forward_scenes(
@@ -575,6 +615,7 @@ def solve_forward_scenes(
     mu_c: float = 0.0,
     tol: SolverTolerances = SOLVER_DEFAULT,
     check_centroid: bool = True,
+    compiled: bool = True,
 ) -> BatchResult:
     """Like :func:`solve_forward_batch`, with a scene per support: ``scenes[i]`` pushes the
     support ``points[i]`` (world frame, its centroid that scene's CM), so many parts at
@@ -583,11 +624,11 @@ def solve_forward_scenes(
     if w.ndim != 3 or w.shape[2] != 2 or len(scenes) != w.shape[0]:
         raise InvalidInput("points", "need points of shape (batch, k, 2), weights (batch, k) and one scene per support")
     cms = np.array([sc.center_of_mass for sc in scenes], dtype=float).reshape(-1, 2)
-    return _solve_batch(SceneArrays.stack(scenes), cms, w, weights, mu_c, tol, check_centroid)
+    return _solve_batch(SceneArrays.stack(scenes), cms, w, weights, mu_c, tol, check_centroid, compiled)
 
 
 def _solve_batch(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, weights, mu_c: float, tol: SolverTolerances,
-                 check_centroid: bool) -> BatchResult:
+                 check_centroid: bool, compiled: bool = True) -> BatchResult:
     p = np.asarray(weights, dtype=float)
     if p.shape != w.shape[:2]:
         raise InvalidInput("points", "need points of shape (batch, k, 2) and weights (batch, k)")
@@ -607,8 +648,12 @@ def _solve_batch(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, weights, mu_c
         if bad.size:
             raise InvalidInput("weights", f"support {int(bad[0])} does not have its centroid at the centre of mass")
     t0 = time.perf_counter()
-    backend = _NewtonBackend()
-    out = _solve_normalised(geo, w_rel, p, float(mu_c), backend, tol)
+    if compiled:
+        out, handed, fallbacks = _solve_compiled(geo, w_rel, p, float(mu_c), tol)
+    else:
+        backend = _NewtonBackend()
+        out, handed = _solve_normalised(geo, w_rel, p, float(mu_c), backend, tol), 0
+        fallbacks = backend.fallbacks
     elapsed = time.perf_counter() - t0
     v, omega = out["v"], out["omega"]
     translation = np.abs(omega) * out["ell"] <= tol.translation_omega * np.linalg.norm(v, axis=1)
@@ -631,5 +676,6 @@ def _solve_batch(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, weights, mu_c
         slip=_dot(geo.push_hat - vc, geo.alpha_hat),
         gap=power - np.einsum("bi,bi->b", out["force"], vc),
         iterations=out["iters"],
-        fallbacks=backend.fallbacks,
+        fallbacks=fallbacks,
+        reference_rows=handed,
     )

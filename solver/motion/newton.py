@@ -25,7 +25,9 @@ With two rows (sticking) the constraint set is a line, the problem one-dimension
 safeguarded Newton iteration on the monotone derivative, which also brackets a kink
 (``_newton_line``).
 
-Work is vectorised over the batch, structure-of-arrays, with closed-form 2x2 algebra.
+Work is vectorised over the batch, structure-of-arrays, with closed-form 2x2 algebra. This
+is the reference of the compiled per-problem solve (solver.kernels.forward: the same
+algorithm and constants), which the forward solver calls first.
 """
 
 from __future__ import annotations
@@ -36,15 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-_ARMIJO = 1e-4
-_MAX_HALVINGS = 40
-# A predicted decrease below this fraction of f cannot be verified by comparing powers in
-# floating point: in that (quadratic) region the full Newton step is taken.
-_ROUNDOFF = 1e-13
-_TINY = 1e-300
-# Supports with more points than this are solved Newton-first (see solve_batch).
-_VERTEX_FIRST_MAX_K = 16
-_NEAREST = 3
+from solver.kernels.forward import ARMIJO, MAX_HALVINGS, NEAREST, ROUNDOFF, TINY, VERTEX_FIRST_MAX_K
 
 
 class BatchConvergence:
@@ -109,7 +103,7 @@ def sum_rows(x):
 
 def _unit_or_zero(ux, uy):
     rho = np.sqrt(ux * ux + uy * uy)
-    inv = 1.0 / np.maximum(rho, _TINY)
+    inv = 1.0 / np.maximum(rho, TINY)
     return ux * inv, uy * inv, rho
 
 
@@ -143,7 +137,7 @@ def _vertex_optima(wx, wy, p, a, q, slack, candidates=None, return_z=False):
     for j in range(k) if candidates is None else candidates:
         # Rotation about w_j: x = omega (w_yj, -w_xj, 1).
         den = a[:, 0] * wy[:, j] - a[:, 1] * wx[:, j] + a[:, 2]
-        ok = (np.abs(den) > _TINY) & (p[:, j] > 0.0)
+        ok = (np.abs(den) > TINY) & (p[:, j] > 0.0)
         omega = np.where(ok, q / np.where(ok, den, 1.0), 0.0)
         # Velocities of the others: omega J (w_i - w_j).
         dx = wx - wx[:, j : j + 1]
@@ -239,7 +233,7 @@ def _newton_plane(wx, wy, p, a, q, kkt_tol, max_iter, x0=None):
             g1, g2 = g1[live], g2[live]
         iters[act] += 1
         # Hessian in the plane: sum_i P_i/rho_i (t.E_d)(t.E_e), t = J e.
-        coef = P / np.maximum(rho, _TINY)
+        coef = P / np.maximum(rho, TINY)
         t1 = -ey * E1x + ex * E1y
         t2 = -ey * E2x + ex * E2y
         h11 = sum_rows(coef * t1 * t1)
@@ -257,17 +251,17 @@ def _newton_plane(wx, wy, p, a, q, kkt_tol, max_iter, x0=None):
         s2 = np.where(bad, -g2, s2)
         slope = np.where(bad, -(g1 * g1 + g2 * g2), slope)
         f0 = sum_rows(P * rho)
-        roundoff = -slope <= _ROUNDOFF * f0
+        roundoff = -slope <= ROUNDOFF * f0
         tstep = np.ones(act.size)
         accepted = np.zeros(act.size, dtype=bool)
         sub = np.arange(act.size)
-        for _ in range(_MAX_HALVINGS):
+        for _ in range(MAX_HALVINGS):
             T1 = Y1[sub] + tstep[sub] * s1[sub]
             T2 = Y2[sub] + tstep[sub] * s2[sub]
             vx = PX[sub] + T1[:, None] * E1x[sub] + T2[:, None] * E2x[sub]
             vy = PY[sub] + T1[:, None] * E1y[sub] + T2[:, None] * E2y[sub]
             ft = sum_rows(P[sub] * np.sqrt(vx * vx + vy * vy))
-            ok = (ft <= f0[sub] + _ARMIJO * tstep[sub] * slope[sub]) | (roundoff[sub] & (tstep[sub] == 1.0))
+            ok = (ft <= f0[sub] + ARMIJO * tstep[sub] * slope[sub]) | (roundoff[sub] & (tstep[sub] == 1.0))
             good = sub[ok]
             y1[act[good]] = T1[ok]
             y2[act[good]] = T2[ok]
@@ -313,11 +307,11 @@ def _newton_line(wx, wy, p, xp, kdir, kkt_tol, max_iter):
         ex, ey, rho = _unit_or_zero(ux, uy)
         d1 = sum_rows(P * (ex * KX + ey * KY))
         tt = -ey * KX + ex * KY
-        d2 = sum_rows(P / np.maximum(rho, _TINY) * tt * tt)
+        d2 = sum_rows(P / np.maximum(rho, TINY) * tt * tt)
         return d1, d2
 
     # Bracket: phi'(t) -> +-sum P_i |k(w_i)| as t -> +-inf.
-    scale = np.maximum(sum_rows(p * np.sqrt(px * px + py * py)) / np.maximum(sum_rows(p * np.sqrt(kx * kx + ky * ky)), _TINY), 1.0)
+    scale = np.maximum(sum_rows(p * np.sqrt(px * px + py * py)) / np.maximum(sum_rows(p * np.sqrt(kx * kx + ky * ky)), TINY), 1.0)
     lo = -scale
     hi = scale.copy()
     for _ in range(200):
@@ -388,7 +382,7 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None, cone=None) -
     rows = m.shape[1]
     vertex = np.full(b, -1)
     iters = np.zeros(b, dtype=int)
-    if rows == 1 and w.shape[1] > _VERTEX_FIRST_MAX_K:
+    if rows == 1 and w.shape[1] > VERTEX_FIRST_MAX_K:
         # Many support points: the O(k^2) test of every point is too dear. Newton first;
         # a converged smooth KKT point is optimal (f is convex). Where Newton stalls, the
         # iterate has run into a kink: test the few nearest support points exactly.
@@ -399,7 +393,7 @@ def solve_batch(w, p, m, q, kkt_tol: float, max_iter: int, x0=None, cone=None) -
         if bad.size:
             ux = x[bad, 0:1] - x[bad, 2:3] * wy[bad]
             uy = x[bad, 1:2] + x[bad, 2:3] * wx[bad]
-            near = np.argsort(ux * ux + uy * uy, axis=1)[:, :_NEAREST]
+            near = np.argsort(ux * ux + uy * uy, axis=1)[:, :NEAREST]
             for rank in range(near.shape[1]):
                 for jj in np.unique(near[:, rank]):
                     sel = bad[near[:, rank] == jj]
@@ -481,11 +475,11 @@ def _escape_kinks(wx, wy, p, a, q, x, lam, kkt, vertex, iters, kkt_tol, max_iter
             mat[:, 0, 2] = -wy[sel, jj]
             mat[:, 1, 2] = wx[sel, jj]
             mat[:, 2, :] = a[sel]
-            zn = z / np.maximum(np.linalg.norm(z, axis=1, keepdims=True), _TINY)
+            zn = z / np.maximum(np.linalg.norm(z, axis=1, keepdims=True), TINY)
             rhs = np.concatenate([zn, np.zeros((sel.size, 1))], axis=1)
             d = np.linalg.solve(mat, rhs[..., None])[..., 0]
             f0 = power(xv, wx[sel], wy[sel], p[sel])
-            t = np.linalg.norm(xv, axis=1) / np.maximum(np.linalg.norm(d, axis=1), _TINY)
+            t = np.linalg.norm(xv, axis=1) / np.maximum(np.linalg.norm(d, axis=1), TINY)
             found = np.zeros(sel.size, dtype=bool)
             best = xv.copy()
             for _ in range(60):
@@ -553,7 +547,7 @@ def _vertex_contact_force(w, p, m, x, vertex, mult, cone):
 
 
 def _cor_points(x):
-    om = np.where(np.abs(x[:, 2]) > _TINY, x[:, 2], np.nan)
+    om = np.where(np.abs(x[:, 2]) > TINY, x[:, 2], np.nan)
     return np.stack([-x[:, 1] / om, x[:, 0] / om], axis=1)
 
 
@@ -576,7 +570,7 @@ def kkt_residual(w, p, m, q, x, vertex_rel: float = 1e-7):
     if m.shape[1] == 1:
         ux = x[:, 0:1] - x[:, 2:3] * wy
         uy = x[:, 1:2] + x[:, 2:3] * wx
-        rho = np.sqrt(ux * ux + uy * uy) / np.maximum(np.linalg.norm(x, axis=1), _TINY)[:, None]
+        rho = np.sqrt(ux * ux + uy * uy) / np.maximum(np.linalg.norm(x, axis=1), TINY)[:, None]
         j = rho.argmin(axis=1)
         near = np.nonzero(rho[np.arange(b), j] <= vertex_rel)[0]
         for jj in np.unique(j[near]):
