@@ -292,8 +292,10 @@ FEEDER_MAX_CANDIDATES = 180
 """Candidate fences of one design (both sides together: a map each)."""
 FEEDER_MAX_DESIGN_DEPTH = 20
 """Fences in a design (the book searched one part to depth 20, 5.4.1)."""
-FEEDER_MAX_VALIDATION_PARTS = 500
-"""Simulated parts that validate a design (each runs through every fence)."""
+FEEDER_MAX_VALIDATION_PARTS = 10_000
+"""Simulated parts that validate a design (each runs through every fence; 10,000 make a
+yield worth quoting to 0.1 %, a few tenths of a second on the compiled simulator:
+docs/benchmarks.md)."""
 
 
 SCENE_MAX_QUESTIONS = 12

@@ -53,6 +53,7 @@ from models.feeder.fence import Fence
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import TimeLimitReached
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
+from solver.kernels import fence as fk
 from solver.motion.forward import solve_forward_scenes
 from solver.sim.contacts import onto_line
 from solver.sim.kinematics import Twist, advance, body_to_world
@@ -144,7 +145,10 @@ class FenceRun:
     """One part through one fence: initial and final orientation (None unless it left the
     fence), ``status`` ("left" | "missed" (never touched the fence) | "jammed" | "step_limit" |
     "stalled" (a contact the simulator cannot advance) | "time_limit"), the events, the trajectory
-    (push, cm, theta) at every step and the forward solves that ran."""
+    (push, cm, theta) at every step and the forward solves that ran. A run of a batch that
+    was not asked to record (``recorded`` False) keeps only its first and last pose and no
+    events; ``steps`` and ``outline_reach`` (the largest |x| of the hull over every pose,
+    world frame) are kept either way."""
 
     theta_initial: float
     theta_final: float | None
@@ -156,6 +160,10 @@ class FenceRun:
     counts: SolveCounts
     solve_time_s: float
     flush_edges: list[int] = field(default_factory=list)
+    steps: int | None = None
+    outline_reach: float | None = None
+    recorded: bool = True
+    was_flushed: bool | None = None
 
     @property
     def complete(self) -> bool:
@@ -166,11 +174,15 @@ class FenceRun:
         """Whether an edge came flush on the face: the configuration map assumes it does
         (a fence too short for the part to finish turning, or one nearly along the belt,
         lets it leave still turning on a vertex)."""
-        return bool(self.flush_edges)
+        return bool(self.flush_edges) if self.was_flushed is None else self.was_flushed
+
+    @property
+    def step_count(self) -> int:
+        return len(self.pushes) - 1 if self.steps is None else self.steps
 
     @property
     def message(self) -> str:
-        return f"{self.status} after {len(self.pushes) - 1} steps, {self.counts.solves} forward solves"
+        return f"{self.status} after {self.step_count} steps, {self.counts.solves} forward solves"
 
 
 @dataclass(frozen=True)
@@ -325,15 +337,21 @@ def _validated(part: Footprint, fence: Fence, mu_c: float, support_points: Array
 def simulate_fence(part: Footprint, fence: Fence, mu_c: float, support_points: ArrayLike, weights: ArrayLike,
                    theta_initial: float, fence_length: float | None = None, start_along: float = START_ALONG,
                    settings: FeederSimSettings = DEFAULT_SIM, tol: SolverTolerances = SOLVER_DEFAULT,
-                   budget: Budget = UNLIMITED) -> FenceRun:
+                   budget: Budget = UNLIMITED, compiled: bool = True) -> FenceRun:
     """Run ``part`` (support points relative to the CM in the body frame, with weights; the
     centroid must be the CM) at orientation ``theta_initial`` onto ``fence`` with contact
     friction ``mu_c`` until it has left the fence's end, jammed, or ``max_steps``.
     The part starts above the fence at ``start_along`` of its length (default fence length:
-    40 part radii). One forward solve at a time (:func:`simulate_fence_batch` runs many
-    parts together)."""
+    40 part radii). ``compiled``: the compiled loop (solver.kernels.fence); False: the
+    reference, one forward solve at a time (:func:`simulate_fence_batch` runs many parts
+    together)."""
     t0 = time.perf_counter()
     pts, w = _validated(part, fence, mu_c, support_points, weights)
+    if compiled:
+        (runs,) = _compiled_runs(part, [own_frame_segment(part, fence, fence_length)], np.array([[float(mu_c)]]),
+                                 [(pts, w)], np.array([float(theta_initial)]), np.array([float(start_along)]), [None],
+                                 settings, tol, budget, 1)
+        return runs[0]
     oracle = MotionOracle(pts, w, part.circumradius, mu_c, tol=tol, budget=budget)
     steps = _fence_run(part, own_frame_segment(part, fence, fence_length), mu_c, theta_initial, start_along, None, settings,
                        oracle.counts, t0)
@@ -363,14 +381,18 @@ def own_frame_segment(part: Footprint, fence: Fence, fence_length: float | None 
 def simulate_fence_batch(part: Footprint, fence: Fence, mu_c: ArrayLike, supports: list[tuple[ArrayLike, ArrayLike]],
                          thetas_initial: ArrayLike, fence_length: float | None = None,
                          start_along: ArrayLike | float = START_ALONG, settings: FeederSimSettings = DEFAULT_SIM,
-                         tol: SolverTolerances = SOLVER_DEFAULT, budget: Budget = UNLIMITED) -> list[FenceRun]:
+                         tol: SolverTolerances = SOLVER_DEFAULT, budget: Budget = UNLIMITED, compiled: bool = True,
+                         record: int | None = None) -> list[FenceRun]:
     """Many parts (one support and initial orientation each; ``mu_c`` one value or one per
     part) through one fence, stepped together: each round, every run still going asks for
     its next forward solve and they are solved in one batch per support size and mu_c
     (solver.motion.forward.solve_forward_scenes).
     Each run follows exactly the steps :func:`simulate_fence` takes (the same events, the
     same motions to rounding); its ``solve_time_s`` is the time from the batch's start
-    until it finished. Past the budget every run still going ends with "time_limit"."""
+    until it finished. Past the budget every run still going ends with "time_limit".
+    ``compiled`` (default): every run in one compiled loop (solver.kernels.fence), the runs
+    of the first ``record`` parts (default all) with their trajectories and events; past the
+    budget the parts not started end "time_limit". False: the reference, stepped together."""
     thetas = np.atleast_1d(np.asarray(thetas_initial, dtype=float))
     if len(thetas) != len(supports):
         raise InvalidInput("thetas_initial", "need one initial orientation per support")
@@ -378,8 +400,14 @@ def simulate_fence_batch(part: Footprint, fence: Fence, mu_c: ArrayLike, support
     mus = _per_part(mu_c, len(thetas))
     _check_mu(fence, mus)
     checked = [_check(np.asarray(pts, dtype=float), np.asarray(w, dtype=float)) for pts, w in supports]
-    return _run_batch(part, own_frame_segment(part, fence, fence_length), [float(m) for m in mus], checked, thetas,
-                      [float(x) for x in along], [None] * len(thetas), settings, tol, budget)
+    segment = own_frame_segment(part, fence, fence_length)
+    if compiled:
+        runs = _compiled_runs(part, [segment], np.asarray(mus, dtype=float)[:, None], checked, thetas,
+                              np.asarray(along, dtype=float), [None] * len(thetas), settings, tol, budget,
+                              len(thetas) if record is None else record)
+        return [r[0] for r in runs]
+    return _run_batch(part, segment, [float(m) for m in mus], checked, thetas, [float(x) for x in along],
+                      [None] * len(thetas), settings, tol, budget)
 
 
 def _per_part(mu_c: ArrayLike, n: int) -> np.ndarray:
@@ -436,6 +464,161 @@ def _run_batch(part: Footprint, segment: FenceSegment, mus: list[float], checked
     return out
 
 
+# --------------------------------------------------------------------------------------
+# The compiled path (solver/kernels/fence.py): the same runs as _fence_run, every part of a
+# batch through every fence in one compiled loop
+
+COMPILED_CHUNK = 8
+"""Parts one compiled call runs between two looks at the budget (a few milliseconds): past
+the deadline, parts not started end "time_limit" and the others are whole."""
+
+_EVENT_KIND = {
+    fk.EV_FIRST_CONTACT: "contact", fk.EV_CONTACT_AGAIN: "contact", fk.EV_VERTEX: "vertex", fk.EV_END: "end",
+    fk.EV_FLUSH: "flush", fk.EV_VERTEX_CORNER: "vertex", fk.EV_END_CORNER: "end", fk.EV_LEFT: "left",
+    fk.EV_MISSED: "missed", fk.EV_ALONG: "left", fk.EV_JAM: "jam", fk.EV_STALLED: "stalled", fk.EV_OVERLAP: "overlap",
+}
+_KERNEL_CONTACT = {fk.VERTEX: Contact.VERTEX, fk.END: Contact.END, fk.FLUSH: Contact.FLUSH}
+_KERNEL_MODES = ("frictionless", "sticking", "slipping_up", "slipping_down")
+
+
+def _event_detail(code: int, index: int, value: float, fence: Fence, mu_c: float, stall_steps: int) -> str:
+    """The words of a compiled run's event: those of the reference (_fence_run)."""
+    if code == fk.EV_FIRST_CONTACT:
+        return "first contact"
+    if code == fk.EV_CONTACT_AGAIN:
+        return "contact again"
+    if code in (fk.EV_VERTEX, fk.EV_END, fk.EV_FLUSH):
+        return Mode(_KERNEL_CONTACT[(fk.VERTEX, fk.END, fk.FLUSH)[(fk.EV_VERTEX, fk.EV_END, fk.EV_FLUSH).index(code)]],
+                    index).text
+    if code in (fk.EV_VERTEX_CORNER, fk.EV_END_CORNER):
+        contact = Contact.VERTEX if code == fk.EV_VERTEX_CORNER else Contact.END
+        return Mode(contact, index).text + " (a vertex at the fence's end)"
+    if code == fk.EV_LEFT:
+        return f"clear of the fence at orientation {value:.9g}"
+    if code == fk.EV_MISSED:
+        return f"clear of the fence at orientation {value:.9g} without touching it"
+    if code == fk.EV_ALONG:
+        return f"the edge under the fence's end lies along the belt at orientation {value:.9g}"
+    if code == fk.EV_JAM:
+        return f"flush and |tan gamma| = {fence.jam_threshold:.6g} <= mu_c = {mu_c:.6g} (6.4)"
+    if code == fk.EV_STALLED:
+        mode = Mode(_KERNEL_CONTACT.get(index // 1000, Contact.VERTEX), index % 1000)
+        return (f"{stall_steps} steps of {value:.3g} in mode {mode}: the contact cannot advance "
+                "(a vertex at the fence's end where no contact there gives a step)")
+    return ("the fence passes through the part at its start (a part on two fences at once is not simulated)")
+
+
+def _run_of(row: np.ndarray, path: np.ndarray, events: np.ndarray, recorded: bool, seg: FenceSegment, mu_c: float,
+            settings: FeederSimSettings, elapsed: float) -> FenceRun:
+    """The FenceRun of one compiled run's summary row (solver.kernels.fence.S_*)."""
+    status = fk.STATUSES[int(row[fk.S_STATUS])]
+    counts = SolveCounts(solves=int(row[fk.S_SOLVES]), not_optimal=int(row[fk.S_NOT_OPTIMAL]),
+                         max_kkt=float(row[fk.S_MAX_KKT]), max_force_angle=float(row[fk.S_MAX_ANGLE]))
+    for i, name in enumerate(_KERNEL_MODES):
+        if row[fk.S_MODES + i] > 0:
+            counts.modes[name] = int(row[fk.S_MODES + i])
+    theta = float(row[fk.S_THETA])
+    evs: list[FenceEvent] = []
+    flush_edges: list[int] = []
+    if recorded:
+        pts = path[int(row[fk.S_PATH_FROM]):int(row[fk.S_PATH_TO])]
+        pushes, cms, thetas = pts[:, 0].copy(), pts[:, 1:3].copy(), pts[:, 3].copy()
+        for push, code, index, value in events[int(row[fk.S_EVENTS_FROM]):int(row[fk.S_EVENTS_TO])]:
+            c, i = int(code), int(index)
+            evs.append(FenceEvent(float(push), _EVENT_KIND[c], _event_detail(c, i, float(value), seg.fence, mu_c,
+                                                                             settings.stall_steps)))
+            if c == fk.EV_FLUSH:
+                flush_edges.append(i)
+    else:
+        pushes = np.array([0.0, float(row[fk.S_PUSH])])
+        cms = np.array([[row[fk.S_START_X], row[fk.S_START_Y]], [row[fk.S_CM_X], row[fk.S_CM_Y]]], dtype=float)
+        thetas = np.array([row[fk.S_START_THETA], theta], dtype=float)
+    return FenceRun(theta_initial=float(row[fk.S_START_THETA]), theta_final=theta if status in ("left", "missed") else None,
+                    status=status, events=evs, pushes=pushes, cms=cms, thetas=thetas, counts=counts,
+                    solve_time_s=elapsed, flush_edges=flush_edges, steps=int(row[fk.S_STEPS]),
+                    outline_reach=float(row[fk.S_MAX_X]), recorded=recorded,
+                    was_flushed=bool(row[fk.S_FLUSHED]))
+
+
+def _cut_run(theta: float, cm: np.ndarray | None, exc: TimeLimitReached, elapsed: float) -> FenceRun:
+    """A part the time limit stopped before it started."""
+    at = np.full((1, 2), np.nan) if cm is None else np.asarray(cm, dtype=float).reshape(1, 2)
+    return FenceRun(theta_initial=theta, theta_final=None, status="time_limit",
+                    events=[FenceEvent(0.0, "time_limit", str(exc))], pushes=np.zeros(1), cms=at,
+                    thetas=np.array([theta]), counts=SolveCounts(), solve_time_s=elapsed, steps=0)
+
+
+def _compiled_runs(part: Footprint, segments: list[FenceSegment], mus: np.ndarray,
+                   checked: list[tuple[np.ndarray, np.ndarray]], thetas: np.ndarray, along: np.ndarray,
+                   starts: list[np.ndarray | None], settings: FeederSimSettings, tol: SolverTolerances, budget: Budget,
+                   record: int) -> list[list[FenceRun]]:
+    """Every part through ``segments`` in order on the compiled path (``mus`` (parts,
+    fences)); the runs of the first ``record`` parts keep their trajectories and events. A
+    part the compiled solve could not carry is run again on the reference path."""
+    t0 = time.perf_counter()
+    n = len(checked)
+    segs = np.array([np.r_[sg.end, sg.direction, sg.fence.normal, sg.length] for sg in segments], dtype=float)
+    gammas = np.array([sg.fence.angle for sg in segments], dtype=float)
+    sim = np.array([settings.step, settings.contact_tol, settings.min_step, settings.max_steps, settings.stall_steps,
+                    settings.clearance], dtype=float)
+    tols = np.array([tol.kkt, tol.kkt_accept, tol.max_newton_iter], dtype=float)
+    given = np.array([st is not None for st in starts], dtype=bool)
+    body = np.array(part.hull, dtype=float)  # a copy: the kernels take writable arrays (Ray's are read-only)
+    start_arr = np.array([np.zeros(2) if st is None else st for st in starts], dtype=float).reshape(n, 2)
+    runs: list[list[FenceRun]] = [[] for _ in range(n)]
+    again: list[int] = []
+    for k in sorted({len(pts) for pts, _ in checked}):
+        ids = np.array([i for i in range(n) if len(checked[i][0]) == k], dtype=np.int64)
+        sup = np.array([checked[i][0] for i in ids], dtype=float).reshape(len(ids), k, 2)
+        wts = np.array([checked[i][1] for i in ids], dtype=float).reshape(len(ids), k)
+        rec = int(np.count_nonzero(ids < record))
+        for first in range(0, len(ids), COMPILED_CHUNK):
+            last = min(first + COMPILED_CHUNK, len(ids))
+            try:
+                budget.checkpoint(f"simulated parts {first + 1}-{last} of {len(ids)}")
+            except TimeLimitReached as exc:
+                for i in ids[first:]:
+                    runs[i] = [_cut_run(float(thetas[i]), starts[i], exc, time.perf_counter() - t0)]
+                break
+            summaries, path, events = fk.run_belt(body, sup, wts, start_arr[ids], thetas[ids], given[ids], segs,
+                                                  gammas, mus[ids], part.circumradius, sim, tols, along[ids], rec,
+                                                  first, last)
+            elapsed = time.perf_counter() - t0
+            for row_i, i in enumerate(ids[first:last]):
+                for f, seg in enumerate(segments):
+                    row = summaries[row_i, f]
+                    if row[fk.S_STATUS] < 0:
+                        break
+                    if int(row[fk.S_STATUS]) == fk.GRAZING_PUSH:
+                        raise InvalidInput("push_direction", "is parallel to the edge (edge_angle): the pusher would "
+                                           "slide along the edge and never push the workpiece")
+                    if int(row[fk.S_STATUS]) == fk.REFERENCE:
+                        again.append(int(i))
+                        break
+                    runs[i].append(_run_of(row, path, events, bool(row_i + first < rec), seg, float(mus[i, f]),
+                                           settings, elapsed))
+    for i in again:  # the reference path, from the part's start
+        runs[i] = _reference_belt(part, segments, mus[i], checked[i], float(thetas[i]), float(along[i]), starts[i],
+                                  settings, tol, budget)
+    return runs
+
+
+def _reference_belt(part: Footprint, segments: list[FenceSegment], mus: np.ndarray,
+                    checked: tuple[np.ndarray, np.ndarray], theta: float, along: float, start: np.ndarray | None,
+                    settings: FeederSimSettings, tol: SolverTolerances, budget: Budget) -> list[FenceRun]:
+    """One part through ``segments`` on the reference path (_fence_run, batched solves)."""
+    out: list[FenceRun] = []
+    cm = start
+    for f, seg in enumerate(segments):
+        (run,) = _run_batch(part, seg, [float(mus[f])], [checked], np.array([theta]), [along], [cm], settings, tol,
+                            budget)
+        out.append(run)
+        if run.status not in ("left", "missed"):
+            break
+        cm, theta = run.cms[-1].copy(), float(run.thetas[-1])
+    return out
+
+
 @dataclass(frozen=True)
 class BeltRun:
     """One part through the fences of a belt: the run at each fence it reached, in order
@@ -484,7 +667,8 @@ class BeltRun:
 def simulate_belt_batch(part: Footprint, segments: list[FenceSegment], mu_c: ArrayLike,
                         supports: list[tuple[ArrayLike, ArrayLike]], thetas_initial: ArrayLike,
                         starts: ArrayLike | None = None, settings: FeederSimSettings = DEFAULT_SIM,
-                        tol: SolverTolerances = SOLVER_DEFAULT, budget: Budget = UNLIMITED) -> list[BeltRun]:
+                        tol: SolverTolerances = SOLVER_DEFAULT, budget: Budget = UNLIMITED, compiled: bool = True,
+                        record: int | None = None) -> list[BeltRun]:
     """Many parts through the placed fences of a belt in order (world frame, the belt in
     -y): each part starts with its CM at ``starts[i]`` (default: above the first fence as
     :func:`simulate_fence` places it), drifts onto the first fence, and each later fence
@@ -492,7 +676,8 @@ def simulate_belt_batch(part: Footprint, segments: list[FenceSegment], mu_c: Arr
     to the next with status "missed" there). ``mu_c``: one value, one per part, or one per
     part and fence (shape (parts, fences)). The runs at each fence are batched as in
     :func:`simulate_fence_batch`. A part whose next fence already
-    passes through it (fences too close: two contacts at once) stops there as "overlap"."""
+    passes through it (fences too close: two contacts at once) stops there as "overlap".
+    ``compiled`` and ``record`` as in :func:`simulate_fence_batch`."""
     thetas = np.array(thetas_initial, dtype=float, ndmin=1)  # a copy: updated fence by fence
     n, k = len(thetas), len(segments)
     if len(supports) != n:
@@ -513,6 +698,10 @@ def simulate_belt_batch(part: Footprint, segments: list[FenceSegment], mu_c: Arr
     for j, seg in enumerate(segments):
         _check_mu(seg.fence, mu[:, j])
     checked = [_check(np.asarray(pts, dtype=float), np.asarray(w, dtype=float)) for pts, w in supports]
+    if compiled:
+        done = _compiled_runs(part, segments, np.asarray(mu, dtype=float), checked, thetas, np.full(n, START_ALONG),
+                              cms, settings, tol, budget, n if record is None else record)
+        return [BeltRun(tuple(r), k) for r in done]
     runs: list[list[FenceRun]] = [[] for _ in range(n)]
     going = list(range(n))
     for j, seg in enumerate(segments):

@@ -121,7 +121,8 @@ def validate_in_own_frames(part: Footprint, fences: list[Fence], final: Arcs, mu
     unflushed = np.zeros(n, dtype=bool)
     for fence in fences:
         ids = np.nonzero(finished)[0]
-        runs = simulate_fence_batch(part, fence, mu_of[ids], [supports[i] for i in ids], theta[ids], budget=budget)
+        runs = simulate_fence_batch(part, fence, mu_of[ids], [supports[i] for i in ids], theta[ids], budget=budget,
+                                    record=0)
         for i, run in zip(ids, runs):
             if run.status != "left" or run.theta_final is None:
                 finished[i] = False
@@ -149,7 +150,7 @@ def validate_on_belt(part: Footprint, fences: list[Fence], placement: Placement,
     xs = belt.entry_x + rng.uniform(-belt.entry_spread, belt.entry_spread, n)
     y0 = float(placement.fences[0].root[1]) + part.circumradius * (1.0 + ENTRY_CLEARANCE)
     starts = np.column_stack([xs, np.full(n, y0)])
-    runs = simulate_belt_batch(part, segs, mu_of, supports, theta, starts, budget=budget)
+    runs = simulate_belt_batch(part, segs, mu_of, supports, theta, starts, budget=budget, record=VALIDATION_EXAMPLES)
     counts = dict(in_band=0, outside=0, rejected=0, unflushed=0, missed=0, off_belt=0, unfinished=0, cut=0)
     gated = 0
     for run in runs:
@@ -182,8 +183,12 @@ def _outcome(part: Footprint, run: BeltRun, half_width: float, accepted: Arcs, g
 
 
 def _leaves_belt(part: Footprint, run: BeltRun, half_width: float) -> bool:
-    """Whether the part's outline crossed x = +-half_width at any recorded pose."""
+    """Whether the part's outline crossed x = +-half_width at any pose of its runs."""
     for r in run.runs:
+        if r.outline_reach is not None:
+            if r.outline_reach > half_width:
+                return True
+            continue
         c, s_ = np.cos(r.thetas)[:, None], np.sin(r.thetas)[:, None]
         x = r.cms[:, 0][:, None] + c * part.hull[:, 0][None, :] - s_ * part.hull[:, 1][None, :]
         if np.any(np.abs(x) > half_width):

@@ -79,7 +79,7 @@ def prepare_cache() -> Path | None:
 CACHE_DIR = prepare_cache()
 
 
-KERNEL_MODULES = ("solver.kernels.forward",)
+KERNEL_MODULES = ("solver.kernels.forward", "solver.kernels.fence")
 """Every module of compiled kernels (imported by :func:`compiled`)."""
 
 

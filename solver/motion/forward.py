@@ -498,9 +498,11 @@ def _solve_compiled(geo: SceneArrays, w_rel, p, mu_c: float, tol: SolverToleranc
     (world-frame vectors), the problems handed to the reference and those the conic
     solver re-solved."""
     ell = _length_scale(geo.contact_rel, w_rel)
+    # the kernel's signature takes writable float arrays (a support from Ray's object store is read-only)
+    args = [np.require(x, dtype=float, requirements=["W"]) for x in (w_rel, p, geo.contact_rel, geo.normal,
+                                                                      geo.alpha_hat, geo.push_hat, geo.sin_alpha)]
     v, omega, force, kkt, vertex, iters, mode, consistent, failed = _kernel.solve_rows(
-        w_rel, p, geo.contact_rel, geo.normal, geo.alpha_hat, geo.push_hat, geo.sin_alpha, mu_c, tol.kkt, tol.kkt,
-        tol.max_newton_iter)
+        *args, mu_c, tol.kkt, tol.kkt, tol.max_newton_iter)
     out = dict(v=v, omega=omega, ell=ell, force=force, kkt=kkt, vertex=vertex, iters=iters, mode=mode,
                consistent=consistent)
     redo = np.nonzero(failed)[0]

@@ -32,7 +32,7 @@ from models.core.errors import InvalidInput
 from models.feeder.fence import Fence, feeder_part, fence_map
 from models.feeder.maps import sequence
 from solver import Budget
-from solver.feeder.simulate import FeederSimSettings, simulate_fence, simulate_fence_batch
+from solver.feeder.simulate import COMPILED_CHUNK, FeederSimSettings, simulate_fence, simulate_fence_batch
 from tests.feeder_cases import (
     PARTS,
     CountingClock,
@@ -335,9 +335,10 @@ def test_a_batch_of_parts_takes_exactly_the_steps_of_one_by_one_runs():
 
 
 def test_a_batch_past_its_budget_ends_every_run_still_going():
-    """The budget is checked before each batched round of solves: when it runs out, every
-    run still going ends with status time_limit and no final orientation, having counted
-    only the solves that ran; runs already finished keep their outcome."""
+    """On the reference path the budget is checked before each batched round of solves:
+    when it runs out, every run still going ends with status time_limit and no final
+    orientation, having counted only the solves that ran; runs already finished keep their
+    outcome."""
     the_part = part("pentagon")
     fence = Fence.create(0.7, 0.25)
     rng = np.random.default_rng(78)
@@ -345,7 +346,25 @@ def test_a_batch_past_its_budget_ends_every_run_still_going():
     thetas = rng.uniform(-math.pi, math.pi, 4)
     along = [0.7, 0.7, 0.7, 1.2]  # the last misses the fence and finishes at once
     runs = simulate_fence_batch(the_part, fence, 0.25, supports, thetas, start_along=along,
-                                budget=Budget.of(5.0, clock=CountingClock(12)))
+                                budget=Budget.of(5.0, clock=CountingClock(12)), compiled=False)
     assert [r.status for r in runs] == ["time_limit"] * 3 + ["missed"]
     assert all(r.theta_final is None and not r.complete for r in runs[:3])
     assert all(0 < r.counts.solves < 20 for r in runs[:3]) and runs[3].counts.solves == 0
+
+
+def test_a_compiled_batch_past_its_budget_ends_the_parts_not_started():
+    """On the compiled path the budget is checked before each chunk of COMPILED_CHUNK parts:
+    the parts of the chunks run are whole, those not started end time_limit, no final
+    orientation, no solve counted (a budget of two clock readings: its start and the first
+    chunk's check)."""
+    the_part = part("pentagon")
+    fence = Fence.create(0.7, 0.25)
+    rng = np.random.default_rng(79)
+    n = 2 * COMPILED_CHUNK + 3
+    supports = [random_support(rng, "pentagon") for _ in range(n)]
+    thetas = rng.uniform(-math.pi, math.pi, n)
+    runs = simulate_fence_batch(the_part, fence, 0.25, supports, thetas, budget=Budget.of(5.0, clock=CountingClock(2)))
+    assert all(r.complete and r.counts.solves > 0 for r in runs[:COMPILED_CHUNK])
+    assert all(r.status == "time_limit" and r.theta_final is None and r.counts.solves == 0
+               for r in runs[COMPILED_CHUNK:])
+    assert "simulated parts 9-16 of 19" in runs[-1].events[0].detail
