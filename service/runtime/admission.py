@@ -99,7 +99,10 @@ class AdmissionPolicy:
     idle_poll_s: float = 0.05
     at_once_s: float = 0.5
     max_wait_s: float = 1.0
-    refusal_margin_s: float = 0.1
+    refusal_margin_s: float = 0.25
+    """A queued request leaves this long before ``max_wait_s``: its 503 still has to reach the
+    client while the solver workers keep the machine's cores busy (a flood of designs on two
+    cores: 0.1 s before it, refusals arrived after 1.18 s)."""
 
 
 DEFAULT_ADMISSION = AdmissionPolicy()

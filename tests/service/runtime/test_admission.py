@@ -348,7 +348,7 @@ def test_a_request_gets_its_slot_or_its_refusal_within_the_queue_wait():
     ran longer than predicted). A request predicted to wait more than max_wait_s is refused
     at once; one queued on a shorter prediction that gets no slot leaves at max_wait_s."""
     async def scenario() -> tuple[str, str, float]:
-        queue = RunQueue(Slots(1).open(), capacity=4, policy=AdmissionPolicy(max_wait_s=0.3))
+        queue = RunQueue(Slots(1).open(), capacity=4, policy=AdmissionPolicy(max_wait_s=0.3, refusal_margin_s=0.1))
         try:
             queue.cost_s["POST /long"] = 5.0
             queue.cost_s["POST /x"] = 0.1

@@ -344,7 +344,7 @@ def test_bad_goals_and_gates_are_refused_at_the_field(client, patch, loc):
     ({"mu_c": None}, ["body", "mu_c"]),
     ({"mu_c_range": [0.1, 0.2]}, ["body", "mu_c"]),
     ({"max_depth": 0}, ["body", "max_depth"]),
-    ({"validation_parts": 10_000}, ["body", "validation_parts"]),
+    ({"validation_parts": 10_001}, ["body", "validation_parts"]),
     ({"angles": {"min": 0.4, "max": 1.0, "step": 1e-310}}, ["body", "angles", "step"]),
     ({"belt": {"width": 1e12}}, ["body", "belt", "width"]),
     ({"belt": {"width": 1.0}}, ["body", "belt", "width"]),
