@@ -81,9 +81,10 @@ _SOLVES = textwrap.dedent(
     # numba: the compiled forward solve of one tripod, frictionless (solver/kernels/forward.py)
     w = np.array([[[0.5, 0.0], [-0.25, 0.4], [-0.25, -0.4]]])
     two = lambda v: np.array([v], dtype=float)
-    res = kernels.solve_rows(w, np.full((1, 3), 1 / 3), two([-0.9, 0.1]), two([1.0, 0.0]), two([0.0, 1.0]),
-                             two([1.0, 0.0]), np.ones(1), 0.0, 1e-10, 1e-10, 80)
-    out["numba"] = {"kkt": float(res[3][0]), "failed": bool(res[8][0])}
+    real, ints, _ = kernels.solve_supports(w, np.full((1, 3), 1 / 3), two([0.0, 0.0]), two([-0.9, 0.1]),
+                                           two([1.0, 0.0]), two([0.0, 1.0]), two([1.0, 0.0]), np.ones(1), 0.0,
+                                           np.array([1e-10, 1e-10, 80, 1e-12, 1e-9]))
+    out["numba"] = {"kkt": float(real[0, kernels.O_KKT]), "failed": bool(ints[0, kernels.I_FAILED])}
 
     # SciPy's own (statically linked) HiGHS: min -x - 2y  s.t. x + y <= 4, x, y >= 0  ->  -8
     from scipy.optimize import linprog

@@ -13,7 +13,10 @@ Compiled code is kept on disk by numba's cache, so that no request pays for a co
   to read a cache folder it cannot write, and needs none once everything it needs is there.
 
 The cache is keyed by the sources' contents and the CPU: ``NUMBA_CPU_NAME=generic`` (set in
-the image) makes it valid on any x86_64 machine. Every entry point has explicit signatures:
+the image) makes it valid on any x86_64 machine. numba keys a function's code by its own
+module's source only, while code from another kernel module is compiled into it (the fence
+loop calls the forward solve): the whole cache is dropped when any kernel module changes
+(:func:`sources_stamp`, kept beside the cache). Every entry point has explicit signatures:
 it is compiled (or loaded) when its module is imported, never at a first call with
 unforeseen argument types. Kernels hold no state and release nothing shared: they are
 safe to call from many threads.
@@ -21,6 +24,7 @@ safe to call from many threads.
 
 from __future__ import annotations
 
+import hashlib
 import os
 import shutil
 import tempfile
@@ -29,9 +33,11 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 CACHE_FILES = ("*.nbi", "*.nbc")
 """numba's cache: an index per function (.nbi) and its compiled code (.nbc)."""
+STAMP_FILE = "kernels.sources.sha256"
+"""Beside the cache: the :func:`sources_stamp` it was compiled from."""
 
 
-def _writable(folder: Path) -> bool:
+def writable(folder: Path) -> bool:
     try:
         folder.mkdir(exist_ok=True)
         with tempfile.TemporaryFile(dir=folder):
@@ -48,29 +54,65 @@ def _stamp(path: Path) -> tuple[int, int] | None:
     return st.st_size, st.st_mtime_ns
 
 
+def sources_stamp() -> str:
+    """A hash of every kernel module's source: numba keys a function's cached code by its own
+    module's source only, so code compiled into it from another kernel module (the fence
+    loop calls the forward solve) would go stale unnoticed; the cache is dropped whole when
+    this changes."""
+    digest = hashlib.sha256()
+    for path in sorted(HERE.glob("*.py")):
+        digest.update(path.name.encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def drop_if_stale(folder: Path) -> None:
+    stamp = folder / STAMP_FILE
+    want = sources_stamp()
+    try:
+        if stamp.read_text() == want:
+            return
+    except OSError:
+        pass
+    try:
+        for pattern in CACHE_FILES:
+            for old in folder.glob(pattern):
+                old.unlink(missing_ok=True)
+        folder.mkdir(parents=True, exist_ok=True)
+        stamp.write_text(want)
+    except OSError:  # a folder numba cannot write either: it compiles in memory
+        pass
+
+
 def prepare_cache() -> Path | None:
     """Where numba keeps this package's compiled code: None for its default (next to the
     sources), or the writable copy made when that folder is read-only (module docstring).
     Called before the kernels are imported; a cache folder set by NUMBA_CACHE_DIR is
-    kept."""
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return Path(os.environ["NUMBA_CACHE_DIR"])
-    in_tree = HERE / "__pycache__"
-    if _writable(in_tree):
-        return None
-    from numba.core import config
+    kept. Compiled code of older sources is dropped (:func:`sources_stamp`)."""
     from numba.core.caching import UserProvidedCacheLocator
 
+    subpath = UserProvidedCacheLocator.get_suitable_cache_subpath(str(HERE / "__init__.py"))
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        root = Path(os.environ["NUMBA_CACHE_DIR"])
+        drop_if_stale(root / subpath)
+        return root
+    in_tree = HERE / "__pycache__"
+    if writable(in_tree):
+        drop_if_stale(in_tree)
+        return None
+    from numba.core import config
+
     root = Path(tempfile.gettempdir()) / f"peshkin-kernels-{os.getuid()}"
-    target = root / UserProvidedCacheLocator.get_suitable_cache_subpath(str(HERE / "__init__.py"))
+    target = root / subpath
     target.mkdir(parents=True, exist_ok=True)
-    for pattern in CACHE_FILES:
+    for pattern in (*CACHE_FILES, STAMP_FILE):
         for src in in_tree.glob(pattern):
             dst = target / src.name
             if _stamp(dst) != _stamp(src):  # copied whole under another name, then renamed: another process may read it
                 part = dst.with_name(f".{dst.name}.{os.getpid()}")
                 shutil.copy2(src, part)
                 os.replace(part, dst)
+    drop_if_stale(target)
     os.environ["NUMBA_CACHE_DIR"] = str(root)
     config.CACHE_DIR = str(root)
     return root

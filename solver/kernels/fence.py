@@ -27,7 +27,7 @@ import math
 import numpy as np
 from numba import njit, types
 
-from solver.kernels.forward import solve_modes
+from solver.kernels.forward import FAST, norm, solve_modes
 
 CACHE = True
 
@@ -54,6 +54,9 @@ TRANSLATION_TURN = 1e-14
 GRAZING_SIN = 1e-9
 """The push scene's grazing test (models.core.tolerances.Tolerances.grazing_sin)."""
 MODE_COUNT = 4
+COUNT_SIDE = 4 + MODE_COUNT
+"""In a run's counts: the side of the cone its last forward solve slipped on (0: it did not),
+tried first by the next solve (solver.kernels.forward.solve_modes)."""
 
 # Columns of a run's summary (floats): its status, steps, push, the start and end pose,
 # whether an edge came flush, the largest |x| of the hull over its poses, what its forward
@@ -65,7 +68,7 @@ MODE_COUNT = 4
 SUMMARY = S_MODES + MODE_COUNT
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _grow(buf, n):
     """``buf`` with room for row n (doubled when full)."""
     if n < buf.shape[0]:
@@ -75,7 +78,7 @@ def _grow(buf, n):
     return new
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _pose_hull(cm0, cm1, theta, body, out):
     c = math.cos(theta)
     s = math.sin(theta)
@@ -84,7 +87,7 @@ def _pose_hull(cm0, cm1, theta, body, out):
         out[i, 1] = cm1 + (body[i, 0] * s + body[i, 1] * c)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _overlaps(hull, e0, e1, w0, w1, length, tol):
     """Whether the fence passes through the hull deeper than ``tol`` (the segment clipped by
     the hull's edges, each kept ``tol`` inside)."""
@@ -95,7 +98,7 @@ def _overlaps(hull, e0, e1, w0, w1, length, tol):
         j = (i + 1) % m
         q0 = hull[j, 0] - hull[i, 0]
         q1 = hull[j, 1] - hull[i, 1]
-        ln = math.hypot(q0, q1)
+        ln = norm(q0, q1)
         nx = -q1 / ln
         ny = q0 / ln
         base = nx * (e0 - hull[i, 0]) + ny * (e1 - hull[i, 1]) - tol
@@ -114,7 +117,7 @@ def _overlaps(hull, e0, e1, w0, w1, length, tol):
     return True
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _gaps(hull, e0, e1, gaps):
     """E's distance to each edge it can push (inf for an edge facing away from it)."""
     m = hull.shape[0]
@@ -125,13 +128,13 @@ def _gaps(hull, e0, e1, gaps):
         r0 = e0 - hull[i, 0]
         r1 = e1 - hull[i, 1]
         u = min(max((r0 * q0 + r1 * q1) / (q0 * q0 + q1 * q1), 0.0), 1.0)
-        if q0 < -GRAZING * math.hypot(q0, q1):  # perp(q) . D < 0: E and the edge separate
+        if q0 < -GRAZING * norm(q0, q1):  # perp(q) . D < 0: E and the edge separate
             gaps[i] = math.inf
         else:
-            gaps[i] = math.hypot(r0 - u * q0, r1 - u * q1)
+            gaps[i] = norm(r0 - u * q0, r1 - u * q1)
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _next_contact(hull, e0, e1, w0, w1, n0, n1, length, floor):
     """The drift (in -y, more than ``floor``) after which the part first touches the fence,
     or -1: a vertex drifting onto the face, or E rising onto an edge."""
@@ -148,7 +151,7 @@ def _next_contact(hull, e0, e1, w0, w1, n0, n1, length, floor):
         ed0 = hull[j, 0] - hull[i, 0]
         ed1 = hull[j, 1] - hull[i, 1]
         den = D0 * -ed1 + D1 * ed0
-        if abs(den) <= 1e-12 * math.hypot(ed0, ed1):
+        if abs(den) <= 1e-12 * norm(ed0, ed1):
             continue  # an edge along the belt's motion: E slides along it
         r0 = e0 - hull[i, 0]
         r1 = e1 - hull[i, 1]
@@ -159,7 +162,7 @@ def _next_contact(hull, e0, e1, w0, w1, n0, n1, length, floor):
     return -1.0 if math.isinf(best) else best
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _advance(cm0, cm1, theta, v0, v1, omega, at0, at1, h):
     """The pose moved by the twist (found with the CM at ``at``) held for a push h: a
     rotation by omega h about its COR, fixed in the world (solver.sim.kinematics.advance)."""
@@ -175,7 +178,7 @@ def _advance(cm0, cm1, theta, v0, v1, omega, at0, at1, h):
     return r0 + (c * d0 - s * d1), r1 + (s * d0 + c * d1), theta + turn
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _reimpose(cm0, cm1, theta, contact, index, body, hull, e0, e1, w0, w1, n0, n1, length):
     """The contact made exact again after a step (solver.feeder.simulate._reimpose)."""
     m = body.shape[0]
@@ -202,14 +205,14 @@ def _reimpose(cm0, cm1, theta, contact, index, body, hull, e0, e1, w0, w1, n0, n
     j = (i + 1) % m
     q0 = hull[j, 0] - hull[i, 0]
     q1 = hull[j, 1] - hull[i, 1]
-    ln = math.hypot(q0, q1)
+    ln = norm(q0, q1)
     ne0 = -q1 / ln
     ne1 = q0 / ln
     off = (ne0 * e0 + ne1 * e1) - (ne0 * hull[i, 0] + ne1 * hull[i, 1])
     return cm0 + off * ne0, cm1 + off * ne1
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _flush_distance(cm0, cm1, theta, v0, v1, edge, body, hull, e0, e1, w0, w1, n0, n1, f0, f1):
     """The push until the sliding part's next event: E reaching the edge's downstream
     vertex, or (past it) the force line through the CM."""
@@ -229,7 +232,7 @@ def _flush_distance(cm0, cm1, theta, v0, v1, edge, body, hull, e0, e1, w0, w1, n
     return max((x0 - e0) * w0 + (x1 - e1) * w1, 0.0) / rate
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _turn_to_along(hull, edge, omega):
     """The push after which edge ``edge`` turning at ``omega`` lies along the belt (inf if
     it turns away)."""
@@ -244,7 +247,7 @@ def _turn_to_along(hull, edge, omega):
     return math.inf
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _checked_step(cm0, cm1, theta, v0, v1, omega, contact, index, body, hull, e0, e1, w0, w1, n0, n1, length,
                   f0, f1, step, min_step, tol_c):
     """The pose after one step in a contact (re-imposed) and the push it took: ``step`` (a
@@ -265,15 +268,16 @@ def _checked_step(cm0, cm1, theta, v0, v1, omega, contact, index, body, hull, e0
         h *= 0.5
 
 
-@njit(cache=CACHE)
-def _solve(cm0, cm1, theta, contact, index, body, hull, support, weights, wx, wy, e0, e1, gamma, mu_c,
+@njit(cache=CACHE, fastmath=FAST)
+def _solve(cm0, cm1, theta, contact, index, body, hull, support, weights, work, e0, e1, gamma, mu_c,
            kkt_tol, kkt_accept, max_iter, counts):
     """The forward solve (3.7, 4.1) of a point contact at the pose: vertex ``index`` on the
     face (VERTEX) or E on edge ``index`` (END); the part pushed along +D in the belt's frame.
     Returns (v0, v1, omega) in the fence's frame (the belt's motion -D added) and a code:
     0 solved, 1 the compiled solve failed (the caller runs the reference), 2 a grazing push
     (models.core.scene refuses it). ``counts``: solves, not optimal, max KKT, max force
-    angle, then the solves of each mode."""
+    angle, the solves of each mode, the side of the last slip (COUNT_SIDE). ``work``: (8, k)
+    scratch."""
     m = body.shape[0]
     _pose_hull(cm0, cm1, theta, body, hull)
     if contact == VERTEX:
@@ -293,22 +297,24 @@ def _solve(cm0, cm1, theta, contact, index, body, hull, support, weights, wx, wy
         sn0, sn1, sin_a = -sn0, -sn1, -sin_a
     ah0, ah1 = -sn1, sn0
     cr0, cr1 = c0 - cm0, c1 - cm1
+    wx, wy = work[0], work[1]
     cth = math.cos(theta)
     sth = math.sin(theta)
     k = support.shape[0]
-    ell = math.hypot(cr0, cr1)
+    ell = norm(cr0, cr1)
     for i in range(k):
         x = (cm0 + (support[i, 0] * cth - support[i, 1] * sth)) - cm0
         y = (cm1 + (support[i, 0] * sth + support[i, 1] * cth)) - cm1
         wx[i] = x
         wy[i] = y
-        ell = max(ell, math.hypot(x, y))
+        ell = max(ell, norm(x, y))
     for i in range(k):
         wx[i] /= ell
         wy[i] /= ell
     out = solve_modes(wx, wy, weights, cr0 / ell, cr1 / ell, sn0, sn1, ah0, ah1, p0, p1, sin_a, mu_c, kkt_tol,
-                      kkt_tol, max_iter)
-    x0, x1, x2, fo0, fo1, kkt, _, _, mode, consistent, failed = out
+                      kkt_tol, max_iter, work[2:], counts[COUNT_SIDE])
+    x0, x1, x2, fo0, fo1, kkt, _, _, mode, consistent, failed, side = out
+    counts[COUNT_SIDE] = side
     if failed:
         return 0.0, 0.0, 0.0, 1
     counts[0] += 1.0
@@ -320,7 +326,7 @@ def _solve(cm0, cm1, theta, contact, index, body, hull, support, weights, wx, wy
     return x0 - D0, x1 - D1, x2 / ell, 0
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _mode(cm0, cm1, theta, hull, touching, n_touch, gaps, e0, e1, w0, w1, n0, n1, length, gamma, mu_c, f0, f1,
           tol_c):
     """The contact at a pose in contact (solver.feeder.simulate._mode): (contact, index,
@@ -379,24 +385,24 @@ def _mode(cm0, cm1, theta, hull, touching, n_touch, gaps, e0, e1, w0, w1, n0, n1
     j = (edge_e + 1) % m
     q0 = hull[j, 0] - hull[edge_e, 0]
     q1 = hull[j, 1] - hull[edge_e, 1]
-    if abs(-q1 * D0 + q0 * D1) <= GRAZING * math.hypot(q0, q1):
+    if abs(-q1 * D0 + q0 * D1) <= GRAZING * norm(q0, q1):
         return ALONG, -1, False, -D0, -D1  # the edge lies along the belt: E no longer pushes
     return END, edge_e, True, 0.0, 0.0
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _vertex_at_end(hull, e0, e1, tol_c):
     k = 0
     best = math.inf
     for i in range(hull.shape[0]):
-        d = math.hypot(hull[i, 0] - e0, hull[i, 1] - e1)
+        d = norm(hull[i, 0] - e0, hull[i, 1] - e1)
         if d < best:
             best = d
             k = i
     return k if best <= E_ON_EDGE * tol_c else -1
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _event(events, n_ev, record, push, code, index, value):
     if not record:
         return events, n_ev
@@ -408,7 +414,7 @@ def _event(events, n_ev, record, push, code, index, value):
     return events, n_ev + 1
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _point(path, n_path, record, push, cm0, cm1, theta):
     if not record:
         return path, n_path
@@ -420,7 +426,7 @@ def _point(path, n_path, record, push, cm0, cm1, theta):
     return path, n_path + 1
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _max_x(hull):
     x = 0.0
     for i in range(hull.shape[0]):
@@ -431,8 +437,8 @@ def _max_x(hull):
 _ENTRY_EVENT = (EV_VERTEX, EV_END, EV_FLUSH)
 
 
-@njit(cache=CACHE)
-def _corner_step(cm0, cm1, theta, contact, index, body, hull, support, weights, wx, wy, seg, gamma, mu_c, f0, f1,
+@njit(cache=CACHE, fastmath=FAST)
+def _corner_step(cm0, cm1, theta, contact, index, body, hull, support, weights, work, seg, gamma, mu_c, f0, f1,
                  step, min_step, tol_c, tol, counts):
     """A step refused down to ``min_step`` with a vertex at E: the first of the contacts
     there (the vertex on the face, E on either edge at it) whose step advances
@@ -453,7 +459,7 @@ def _corner_step(cm0, cm1, theta, contact, index, body, hull, support, weights, 
             c_alt, i_alt = END, corner
         if c_alt == contact and i_alt == index:
             continue
-        u0, u1, om, code = _solve(cm0, cm1, theta, c_alt, i_alt, body, hull, support, weights, wx, wy, e0, e1, gamma,
+        u0, u1, om, code = _solve(cm0, cm1, theta, c_alt, i_alt, body, hull, support, weights, work, e0, e1, gamma,
                                   mu_c, tol[0], tol[1], int(tol[2]), counts)
         if code != 0:
             return False, contact, index, cm0, cm1, theta, 0.0, code
@@ -464,7 +470,7 @@ def _corner_step(cm0, cm1, theta, contact, index, body, hull, support, weights, 
     return False, contact, index, cm0, cm1, theta, 0.0, 0
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _touching(hull, seg, tol_c, touching):
     """The hull vertices on the fence's face (within ``tol_c``), in order: how many."""
     e0, e1, w0, w1, n0, n1, length = seg[0], seg[1], seg[2], seg[3], seg[4], seg[5], seg[6]
@@ -478,7 +484,7 @@ def _touching(hull, seg, tol_c, touching):
     return n_touch
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _summarise(summary, status, steps, push, cm0, cm1, theta, flushed, max_x, counts, n_ev, n_path):
     summary[S_STATUS] = status
     summary[S_STEPS] = steps
@@ -498,9 +504,9 @@ def _summarise(summary, status, steps, push, cm0, cm1, theta, flushed, max_x, co
     summary[S_PATH_TO] = n_path
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, settings, tol, record, path, n_path,
-              events, n_ev, summary, wx, wy, hull, gaps, touching):
+              events, n_ev, summary, work, hull, gaps, touching):
     """One part through one fence (solver.feeder.simulate._fence_run), from the pose (cm,
     theta). ``seg``: E (2), w (2), n (2), length. ``settings``: step, contact_tol, min_step,
     max_steps, stall_steps (lengths relative to a). ``tol``: kkt, kkt_accept, max Newton
@@ -508,7 +514,7 @@ def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, sett
     e0, e1, w0, w1, n0, n1, length = seg[0], seg[1], seg[2], seg[3], seg[4], seg[5], seg[6]
     step, tol_c, min_step = settings[0] * a, settings[1] * a, settings[2] * a
     f0, f1 = n0 + mu_c * w0, n1 + mu_c * w1
-    counts = np.zeros(4 + MODE_COUNT)
+    counts = np.zeros(COUNT_SIDE + 1)
     summary[S_START_X], summary[S_START_Y], summary[S_START_THETA] = cm0, cm1, theta
     summary[S_EVENTS_FROM], summary[S_PATH_FROM] = n_ev, n_path
     push = 0.0
@@ -546,7 +552,7 @@ def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, sett
                                               n1, length, gamma, mu_c, f0, f1, tol_c)
         omega = 0.0
         if solve:
-            v0, v1, omega, code = _solve(cm0, cm1, theta, contact, index, body, hull, support, weights, wx, wy, e0, e1,
+            v0, v1, omega, code = _solve(cm0, cm1, theta, contact, index, body, hull, support, weights, work, e0, e1,
                                          gamma, mu_c, tol[0], tol[1], int(tol[2]), counts)
             if code != 0:
                 status = REFERENCE if code == 1 else GRAZING_PUSH
@@ -565,7 +571,7 @@ def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, sett
                                       n0, n1, length, f0, f1, step, min_step, tol_c)
         if h <= min_step:
             found, c2, i2, b0, b1, th2, h2, code = _corner_step(cm0, cm1, theta, contact, index, body, hull, support,
-                                                                weights, wx, wy, seg, gamma, mu_c, f0, f1, step,
+                                                                weights, work, seg, gamma, mu_c, f0, f1, step,
                                                                 min_step, tol_c, tol, counts)
             if code != 0:
                 status = REFERENCE if code == 1 else GRAZING_PUSH
@@ -588,7 +594,7 @@ def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, sett
     return path, n_path, events, n_ev
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def start_above(body, theta, seg, a, start_along, clearance, hull):
     """The CM of a part placed just above the fence at ``start_along`` of its length from E:
     ``clearance`` part radii of belt travel before it touches the face."""
@@ -606,7 +612,7 @@ RUN_BELT_SIGNATURE = (_F2, _F3, _F2, _F2, _F1, types.boolean[:], _F2, _F1, _F2, 
                       types.int64, types.int64, types.int64)
 
 
-@njit([RUN_BELT_SIGNATURE], cache=CACHE)
+@njit([RUN_BELT_SIGNATURE], cache=CACHE, fastmath=FAST)
 def run_belt(body, supports, weights, starts, thetas, given, segs, gammas, mus, a, settings, tol, start_along,
              record, first, last):
     """Parts ``first`` .. ``last - 1`` through the fences ``segs`` (F, 7) in order: part i
@@ -623,8 +629,7 @@ def run_belt(body, supports, weights, starts, thetas, given, segs, gammas, mus, 
     events = np.empty((64, 4))
     n_path = 0
     n_ev = 0
-    wx = np.empty(k)
-    wy = np.empty(k)
+    work = np.empty((8, k))
     hull = np.empty((m, 2))
     gaps = np.empty(m)
     touching = np.empty(m, dtype=np.int64)
@@ -638,7 +643,7 @@ def run_belt(body, supports, weights, starts, thetas, given, segs, gammas, mus, 
             out = summaries[i - first, f]
             path, n_path, events, n_ev = run_fence(body, supports[i], weights[i], cm0, cm1, theta, segs[f], gammas[f],
                                                    mus[i, f], a, settings, tol, i < record, path, n_path, events,
-                                                   n_ev, out, wx, wy, hull, gaps, touching)
+                                                   n_ev, out, work, hull, gaps, touching)
             status = int(out[S_STATUS])
             if status != LEFT and status != MISSED:
                 break

@@ -45,15 +45,19 @@ EPS = float(np.finfo(float).eps)
 MODE_FRICTIONLESS, MODE_STICKING, MODE_SLIPPING_UP, MODE_SLIPPING_DOWN = 0, 1, 2, 3
 """Indices into solver.motion.forward.MODES."""
 
+FAST = {"contract", "arcp", "nsz"}
+"""LLVM's fast-math flags that keep infinities and NaNs (the vertex test's 'no candidate' is
+an infinite violation): fused multiply-adds, reciprocals, signless zeros."""
+
 CACHE = True
 """Compiled code kept on disk (numba's cache; solver/kernels/__init__.py says where)."""
 
-ENTRY_POINTS = ("solve_rows",)
+ENTRY_POINTS = ("solve_supports",)
 """Compiled with explicit signatures when the module is imported (the others are compiled
 into them)."""
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def power_at(x0, x1, x2, wx, wy, p):
     """f(x) = sum_i P_i |v(w_i)| for the twist (x0, x1, x2)."""
     f = 0.0
@@ -64,7 +68,7 @@ def power_at(x0, x1, x2, wx, wy, p):
     return f
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def gradient_at(x0, x1, x2, wx, wy, p):
     """grad f at the twist: sum_i P_i (u_i, (J w_i) . u_i), u_i the unit velocity of w_i."""
     g0 = 0.0
@@ -82,7 +86,7 @@ def gradient_at(x0, x1, x2, wx, wy, p):
     return g0, g1, g2
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def vertex_test(wx, wy, p, a0, a1, a2, q, j):
     """The rotation about support point j that satisfies a . x = q, and how far it is from
     optimal: (x0, x1, x2, lambda, violation, z_x, z_y); optimal iff violation <= 0 (to a
@@ -109,11 +113,11 @@ def vertex_test(wx, wy, p, a0, a1, a2, q, j):
     lam = (-wy[j] * gx + wx[j] * gy - gw) / -den
     zx = lam * a0 - gx
     zy = lam * a1 - gy
-    viol = max(math.hypot(zx, zy) - p[j], 0.0)
+    viol = max(math.sqrt(zx * zx + zy * zy) - p[j], 0.0)  # normalised units: no over- or underflow
     return omega * wy[j], -omega * wx[j], omega, lam, viol, zx, zy
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def best_vertex(wx, wy, p, a0, a1, a2, q):
     """The support point whose rotation is closest to optimal (the first of equals):
     (x0, x1, x2, lambda, violation, index)."""
@@ -130,7 +134,7 @@ def best_vertex(wx, wy, p, a0, a1, a2, q):
     return bx0, bx1, bx2, blam, bviol, bidx
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _plane_basis(a0, a1, a2):
     """Orthonormal n1, n2 spanning the plane a . x = 0 (newton._plane_basis)."""
     na = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
@@ -150,20 +154,16 @@ def _plane_basis(a0, a1, a2):
     return c0, c1, c2, b1 * c2 - b2 * c1, b2 * c0 - b0 * c2, b0 * c1 - b1 * c0
 
 
-@njit(cache=CACHE)
-def newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, start, x0s0, x0s1, x0s2):
+@njit(cache=CACHE, fastmath=FAST)
+def newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, start, x0s0, x0s1, x0s2, work):
     """Damped Newton on f over {x : a . x = q}, from the twist x0s when ``start``
-    (newton._newton_plane): (x0, x1, x2, lambda, kkt, iterations)."""
+    (newton._newton_plane): (x0, x1, x2, lambda, kkt, iterations). ``work``: (6, k)
+    scratch."""
     k = wx.shape[0]
     a2n = a0 * a0 + a1 * a1 + a2 * a2
     xp0, xp1, xp2 = a0 * (q / a2n), a1 * (q / a2n), a2 * (q / a2n)
     n10, n11, n12, n20, n21, n22 = _plane_basis(a0, a1, a2)
-    px = np.empty(k)
-    py = np.empty(k)
-    e1x = np.empty(k)
-    e1y = np.empty(k)
-    e2x = np.empty(k)
-    e2y = np.empty(k)
+    px, py, e1x, e1y, e2x, e2y = work[0], work[1], work[2], work[3], work[4], work[5]
     for i in range(k):
         px[i] = xp0 - xp2 * wy[i]
         py[i] = xp1 + xp2 * wx[i]
@@ -205,7 +205,7 @@ def newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, start, x0s0, x0s1,
             h12 += coef * t1 * t2
             h22 += coef * t2 * t2
             f0 += p[i] * rho
-        kkt = math.hypot(g1, g2)
+        kkt = math.sqrt(g1 * g1 + g2 * g2)
         if kkt <= kkt_tol or it == max_iter:
             break
         iters += 1
@@ -253,7 +253,7 @@ def newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, start, x0s0, x0s1,
     return x0, x1, x2, lam_out, kkt, iters
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _solve3(m00, m01, m02, m10, m11, m12, m20, m21, m22, r0, r1, r2):
     """x with M x = r (Cramer's rule; M is 3x3)."""
     det = (m00 * (m11 * m22 - m12 * m21) - m01 * (m10 * m22 - m12 * m20) + m02 * (m10 * m21 - m11 * m20))
@@ -263,7 +263,7 @@ def _solve3(m00, m01, m02, m10, m11, m12, m20, m21, m22, r0, r1, r2):
     return d0 / det, d1 / det, d2 / det
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _nearest_support(x0, x1, x2, wx, wy):
     best = math.inf
     jb = 0
@@ -277,8 +277,8 @@ def _nearest_support(x0, x1, x2, wx, wy):
     return jb
 
 
-@njit(cache=CACHE)
-def escape_kink(wx, wy, p, a0, a1, a2, q, x0, x1, x2, lam, kkt, vertex, iters, kkt_tol, max_iter):
+@njit(cache=CACHE, fastmath=FAST)
+def escape_kink(wx, wy, p, a0, a1, a2, q, x0, x1, x2, lam, kkt, vertex, iters, kkt_tol, max_iter, work):
     """Newton stalled on a kink (support point j) that is not the optimum: step along the
     descent direction d in the constraint plane with A_j d = z/|z| (f'(x_j; d) = P_j - |z|
     < 0) and resume Newton (newton._escape_kinks). Returns the updated
@@ -301,51 +301,55 @@ def escape_kink(wx, wy, p, a0, a1, a2, q, x0, x1, x2, lam, kkt, vertex, iters, k
                 s0, s1, s2 = tr0, tr1, tr2
                 break
             t *= 0.5
-        x0, x1, x2, lam, kkt, its = newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, True, s0, s1, s2)
+        x0, x1, x2, lam, kkt, its = newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, True, s0, s1, s2, work)
         iters += its
     return x0, x1, x2, lam, kkt, vertex, iters
 
 
-@njit(cache=CACHE)
-def solve_one_row(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter):
+@njit(cache=CACHE, fastmath=FAST)
+def solve_one_row(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, work):
     """min f subject to a . x = q (newton.solve_batch, one row): (x0, x1, x2, lambda, kkt,
-    vertex index or -1, iterations)."""
+    vertex index or -1, iterations). ``work``: (6, k) scratch."""
     k = wx.shape[0]
     if k > VERTEX_FIRST_MAX_K:
-        x0, x1, x2, lam, kkt, iters = newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, False, 0.0, 0.0, 0.0)
+        x0, x1, x2, lam, kkt, iters = newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, False, 0.0, 0.0, 0.0,
+                                                   work)
         vertex = -1
         if kkt > kkt_tol:
             # the NEAREST support points to the stalled iterate, nearest first; a later one
             # that passes the test replaces an earlier one, as in the reference
-            taken = np.zeros(k, dtype=np.bool_)
             u0, u1, u2 = x0, x1, x2
-            for _ in range(min(NEAREST, k)):
+            prev0 = prev1 = -1
+            for rank in range(min(NEAREST, k)):
                 best = math.inf
                 j = -1
                 for i in range(k):
                     ux = u0 - u2 * wy[i]
                     uy = u1 + u2 * wx[i]
                     r2 = ux * ux + uy * uy
-                    if not taken[i] and r2 < best:
+                    if i != prev0 and i != prev1 and r2 < best:
                         best = r2
                         j = i
-                taken[j] = True
+                if rank == 0:
+                    prev0 = j
+                else:
+                    prev1 = j
                 v0, v1, v2, lam_v, viol, _, _ = vertex_test(wx, wy, p, a0, a1, a2, q, j)
                 if viol <= kkt_tol:
                     x0, x1, x2, lam, kkt, vertex = v0, v1, v2, lam_v, viol, j
             x0, x1, x2, lam, kkt, vertex, iters = escape_kink(wx, wy, p, a0, a1, a2, q, x0, x1, x2, lam, kkt, vertex,
-                                                              iters, kkt_tol, max_iter)
+                                                              iters, kkt_tol, max_iter, work)
         return x0, x1, x2, lam, kkt, vertex, iters
     x0, x1, x2, lam, viol, idx = best_vertex(wx, wy, p, a0, a1, a2, q)
     if viol <= kkt_tol:
         return x0, x1, x2, lam, viol, idx, 0
-    x0, x1, x2, lam, kkt, iters = newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, False, 0.0, 0.0, 0.0)
+    x0, x1, x2, lam, kkt, iters = newton_plane(wx, wy, p, a0, a1, a2, q, kkt_tol, max_iter, False, 0.0, 0.0, 0.0, work)
     if kkt > kkt_tol:
-        return escape_kink(wx, wy, p, a0, a1, a2, q, x0, x1, x2, lam, kkt, -1, iters, kkt_tol, max_iter)
+        return escape_kink(wx, wy, p, a0, a1, a2, q, x0, x1, x2, lam, kkt, -1, iters, kkt_tol, max_iter, work)
     return x0, x1, x2, lam, kkt, -1, iters
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def _line_derivatives(t, wx, wy, p, px, py, kx, ky):
     """phi'(t) and phi''(t) of phi(t) = f(xp + t k)."""
     d1 = 0.0
@@ -363,11 +367,12 @@ def _line_derivatives(t, wx, wy, p, px, py, kx, ky):
     return d1, d2
 
 
-@njit(cache=CACHE)
-def solve_sticking(wx, wy, p, c0, c1, q0, q1, kkt_tol, max_iter):
+@njit(cache=CACHE, fastmath=FAST)
+def solve_sticking(wx, wy, p, c0, c1, q0, q1, kkt_tol, max_iter, work):
     """min f subject to v + omega J c = q (two rows, 4.1.2): safeguarded Newton on the
     monotone derivative along the constraint line (newton._newton_line). Returns (x0, x1,
-    x2, multipliers m0, m1 (the contact force), kkt, vertex index or -1, iterations)."""
+    x2, multipliers m0, m1 (the contact force), kkt, vertex index or -1, iterations).
+    ``work``: (6, k) scratch."""
     k = wx.shape[0]
     jc0, jc1 = -c1, c0
     # the rows [1, 0, jc0], [0, 1, jc1]: their null direction and the least-norm solution
@@ -381,10 +386,7 @@ def solve_sticking(wx, wy, p, c0, c1, q0, q1, kkt_tol, max_iter):
     y0 = (g11 * q0 - g01 * q1) / det
     y1 = (g00 * q1 - g01 * q0) / det
     xp0, xp1, xp2 = y0, y1, jc0 * y0 + jc1 * y1
-    px = np.empty(k)
-    py = np.empty(k)
-    kx = np.empty(k)
-    ky = np.empty(k)
+    px, py, kx, ky = work[0], work[1], work[2], work[3]
     sp = 0.0
     sk = 0.0
     for i in range(k):
@@ -459,7 +461,7 @@ def solve_sticking(wx, wy, p, c0, c1, q0, q1, kkt_tol, max_iter):
     return x0, x1, x2, m0, m1, kkt, vertex, iters
 
 
-@njit(cache=CACHE)
+@njit(cache=CACHE, fastmath=FAST)
 def vertex_contact_force(wx, wy, p, c0, c1, x0, x1, x2, j, n0, n1, t0, t1, mu_c, m0, m1):
     """Sticking with the COR on support point j: the contact force is a set; its member
     deepest in the friction cone (newton._vertex_contact_force). Returns (m0, m1)."""
@@ -512,43 +514,29 @@ def vertex_contact_force(wx, wy, p, c0, c1, x0, x1, x2, j, n0, n1, t0, t1, mu_c,
     return b0 + best_tau * e0, b1 + best_tau * e1
 
 
-@njit(cache=CACHE)
-def _frictionless(wx, wy, p, c0, c1, d0, d1, n0, n1, sin_a, kkt_tol, max_iter):
+@njit(cache=CACHE, fastmath=FAST)
+def _frictionless(wx, wy, p, c0, c1, d0, d1, n0, n1, sin_a, kkt_tol, max_iter, work):
     """The frictionless solve with the contact force along the unit d, scaled so that the
     contact keeps up with the pusher, n . v(c) = n . p (3.3): (x0, x1, x2, lambda, kappa,
     kkt, vertex, iterations)."""
     a2 = -c1 * d0 + c0 * d1
-    x0, x1, x2, lam, kkt, vertex, iters = solve_one_row(wx, wy, p, d0, d1, a2, 1.0, kkt_tol, max_iter)
+    x0, x1, x2, lam, kkt, vertex, iters = solve_one_row(wx, wy, p, d0, d1, a2, 1.0, kkt_tol, max_iter, work)
     vc0 = x0 - x2 * c1
     vc1 = x1 + x2 * c0
     kappa = sin_a / (vc0 * n0 + vc1 * n1)
     return x0 * kappa, x1 * kappa, x2 * kappa, lam, kappa, kkt, vertex, iters
 
 
-@njit(cache=CACHE)
-def solve_modes(wx, wy, p, c0, c1, n0, n1, t0, t1, push0, push1, sin_a, mu_c, kkt_tol, cone_tol, max_iter):
-    """The motion of one problem in normalised units (forward._solve_normalised): the
-    frictionless one (mu_c = 0) or the mode of 4.1 whose assumptions hold. Returns (x0, x1,
-    x2, force0, force1, kkt, vertex, iterations, mode, consistent, failed): ``failed`` when a
-    solve it relied on missed ``kkt_tol`` (the reference re-solves it)."""
-    if mu_c == 0.0:
-        x0, x1, x2, lam, kappa, kkt, vertex, iters = _frictionless(wx, wy, p, c0, c1, n0, n1, n0, n1, sin_a, kkt_tol,
-                                                                   max_iter)
-        return x0, x1, x2, lam * n0, lam * n1, kkt, vertex, iters, MODE_FRICTIONLESS, kappa > 0.0, not kkt <= kkt_tol
-    x0, x1, x2, m0, m1, kkt, vertex, iters = solve_sticking(wx, wy, p, c0, c1, push0, push1, kkt_tol, max_iter)
-    if vertex >= 0:
-        m0, m1 = vertex_contact_force(wx, wy, p, c0, c1, x0, x1, x2, vertex, n0, n1, t0, t1, mu_c, m0, m1)
-    failed = not kkt <= kkt_tol
-    fn = m0 * n0 + m1 * n1
-    ft = m0 * t0 + m1 * t1
-    if fn > 0.0 and abs(ft) <= mu_c * fn * (1.0 + cone_tol):
-        return x0, x1, x2, m0, m1, kkt, vertex, iters, MODE_STICKING, True, failed
-    # the force would leave the cone on the side of sign(ft): slip with it on that edge (4.1.3)
-    sg = 1.0 if ft >= 0.0 else -1.0
+@njit(cache=CACHE, fastmath=FAST)
+def _slipping(wx, wy, p, c0, c1, n0, n1, t0, t1, push0, push1, sin_a, mu_c, sg, kkt_tol, max_iter, work):
+    """Slipping with the contact force on the friction cone's edge on side ``sg`` (4.1.3):
+    the frictionless motion for that edge (x0, x1, x2, force0, force1, kkt, vertex,
+    iterations, mode, consistent, failed)."""
     hyp = math.hypot(1.0, mu_c)
     d0 = (n0 + sg * mu_c * t0) / hyp
     d1 = (n1 + sg * mu_c * t1) / hyp
-    y0, y1, y2, lam, kappa, k2, v2, its2 = _frictionless(wx, wy, p, c0, c1, d0, d1, n0, n1, sin_a, kkt_tol, max_iter)
+    y0, y1, y2, lam, kappa, k2, v2, its = _frictionless(wx, wy, p, c0, c1, d0, d1, n0, n1, sin_a, kkt_tol, max_iter,
+                                                        work)
     vc0 = y0 - y2 * c1
     vc1 = y1 + y2 * c0
     rel = (push0 - vc0) * t0 + (push1 - vc1) * t1  # the pusher relative to the part, along t
@@ -556,51 +544,165 @@ def solve_modes(wx, wy, p, c0, c1, n0, n1, t0, t1, push0, push1, sin_a, mu_c, kk
     ok = kappa > 0.0 and lam > 0.0 and sign_rel == sg
     up = (vc0 - push0) * -push1 + (vc1 - push1) * push0 > 0.0
     mode = MODE_SLIPPING_UP if up else MODE_SLIPPING_DOWN
-    return y0, y1, y2, lam * d0, lam * d1, k2, v2, its2 + iters, mode, ok, failed or not k2 <= kkt_tol
+    return y0, y1, y2, lam * d0, lam * d1, k2, v2, its, mode, ok, not k2 <= kkt_tol
+
+
+@njit(cache=CACHE, fastmath=FAST)
+def solve_modes(wx, wy, p, c0, c1, n0, n1, t0, t1, push0, push1, sin_a, mu_c, kkt_tol, cone_tol, max_iter, work,
+                slip_first):
+    """The motion of one problem in normalised units (forward._solve_normalised): the
+    frictionless one (mu_c = 0) or the mode of 4.1 whose assumptions hold. Returns (x0, x1,
+    x2, force0, force1, kkt, vertex, iterations, mode, consistent, failed, side): ``failed``
+    when a solve it relied on missed ``kkt_tol`` (the reference re-solves it), ``side`` the
+    cone's edge a slip is on (+-1; 0 without one). ``slip_first`` (+-1; 0: none): the side
+    of the previous step's slip, tried first and kept if its own assumptions hold, which
+    they do for one mode only (4.1; a simulator's step mostly slips as the last one did).
+    ``work``: (6, k) scratch, so that nothing is allocated per solve."""
+    if mu_c == 0.0:
+        x0, x1, x2, lam, kappa, kkt, vertex, iters = _frictionless(wx, wy, p, c0, c1, n0, n1, n0, n1, sin_a, kkt_tol,
+                                                                   max_iter, work)
+        return (x0, x1, x2, lam * n0, lam * n1, kkt, vertex, iters, MODE_FRICTIONLESS, kappa > 0.0,
+                not kkt <= kkt_tol, 0.0)
+    tried = 0
+    if slip_first != 0.0:
+        out = _slipping(wx, wy, p, c0, c1, n0, n1, t0, t1, push0, push1, sin_a, mu_c, slip_first, kkt_tol, max_iter,
+                        work)
+        if out[9] and not out[10]:
+            return out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7], out[8], True, False, slip_first
+        tried = out[7]
+    x0, x1, x2, m0, m1, kkt, vertex, iters = solve_sticking(wx, wy, p, c0, c1, push0, push1, kkt_tol, max_iter, work)
+    iters += tried
+    if vertex >= 0:
+        m0, m1 = vertex_contact_force(wx, wy, p, c0, c1, x0, x1, x2, vertex, n0, n1, t0, t1, mu_c, m0, m1)
+    failed = not kkt <= kkt_tol
+    fn = m0 * n0 + m1 * n1
+    ft = m0 * t0 + m1 * t1
+    if fn > 0.0 and abs(ft) <= mu_c * fn * (1.0 + cone_tol):
+        return x0, x1, x2, m0, m1, kkt, vertex, iters, MODE_STICKING, True, failed, 0.0
+    # the force would leave the cone on the side of sign(ft): slip with it on that edge (4.1.3)
+    sg = 1.0 if ft >= 0.0 else -1.0
+    out = _slipping(wx, wy, p, c0, c1, n0, n1, t0, t1, push0, push1, sin_a, mu_c, sg, kkt_tol, max_iter, work)
+    return (out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7] + iters, out[8], out[9], failed or out[10],
+            sg)
+
+
+@njit(cache=CACHE, fastmath=FAST)
+def norm(x, y):
+    """|(x, y)| in world units, which may lie anywhere from 1e-300 to 1e300: the plain root
+    of the squares where they neither over- nor underflow, else math.hypot (four times
+    slower)."""
+    r2 = x * x + y * y
+    if 1e-290 < r2 < 1e290:
+        return math.sqrt(r2)
+    return math.hypot(x, y)
+
+
+@njit(cache=CACHE, fastmath=FAST)
+def _largest(wx, wy):
+    """The largest |w_i| (the centroid test's scale)."""
+    big = 0.0
+    for i in range(wx.shape[0]):
+        big = max(big, norm(wx[i], wy[i]))
+    return big
 
 
 _F1, _F2, _F3 = types.float64[:], types.float64[:, :], types.float64[:, :, :]
-SOLVE_ROWS_SIGNATURE = (_F3, _F2, _F2, _F2, _F2, _F2, _F1, types.float64, types.float64, types.float64, types.int64)
+SOLVE_SUPPORTS_SIGNATURE = (_F3, _F2, _F2, _F2, _F2, _F2, _F2, _F1, types.float64, _F1)
+
+BAD_VALUES, BAD_TOTAL, BAD_CENTROID, BAD_LENGTH = range(4)
+"""What :func:`solve_supports` found wrong with a support first (the index of ``bad``):
+a point or weight not finite or a weight negative, no positive total weight, the weighted
+centroid off the CM, every point and the contact at the CM (L = 0)."""
+
+# Columns of solve_supports' real outputs per row
+(O_VX, O_VY, O_OMEGA, O_FX, O_FY, O_KKT, O_COR_X, O_COR_Y, O_POWER, O_SLIP, O_GAP) = range(11)
+# and of its integer outputs per row
+(I_VERTEX, I_ITERS, I_MODE, I_CONSISTENT, I_FAILED) = range(5)
 
 
-@njit([SOLVE_ROWS_SIGNATURE], cache=CACHE)
-def solve_rows(w_rel, p, contact_rel, normal, alpha_hat, push_hat, sin_alpha, mu_c, kkt_tol, cone_tol, max_iter):
-    """Every problem of a batch (supports w_rel (B, k, 2) relative to their CMs, weights p
-    (B, k) summing to 1, the scene's geometry per row): the world-frame twist (v (B, 2),
-    omega (B,)), contact force (B, 2), kkt, vertex, iterations, mode, consistent and failed
-    per row (see :func:`solve_modes`). L is the largest distance of a support point or the
-    contact from the CM (the caller refuses L = 0)."""
-    b, k = p.shape
-    v = np.empty((b, 2))
-    omega = np.empty(b)
-    force = np.empty((b, 2))
-    kkt = np.empty(b)
-    vertex = np.empty(b, dtype=np.int64)
-    iters = np.empty(b, dtype=np.int64)
-    mode = np.empty(b, dtype=np.int64)
-    consistent = np.empty(b, dtype=np.bool_)
-    failed = np.empty(b, dtype=np.bool_)
+@njit([SOLVE_SUPPORTS_SIGNATURE], cache=CACHE, fastmath=FAST)
+def solve_supports(points, weights, cms, contact_rel, normal, alpha_hat, push_hat, sin_alpha, mu_c, tol):
+    """Every support of a batch (points (B, k, 2) world frame, weights (B, k) >= 0, its CM
+    ``cms`` (B or 1, 2); the scene's geometry per row or one row for all: contact relative
+    to the CM, normal, alpha_hat, push direction (G, 2), sin alpha (G,)) pushed with contact
+    friction ``mu_c``. ``tol``: kkt, kkt for the cone test, Newton's iteration cap, the
+    translation test (|omega| L <= it |v|), the centroid test (|centroid - CM| <= it L; inf:
+    not checked).
+
+    Returns (real (B, 11): the O_* columns, world frame; int (B, 5): the I_* columns; bad
+    (4,): the first support found with each BAD_* fault, or -1). Supports after a fault are
+    still solved where they can be; the caller refuses the batch."""
+    b, k = weights.shape
+    real = np.full((b, 11), np.nan)
+    ints = np.zeros((b, 5), dtype=np.int64)
+    bad = np.full(4, -1, dtype=np.int64)
     wx = np.empty(k)
     wy = np.empty(k)
+    p = np.empty(k)
+    work = np.empty((6, k))
+    kkt_tol, cone_tol, max_iter, trans_tol, centroid_tol = tol[0], tol[1], int(tol[2]), tol[3], tol[4]
+    one_cm = cms.shape[0] == 1
+    one_scene = contact_rel.shape[0] == 1
     for r in range(b):
-        ell = math.hypot(contact_rel[r, 0], contact_rel[r, 1])
+        c = 0 if one_cm else r
+        g = 0 if one_scene else r
+        total = 0.0
+        finite = True
         for i in range(k):
-            ell = max(ell, math.hypot(w_rel[r, i, 0], w_rel[r, i, 1]))
+            wi = weights[r, i]
+            if not (math.isfinite(points[r, i, 0]) and math.isfinite(points[r, i, 1]) and math.isfinite(wi)) or wi < 0.0:
+                finite = False
+            total += wi
+        if not finite:
+            if bad[BAD_VALUES] < 0:
+                bad[BAD_VALUES] = r
+            continue
+        if not total > 0.0:
+            if bad[BAD_TOTAL] < 0:
+                bad[BAD_TOTAL] = r
+            continue
+        c0, c1 = contact_rel[g, 0], contact_rel[g, 1]
+        ell = norm(c0, c1)
+        cx = 0.0
+        cy = 0.0
         for i in range(k):
-            wx[i] = w_rel[r, i, 0] / ell
-            wy[i] = w_rel[r, i, 1] / ell
-        out = solve_modes(wx, wy, p[r], contact_rel[r, 0] / ell, contact_rel[r, 1] / ell, normal[r, 0], normal[r, 1],
-                          alpha_hat[r, 0], alpha_hat[r, 1], push_hat[r, 0], push_hat[r, 1], sin_alpha[r], mu_c,
-                          kkt_tol, cone_tol, max_iter)
-        v[r, 0] = out[0]
-        v[r, 1] = out[1]
-        omega[r] = out[2] / ell
-        force[r, 0] = out[3]
-        force[r, 1] = out[4]
-        kkt[r] = out[5]
-        vertex[r] = out[6]
-        iters[r] = out[7]
-        mode[r] = out[8]
-        consistent[r] = out[9]
-        failed[r] = out[10]
-    return v, omega, force, kkt, vertex, iters, mode, consistent, failed
+            p[i] = weights[r, i] / total
+            wx[i] = points[r, i, 0] - cms[c, 0]
+            wy[i] = points[r, i, 1] - cms[c, 1]
+            ell = max(ell, norm(wx[i], wy[i]))
+            cx += p[i] * wx[i]
+            cy += p[i] * wy[i]
+        if norm(cx, cy) > centroid_tol * _largest(wx, wy):
+            if bad[BAD_CENTROID] < 0:
+                bad[BAD_CENTROID] = r
+            continue
+        if not ell > 0.0:
+            if bad[BAD_LENGTH] < 0:
+                bad[BAD_LENGTH] = r
+            continue
+        power = 0.0
+        for i in range(k):
+            wx[i] /= ell
+            wy[i] /= ell
+        out = solve_modes(wx, wy, p, c0 / ell, c1 / ell, normal[g, 0], normal[g, 1], alpha_hat[g, 0], alpha_hat[g, 1],
+                          push_hat[g, 0], push_hat[g, 1], sin_alpha[g], mu_c, kkt_tol, cone_tol, max_iter, work, 0.0)
+        v0, v1, omega = out[0], out[1], out[2] / ell
+        f0, f1 = out[3], out[4]
+        vc0 = v0 - omega * c1
+        vc1 = v1 + omega * c0
+        for i in range(k):  # in world units: the support points are ell * w
+            ux = v0 - omega * wy[i] * ell
+            uy = v1 + omega * wx[i] * ell
+            power += p[i] * math.sqrt(ux * ux + uy * uy)
+        real[r, O_VX], real[r, O_VY], real[r, O_OMEGA] = v0, v1, omega
+        real[r, O_FX], real[r, O_FY], real[r, O_KKT] = f0, f1, out[5]
+        if not abs(omega) * ell <= trans_tol * norm(v0, v1):
+            real[r, O_COR_X] = cms[c, 0] - v1 / omega
+            real[r, O_COR_Y] = cms[c, 1] + v0 / omega
+        real[r, O_POWER] = power
+        real[r, O_SLIP] = (push_hat[g, 0] - vc0) * alpha_hat[g, 0] + (push_hat[g, 1] - vc1) * alpha_hat[g, 1]
+        real[r, O_GAP] = power - (f0 * vc0 + f1 * vc1)
+        ints[r, I_VERTEX], ints[r, I_ITERS], ints[r, I_MODE] = out[6], out[7], out[8]
+        ints[r, I_CONSISTENT] = 1 if out[9] else 0
+        ints[r, I_FAILED] = 1 if out[10] else 0
+    return real, ints, bad

@@ -29,6 +29,7 @@ mu_s times the total weight. Results are reported in world units.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -125,6 +126,7 @@ class BatchResult(_newton.BatchConvergence):
     iterations: np.ndarray
     fallbacks: int = 0
     reference_rows: int = 0
+    consistent: np.ndarray | None = None
 
     MODES = _MODE_NAMES
 
@@ -145,8 +147,9 @@ class BatchResult(_newton.BatchConvergence):
 class SceneArrays:
     """The geometry of one push scene per problem of a batch (CM frame): the contact c
     (B, 2), the edge's normal n and direction alpha_hat (B, 2), the push direction (B, 2)
-    and sin(alpha) (B,). One scene repeated, or a scene per problem (the same part at
-    different poses, as a simulator steps many parts together)."""
+    and sin(alpha) (B,). One scene repeated (or given once, B = 1, for every problem of a
+    batch), or a scene per problem (the same part at different poses, as a simulator steps
+    many parts together)."""
 
     contact_rel: np.ndarray
     normal: np.ndarray
@@ -490,35 +493,6 @@ def _solve_normalised(geo: SceneArrays, w_rel, p, mu_c: float, backend: _Backend
     )
 
 
-def _solve_compiled(geo: SceneArrays, w_rel, p, mu_c: float, tol: SolverTolerances) -> tuple[dict, int, int]:
-    """:func:`_solve_normalised` with the Newton back end, compiled (solver.kernels.forward:
-    the same algorithm a problem at a time); a problem the kernel did not solve to
-    ``tol.kkt`` is solved again on the reference path (solver.motion.newton, whose own
-    failures go to the conic solver). Returns the dict of :func:`_solve_normalised`
-    (world-frame vectors), the problems handed to the reference and those the conic
-    solver re-solved."""
-    ell = _length_scale(geo.contact_rel, w_rel)
-    # the kernel's signature takes writable float arrays (a support from Ray's object store is read-only)
-    args = [np.require(x, dtype=float, requirements=["W"]) for x in (w_rel, p, geo.contact_rel, geo.normal,
-                                                                      geo.alpha_hat, geo.push_hat, geo.sin_alpha)]
-    v, omega, force, kkt, vertex, iters, mode, consistent, failed = _kernel.solve_rows(
-        *args, mu_c, tol.kkt, tol.kkt, tol.max_newton_iter)
-    out = dict(v=v, omega=omega, ell=ell, force=force, kkt=kkt, vertex=vertex, iters=iters, mode=mode,
-               consistent=consistent)
-    redo = np.nonzero(failed)[0]
-    if redo.size == 0:
-        return out, 0, 0
-    backend = _NewtonBackend()
-    ref = _solve_normalised(SceneArrays(*(getattr(geo, f)[redo] for f in _GEOMETRY)), w_rel[redo], p[redo], mu_c,
-                            backend, tol)
-    for key in out:
-        out[key][redo] = ref[key]
-    return out, int(redo.size), backend.fallbacks
-
-
-_GEOMETRY = ("contact_rel", "normal", "alpha_hat", "push_hat", "sin_alpha")
-
-
 def _power_world(v, omega, w_rel, p):
     vel = v[:, None, :] + omega[:, None, None] * np.stack([-w_rel[..., 1], w_rel[..., 0]], axis=-1)
     return np.einsum("bk,bk->b", p, np.linalg.norm(vel, axis=2))
@@ -542,12 +516,29 @@ def solve_forward(
     p = support.weights[None]
     t0 = time.perf_counter()
     if method == "newton":
-        out, _, _ = _solve_compiled(SceneArrays.repeat(scene, 1), w_rel, p, float(mu_c), tol)
-        out["raw"] = np.full(1, np.nan)
-    else:
-        out = _solve_normalised(SceneArrays.repeat(scene, 1), w_rel, p, float(mu_c), backend, tol)
+        b = _solve_batch(SceneArrays.repeat(scene, 1), np.asarray(scene.center_of_mass, dtype=float)[None],
+                         support.points[None], support.weights[None], float(mu_c), tol, False)
+        return _row_result(scene, b, tol, time.perf_counter() - t0)
+    out = _solve_normalised(SceneArrays.repeat(scene, 1), w_rel, p, float(mu_c), backend, tol)
     elapsed = time.perf_counter() - t0
     return _single_result(scene, out, w_rel, p, backend.name, tol, elapsed)
+
+
+def _row_result(scene: PushScene, b: BatchResult, tol: SolverTolerances, elapsed: float) -> ForwardResult:
+    """The ForwardResult of a batch of one (the compiled Newton path)."""
+    cor = None if np.isnan(b.cor[0, 0]) else b.cor[0].copy()
+    consistent = bool(b.consistent[0])
+    kkt = float(b.kkt_residual[0])
+    status = "optimal" if (kkt <= tol.kkt_accept and consistent) else ("inconsistent" if not consistent
+                                                                       else "not_converged")
+    omega = float(b.omega[0])
+    vertex = int(b.cor_on_support[0])
+    return ForwardResult(status=status, method="newton", mode=_MODE_NAMES[int(b.mode[0])], cor=cor,
+                         velocity_cm=b.velocity_cm[0].copy(), omega=omega,
+                         sense="none" if cor is None else ("ccw" if omega > 0.0 else "cw"), slip=float(b.slip[0]),
+                         power=float(b.power[0]), contact_force=b.contact_force[0].copy(), kkt_residual=kkt,
+                         gap=float(b.gap[0]), cor_on_support=vertex if vertex >= 0 else None,
+                         iterations=int(b.iterations[0]), solve_time_s=elapsed)
 
 
 def _single_result(scene, out, w_rel, p, method, tol, elapsed) -> ForwardResult:
@@ -606,8 +597,8 @@ def solve_forward_batch(
     w = np.asarray(points, dtype=float)
     if w.ndim != 3 or w.shape[2] != 2:
         raise InvalidInput("points", "need points of shape (batch, k, 2) and weights (batch, k)")
-    cms = np.broadcast_to(np.asarray(scene.center_of_mass, dtype=float), (w.shape[0], 2))
-    return _solve_batch(SceneArrays.repeat(scene, w.shape[0]), cms, w, weights, mu_c, tol, check_centroid, compiled)
+    cms = np.asarray(scene.center_of_mass, dtype=float).reshape(1, 2)
+    return _solve_batch(SceneArrays.repeat(scene, 1), cms, w, weights, mu_c, tol, check_centroid, compiled)
 
 
 def solve_forward_scenes(
@@ -634,10 +625,17 @@ def _solve_batch(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, weights, mu_c
     p = np.asarray(weights, dtype=float)
     if p.shape != w.shape[:2]:
         raise InvalidInput("points", "need points of shape (batch, k, 2) and weights (batch, k)")
-    if not (np.all(np.isfinite(w)) and np.all(np.isfinite(p))) or np.any(p < 0.0):
-        raise InvalidInput("weights", "must be finite and non-negative, points finite")
     if not (math.isfinite(mu_c) and mu_c >= 0.0):
         raise InvalidInput("mu_c", "must be a finite number >= 0")
+    if compiled:
+        return _batch_compiled(geo, cms, w, p, float(mu_c), tol, check_centroid)
+    b = w.shape[0]
+    if geo.contact_rel.shape[0] == 1 and b != 1:  # one scene for every support
+        geo = _geometry_rows(geo, np.zeros(b, dtype=int))
+    if cms.shape[0] == 1 and b != 1:
+        cms = np.repeat(cms, b, axis=0)
+    if not (np.all(np.isfinite(w)) and np.all(np.isfinite(p))) or np.any(p < 0.0):
+        raise InvalidInput("weights", "must be finite and non-negative, points finite")
     tot = p.sum(axis=1)
     if np.any(tot <= 0.0):
         raise InvalidInput("weights", "every support needs a positive total weight")
@@ -650,12 +648,8 @@ def _solve_batch(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, weights, mu_c
         if bad.size:
             raise InvalidInput("weights", f"support {int(bad[0])} does not have its centroid at the centre of mass")
     t0 = time.perf_counter()
-    if compiled:
-        out, handed, fallbacks = _solve_compiled(geo, w_rel, p, float(mu_c), tol)
-    else:
-        backend = _NewtonBackend()
-        out, handed = _solve_normalised(geo, w_rel, p, float(mu_c), backend, tol), 0
-        fallbacks = backend.fallbacks
+    backend = _NewtonBackend()
+    out = _solve_normalised(geo, w_rel, p, float(mu_c), backend, tol)
     elapsed = time.perf_counter() - t0
     v, omega = out["v"], out["omega"]
     translation = np.abs(omega) * out["ell"] <= tol.translation_omega * np.linalg.norm(v, axis=1)
@@ -678,6 +672,62 @@ def _solve_batch(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, weights, mu_c
         slip=_dot(geo.push_hat - vc, geo.alpha_hat),
         gap=power - np.einsum("bi,bi->b", out["force"], vc),
         iterations=out["iters"],
-        fallbacks=fallbacks,
-        reference_rows=handed,
+        fallbacks=backend.fallbacks,
+        consistent=out["consistent"],
     )
+
+
+_BAD_INPUT = (
+    ("weights", "must be finite and non-negative, points finite"),
+    ("weights", "every support needs a positive total weight"),
+    ("weights", "support {} does not have its centroid at the centre of mass"),
+    ("points", "every support point and the contact are at the centre of mass: the rotation is undetermined"),
+)
+"""What solver.kernels.forward.solve_supports' faults (BAD_*) are refused with, in order."""
+
+
+def _batch_compiled(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, p: np.ndarray, mu_c: float,
+                    tol: SolverTolerances, check_centroid: bool) -> BatchResult:
+    """The batch on the compiled path (solver.kernels.forward.solve_supports: the checks of
+    the reference path, the solve and the answer's quantities, a support at a time); a
+    support the kernel did not solve to ``tol.kkt`` is solved again on the reference path
+    (solver.motion.newton, whose own failures go to the conic solver)."""
+    t0 = time.perf_counter()
+    # the kernel's signature takes writable float arrays (a support from Ray's object store is read-only)
+    geometry = [np.require(getattr(geo, f), dtype=float, requirements=["W"]) for f in _GEOMETRY]
+    real, ints, bad = _kernel.solve_supports(
+        np.require(w, dtype=float, requirements=["W"]), np.require(p, dtype=float, requirements=["W"]),
+        np.require(cms, dtype=float, requirements=["W"]), *geometry, mu_c,
+        np.array([tol.kkt, tol.kkt, tol.max_newton_iter, tol.translation_omega,
+                  tol.centroid_rel if check_centroid else np.inf]))
+    for fault, (field_name, reason) in enumerate(_BAD_INPUT):
+        if bad[fault] >= 0:
+            raise InvalidInput(field_name, reason.format(int(bad[fault])))
+    k = _kernel
+    consistent = ints[:, k.I_CONSISTENT].astype(bool)
+    out = BatchResult(
+        cor=real[:, [k.O_COR_X, k.O_COR_Y]], omega=real[:, k.O_OMEGA], velocity_cm=real[:, [k.O_VX, k.O_VY]],
+        power=real[:, k.O_POWER], contact_force=real[:, [k.O_FX, k.O_FY]], kkt_residual=real[:, k.O_KKT],
+        mode=ints[:, k.I_MODE], cor_on_support=ints[:, k.I_VERTEX],
+        converged=(real[:, k.O_KKT] <= tol.kkt_accept) & consistent, solve_time_s=0.0, slip=real[:, k.O_SLIP],
+        gap=real[:, k.O_GAP], iterations=ints[:, k.I_ITERS], consistent=consistent)
+    redo = np.nonzero(ints[:, k.I_FAILED])[0]
+    fallbacks = 0
+    if redo.size:
+        ref = _solve_batch(_geometry_rows(geo, redo if geo.contact_rel.shape[0] > 1 else np.zeros_like(redo)),
+                           cms[redo] if cms.shape[0] > 1 else np.repeat(cms, redo.size, axis=0), w[redo], p[redo],
+                           mu_c, tol, False, compiled=False)
+        for name in ("cor", "omega", "velocity_cm", "power", "contact_force", "kkt_residual", "mode", "cor_on_support",
+                     "converged", "slip", "gap", "iterations", "consistent"):
+            getattr(out, name)[redo] = getattr(ref, name)
+        fallbacks = ref.fallbacks
+    return dataclasses.replace(out, solve_time_s=time.perf_counter() - t0, fallbacks=fallbacks,
+                               reference_rows=int(redo.size))
+
+
+_GEOMETRY = ("contact_rel", "normal", "alpha_hat", "push_hat", "sin_alpha")
+
+
+def _geometry_rows(geo: SceneArrays, rows: np.ndarray) -> SceneArrays:
+    """The scene geometry of the problems ``rows``."""
+    return SceneArrays(*(getattr(geo, f)[rows] for f in _GEOMETRY))

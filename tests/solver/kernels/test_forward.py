@@ -135,15 +135,14 @@ def test_a_problem_the_kernel_leaves_unsolved_goes_to_the_reference(monkeypatch)
     """A row the kernel flags is solved again on the reference path and counted."""
     from solver.kernels import forward as kernel
 
-    real = kernel.solve_rows
+    real = kernel.solve_supports
 
     def flag_first(*args):
-        out = list(real(*args))
-        out[-1] = out[-1].copy()
-        out[-1][0] = True
-        return tuple(out)
+        values, ints, bad = real(*args)
+        ints[0, kernel.I_FAILED] = 1
+        return values, ints, bad
 
-    monkeypatch.setattr(kernel, "solve_rows", flag_first)
+    monkeypatch.setattr(kernel, "solve_supports", flag_first)
     scene = scene_for_mu(0.3)
     rng = np.random.default_rng(SEED)
     pts, wts = random_balanced_tripods(rng, 20, scene.disk_radius, scene.center_of_mass, None)
@@ -151,3 +150,23 @@ def test_a_problem_the_kernel_leaves_unsolved_goes_to_the_reference(monkeypatch)
     ref = solve_forward_batch(scene, pts, wts, mu_c=0.4, check_centroid=False, compiled=False)
     assert got.reference_rows == 1 and "1 re-solved on the reference path" in got.message
     assert np.array_equal(got.velocity_cm[0], ref.velocity_cm[0]) and got.omega[0] == ref.omega[0]
+
+
+@pytest.mark.parametrize("change, field, words", [
+    (lambda w, p: w.__setitem__((3, 1, 0), np.nan), "weights", "must be finite"),
+    (lambda w, p: p.__setitem__((2, 0), -0.1), "weights", "must be finite"),
+    (lambda w, p: p.__setitem__(4, 0.0), "weights", "positive total weight"),
+    (lambda w, p: w.__setitem__((5, 0), w[5, 0] + 0.3), "weights", "support 5 does not have its centroid"),
+])
+def test_bad_supports_are_refused_as_on_the_reference_path(change, field, words):
+    """The compiled path's checks say what the reference path's say, naming the same field."""
+    from models.core.errors import InvalidInput
+
+    scene = scene_for_mu(0.3)
+    rng = np.random.default_rng(SEED + 3)
+    pts, wts = random_balanced_tripods(rng, 8, scene.disk_radius, scene.center_of_mass, None)
+    change(pts, wts)
+    for compiled in (True, False):
+        with pytest.raises(InvalidInput) as err:
+            solve_forward_batch(scene, pts, wts, mu_c=0.2, compiled=compiled)
+        assert err.value.field == field and words in str(err.value)
