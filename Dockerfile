@@ -69,6 +69,12 @@ COPY --chown=root:root . /app
 # process (web workers, their forkservers) compiles the service's modules at each start.
 # unchecked-hash: valid whatever the build does to the files' mtimes (slim-venv.sh).
 RUN python3 -m compileall -q -j 0 --invalidation-mode unchecked-hash service solver models
+# The solver's compiled kernels (numba, solver/kernels/): compiled here into numba's cache
+# beside the sources, for a generic x86_64 CPU so that the cache is valid wherever the image
+# runs; the service copies it to a writable folder at start (numba reads only a cache it
+# could write) and no request pays for a compile.
+ENV NUMBA_CPU_NAME=generic
+RUN python3 -m solver.kernels
 
 USER app
 EXPOSE 8000

@@ -203,6 +203,20 @@ def uniform_polygon_support(footprint: Footprint, subdivisions: int = 16) -> Sup
     return Support(points=w, weights=p, center_of_mass=cm)
 
 
+def balancing_weights(rel: np.ndarray, min_det: float) -> tuple[np.ndarray, np.ndarray]:
+    """The weights that put the centroid of tripods ``rel`` (m, 3, 2), relative to the CM,
+    at the CM: the solution p of [1 1 1; x; y] p = (1, 0, 0), by Cramer's rule (each p_i
+    the signed area of the CM's triangle with the other two feet over the tripod's; ten
+    times faster than a batched LU solve). Returns the weights of the tripods whose
+    determinant exceeds ``min_det`` in size, and which those are (m,)."""
+    x, y = rel[..., 0], rel[..., 1]
+    areas = np.stack([x[:, 1] * y[:, 2] - x[:, 2] * y[:, 1], x[:, 2] * y[:, 0] - x[:, 0] * y[:, 2],
+                      x[:, 0] * y[:, 1] - x[:, 1] * y[:, 0]], axis=1)
+    det = areas[:, 0] + areas[:, 1] + areas[:, 2]
+    ok = np.abs(det) > min_det
+    return areas[ok] / det[ok, None], ok
+
+
 def random_balanced_tripods(
     rng: np.random.Generator,
     n: int,
@@ -236,11 +250,7 @@ def random_balanced_tripods(
             cand = cand[inside_polygon(footprint.vertices, cand)]
             k = (len(cand) // 3) * 3
             w = cand[:k].reshape(-1, 3, 2)
-        rel = w - cm
-        a = np.stack([np.ones(rel.shape[:2]), rel[..., 0], rel[..., 1]], axis=1)  # (m, 3, 3)
-        det = np.linalg.det(a)
-        ok = np.abs(det) > 1e-12 * (radius if footprint is None else footprint.circumradius) ** 2
-        p = np.linalg.solve(a[ok], np.tile([1.0, 0.0, 0.0], (int(ok.sum()), 1))[..., None])[..., 0]
+        p, ok = balancing_weights(w - cm, 1e-12 * (radius if footprint is None else footprint.circumradius) ** 2)
         good = np.all(p >= 0.0, axis=1)
         pts_out.append(w[ok][good])
         wts_out.append(p[good])

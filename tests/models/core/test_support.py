@@ -16,6 +16,7 @@ from models.core.inertia import polygon_second_moments
 from models.core.support import (
     Support,
     SupportBatch,
+    balancing_weights,
     random_balanced_tripods,
     uniform_disk_support,
     uniform_polygon_support,
@@ -134,3 +135,20 @@ def test_a_support_batch_refuses_what_one_support_would_merge_or_drop(change, fi
     assert err.value.field == field
     if index is not None:
         assert f"support {index}:" in err.value.reason
+
+
+def test_balancing_weights_are_the_linear_solve():
+    """Cramer's rule against numpy's LU solve of [1 1 1; x; y] p = (1, 0, 0) (3.3.3), on
+    seeded tripods: the same weights to rounding, the same tripods kept."""
+    rng = np.random.default_rng(SEED + 21)
+    rel = rng.uniform(-1.0, 1.0, (20_000, 3, 2))
+    rel[:5, 2] = rel[:5, 0] + 2.0 * (rel[:5, 1] - rel[:5, 0])  # collinear feet: no solution
+    p, ok = balancing_weights(rel, 1e-12)
+    a = np.stack([np.ones(rel.shape[:2]), rel[..., 0], rel[..., 1]], axis=1)
+    want_ok = np.abs(np.linalg.det(a)) > 1e-12
+    assert np.array_equal(ok, want_ok) and not ok[:5].any()
+    want = np.linalg.solve(a[ok], np.tile([1.0, 0.0, 0.0], (int(ok.sum()), 1))[..., None])[..., 0]
+    scale = np.maximum(1.0, np.abs(want).max(axis=1, keepdims=True))
+    assert np.max(np.abs(p - want) / scale) < 1e-9
+    assert np.array_equal(p >= 0.0, want >= 0.0)
+    assert np.allclose(np.einsum("bk,bki->bi", p, rel[ok]), 0.0, atol=1e-9)
