@@ -84,7 +84,8 @@ def test_forward_speed_against_error():
             single.append((method, k, t * 1e3, r.kkt_residual, err))
 
     lines = [
-        "`solve_forward_batch` (exact vertex test + damped Newton, numpy, one core) on",
+        f"`solve_forward_batch` (exact vertex test + damped Newton, compiled a support at a time: "
+        f"solver/kernels/forward.py; one core, {time.strftime('%Y-%m-%d')}, the 2-core x86_64 machine, idle) on",
         f"{N_BOOK:,} random tripods drawn as in 3.3.3 (uniform in the unit disk, weights putting",
         "the centroid at the CM, negative-weight draws discarded), seed "
         f"{SEED}. *Converged* counts KKT residual <= 1e-9 with a consistent friction mode;",
