@@ -27,6 +27,7 @@ from service.runtime.jobstore import JobStore
 from service.runtime.slots import SLOT_DIR_ENV
 from service.settings import Settings
 from service.store import result_store
+from solver import KERNEL_MODULES
 
 DESCRIPTION = """\
 Planning service for pushed sliding workpieces, after M. A. Peshkin, *Robotic Manipulation
@@ -135,7 +136,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     logs.configure(settings.log_level, settings.log_format)
     if settings.rate_limit is not None and not settings.api_keys:
         raise ValueError("PESHKIN_RATE_LIMIT is per API key: set PESHKIN_API_KEYS too")
-    runner = Runner.from_settings(settings, preload=ROUTE_MODULES)
+    # the solver workers' forkserver loads the compiled kernels once (web processes never do)
+    runner = Runner.from_settings(settings, preload=(*ROUTE_MODULES, *KERNEL_MODULES))
     rates = None if settings.rate_limit is None else KeyRates(*settings.rate_limit, os.environ.get(SLOT_DIR_ENV))
     routes = [importlib.import_module(module) for module in ROUTE_MODULES]
     # jobs_path "": a file of the server's own (in its slot directory, shared by its web

@@ -42,6 +42,7 @@ from solver.feeder.workflow import (
     feeder_map,
     feeder_simulate,
 )
+from solver.kernels import KERNEL_MODULES
 from solver.locus.certified_locus import (
     CertifiedDiskBoundary,
     CertifiedPolygonBoundary,
@@ -124,6 +125,7 @@ __all__ = [
     "angle_count",
     "DEFAULT_FENCE_LENGTH_RADII",
     "ENTRY_POINTS",
+    "KERNEL_MODULES",
     "FeederDesignProblem",
     "FeederDesignResult",
     "Relaxation",

@@ -30,7 +30,7 @@ _IMPORTS = {
     "ortools": "from ortools.linear_solver import pywraplp\nfrom ortools.sat.python import cp_model",
     "casadi": "import casadi as ca",
     # numba bundles LLVM (llvmlite): the compiled kernels load beside the three
-    "numba": "import numba\nfrom solver.kernels import forward as kernels",
+    "numba": "import numba\nfrom solver.kernels import codes\nfrom solver.kernels import forward as kernels",
 }
 
 _SOLVES = textwrap.dedent(
@@ -84,7 +84,7 @@ _SOLVES = textwrap.dedent(
     real, ints, _ = kernels.solve_supports(w, np.full((1, 3), 1 / 3), two([0.0, 0.0]), two([-0.9, 0.1]),
                                            two([1.0, 0.0]), two([0.0, 1.0]), two([1.0, 0.0]), np.ones(1), 0.0,
                                            np.array([1e-10, 1e-10, 80, 1e-12, 1e-9]))
-    out["numba"] = {"kkt": float(real[0, kernels.O_KKT]), "failed": bool(ints[0, kernels.I_FAILED])}
+    out["numba"] = {"kkt": float(real[0, codes.O_KKT]), "failed": bool(ints[0, codes.I_FAILED])}
 
     # SciPy's own (statically linked) HiGHS: min -x - 2y  s.t. x + y <= 4, x, y >= 0  ->  -8
     from scipy.optimize import linprog

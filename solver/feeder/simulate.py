@@ -53,7 +53,7 @@ from models.feeder.fence import Fence
 from solver.core.budget import UNLIMITED, Budget
 from solver.core.errors import TimeLimitReached
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.kernels import fence as fk
+from solver.kernels import codes as fk
 from solver.motion.forward import solve_forward_scenes
 from solver.sim.contacts import onto_line
 from solver.sim.kinematics import Twist, advance, body_to_world
@@ -555,6 +555,8 @@ def _compiled_runs(part: Footprint, segments: list[FenceSegment], mus: np.ndarra
     """Every part through ``segments`` in order on the compiled path (``mus`` (parts,
     fences)); the runs of the first ``record`` parts keep their trajectories and events. A
     part the compiled solve could not carry is run again on the reference path."""
+    from solver.kernels import fence as kernel  # loaded on first use (a web process never needs it)
+
     t0 = time.perf_counter()
     n = len(checked)
     segs = np.array([np.r_[sg.end, sg.direction, sg.fence.normal, sg.length] for sg in segments], dtype=float)
@@ -580,7 +582,7 @@ def _compiled_runs(part: Footprint, segments: list[FenceSegment], mus: np.ndarra
                 for i in ids[first:]:
                     runs[i] = [_cut_run(float(thetas[i]), starts[i], exc, time.perf_counter() - t0)]
                 break
-            summaries, path, events = fk.run_belt(body, sup, wts, start_arr[ids], thetas[ids], given[ids], segs,
+            summaries, path, events = kernel.run_belt(body, sup, wts, start_arr[ids], thetas[ids], given[ids], segs,
                                                   gammas, mus[ids], part.circumradius, sim, tols, along[ids], rec,
                                                   first, last)
             elapsed = time.perf_counter() - t0

@@ -28,6 +28,7 @@ import hashlib
 import os
 import shutil
 import tempfile
+import threading
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -118,11 +119,22 @@ def prepare_cache() -> Path | None:
     return root
 
 
-CACHE_DIR = prepare_cache()
+_prepared: list[Path | None] = []
+_prepared_lock = threading.Lock()
+
+
+def ensure_cache() -> Path | None:
+    """:func:`prepare_cache`, once per process (each kernel module calls it before it
+    compiles or loads anything; importing this package loads no compiler)."""
+    with _prepared_lock:
+        if not _prepared:
+            _prepared.append(prepare_cache())
+        return _prepared[0]
 
 
 KERNEL_MODULES = ("solver.kernels.forward", "solver.kernels.fence")
-"""Every module of compiled kernels (imported by :func:`compiled`)."""
+"""Every module of compiled kernels (imported by :func:`compiled`; preloaded by the
+service's solver workers, whose callers import them on first use)."""
 
 
 def compiled() -> tuple[int, int]:

@@ -8,10 +8,11 @@ import sys
 
 
 def main() -> int:
-    from solver.kernels import CACHE_DIR, compiled
+    from solver.kernels import compiled, ensure_cache
 
     loaded, built = compiled()
-    where = "next to the sources" if CACHE_DIR is None else str(CACHE_DIR)
+    where = ensure_cache()
+    where = "next to the sources" if where is None else str(where)
     print(f"solver.kernels: {loaded} entry points loaded from the cache, {built} compiled (cache {where})")
     return 0
 

@@ -27,45 +27,69 @@ import math
 import numpy as np
 from numba import njit, types
 
+from solver.kernels import ensure_cache
+from solver.kernels.codes import (
+    ALONG,
+    COUNT_SIDE,
+    D0,
+    D1,
+    E_ON_EDGE,
+    END,
+    EV_ALONG,
+    EV_CONTACT_AGAIN,
+    EV_END,
+    EV_END_CORNER,
+    EV_FIRST_CONTACT,
+    EV_FLUSH,
+    EV_JAM,
+    EV_LEFT,
+    EV_MISSED,
+    EV_OVERLAP,
+    EV_STALLED,
+    EV_VERTEX,
+    EV_VERTEX_CORNER,
+    FLUSH,
+    GRAZING,
+    GRAZING_PUSH,
+    GRAZING_SIN,
+    JAM,
+    JAMMED,
+    LEFT,
+    MISSED,
+    MODE_COUNT,
+    OVERLAP,
+    PUSH_ANGLE,
+    REFERENCE,
+    S_CM_X,
+    S_CM_Y,
+    S_EVENTS_FROM,
+    S_EVENTS_TO,
+    S_FLUSHED,
+    S_MAX_ANGLE,
+    S_MAX_KKT,
+    S_MAX_X,
+    S_MODES,
+    S_NOT_OPTIMAL,
+    S_PATH_FROM,
+    S_PATH_TO,
+    S_PUSH,
+    S_SOLVES,
+    S_START_THETA,
+    S_START_X,
+    S_START_Y,
+    S_STATUS,
+    S_STEPS,
+    S_THETA,
+    STALLED,
+    STEP_LIMIT,
+    SUMMARY,
+    TRANSLATION_TURN,
+    VERTEX,
+)
 from solver.kernels.forward import FAST, norm, solve_modes
 
 CACHE = True
-
-# Run statuses (solver/feeder/simulate.py's words, in this order)
-LEFT, MISSED, JAMMED, STEP_LIMIT, STALLED, OVERLAP, GRAZING_PUSH, REFERENCE = range(8)
-STATUSES = ("left", "missed", "jammed", "step_limit", "stalled", "overlap", "grazing", "reference")
-
-# Contacts (solver.feeder.simulate.Contact)
-VERTEX, END, FLUSH, ALONG, JAM = range(5)
-
-# Events: what happened at a push (its detail is the caller's words, from the code, the index
-# and the value)
-(EV_FIRST_CONTACT, EV_CONTACT_AGAIN, EV_VERTEX, EV_END, EV_FLUSH, EV_VERTEX_CORNER, EV_END_CORNER, EV_LEFT,
- EV_MISSED, EV_ALONG, EV_JAM, EV_STALLED, EV_OVERLAP) = range(13)
-
-D0, D1 = 0.0, 1.0
-"""The belt's motion relative to the fences is -D; in the belt's frame the fence pushes along +D."""
-PUSH_ANGLE = 0.5 * math.pi
-GRAZING = 1e-9
-"""|sin| below which an edge under E lies along the belt (solver.feeder.simulate.GRAZING)."""
-E_ON_EDGE = 2.0
-TRANSLATION_TURN = 1e-14
-"""A turn at most this is taken as a translation (solver.sim.kinematics.TRANSLATION_TURN)."""
-GRAZING_SIN = 1e-9
-"""The push scene's grazing test (models.core.tolerances.Tolerances.grazing_sin)."""
-MODE_COUNT = 4
-COUNT_SIDE = 4 + MODE_COUNT
-"""In a run's counts: the side of the cone its last forward solve slipped on (0: it did not),
-tried first by the next solve (solver.kernels.forward.solve_modes)."""
-
-# Columns of a run's summary (floats): its status, steps, push, the start and end pose,
-# whether an edge came flush, the largest |x| of the hull over its poses, what its forward
-# solves did (solves, not optimal, largest KKT residual and force angle, the solves of each
-# mode), and where its events and path lie in the batch's buffers
-(S_STATUS, S_STEPS, S_PUSH, S_START_X, S_START_Y, S_START_THETA, S_CM_X, S_CM_Y, S_THETA, S_FLUSHED, S_MAX_X,
- S_SOLVES, S_NOT_OPTIMAL, S_MAX_KKT, S_MAX_ANGLE, S_EVENTS_FROM, S_EVENTS_TO, S_PATH_FROM, S_PATH_TO,
- S_MODES) = range(20)
-SUMMARY = S_MODES + MODE_COUNT
+ensure_cache()  # before the first function is compiled or loaded
 
 
 @njit(cache=CACHE, fastmath=FAST)

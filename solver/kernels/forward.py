@@ -26,24 +26,43 @@ import math
 import numpy as np
 from numba import njit, types
 
-TINY = 1e-300
-ARMIJO = 1e-4
-"""Sufficient decrease of the Newton line search."""
-MAX_HALVINGS = 40
-ROUNDOFF = 1e-13
-"""A predicted decrease below this fraction of f cannot be verified by comparing powers in
-floating point: in that (quadratic) region the full Newton step is taken."""
-VERTEX_FIRST_MAX_K = 16
-"""Supports with more points than this are solved Newton-first."""
-NEAREST = 3
-"""Support points tested where a Newton-first solve stalled."""
-ESCAPE_ROUNDS = 3
-ESCAPE_HALVINGS = 60
-LINE_GROWTH = 200
-EPS = float(np.finfo(float).eps)
-
-MODE_FRICTIONLESS, MODE_STICKING, MODE_SLIPPING_UP, MODE_SLIPPING_DOWN = 0, 1, 2, 3
-"""Indices into solver.motion.forward.MODES."""
+from solver.kernels import ensure_cache
+from solver.kernels.codes import (
+    ARMIJO,
+    BAD_CENTROID,
+    BAD_LENGTH,
+    BAD_TOTAL,
+    BAD_VALUES,
+    EPS,
+    ESCAPE_HALVINGS,
+    ESCAPE_ROUNDS,
+    I_CONSISTENT,
+    I_FAILED,
+    I_ITERS,
+    I_MODE,
+    I_VERTEX,
+    LINE_GROWTH,
+    MAX_HALVINGS,
+    MODE_FRICTIONLESS,
+    MODE_SLIPPING_DOWN,
+    MODE_SLIPPING_UP,
+    MODE_STICKING,
+    NEAREST,
+    O_COR_X,
+    O_COR_Y,
+    O_FX,
+    O_FY,
+    O_GAP,
+    O_KKT,
+    O_OMEGA,
+    O_POWER,
+    O_SLIP,
+    O_VX,
+    O_VY,
+    ROUNDOFF,
+    TINY,
+    VERTEX_FIRST_MAX_K,
+)
 
 FAST = {"contract", "arcp", "nsz"}
 """LLVM's fast-math flags that keep infinities and NaNs (the vertex test's 'no candidate' is
@@ -51,6 +70,7 @@ an infinite violation): fused multiply-adds, reciprocals, signless zeros."""
 
 CACHE = True
 """Compiled code kept on disk (numba's cache; solver/kernels/__init__.py says where)."""
+ensure_cache()  # before the first function is compiled or loaded
 
 ENTRY_POINTS = ("solve_supports",)
 """Compiled with explicit signatures when the module is imported (the others are compiled
@@ -608,17 +628,6 @@ def _largest(wx, wy):
 
 _F1, _F2, _F3 = types.float64[:], types.float64[:, :], types.float64[:, :, :]
 SOLVE_SUPPORTS_SIGNATURE = (_F3, _F2, _F2, _F2, _F2, _F2, _F2, _F1, types.float64, _F1)
-
-BAD_VALUES, BAD_TOTAL, BAD_CENTROID, BAD_LENGTH = range(4)
-"""What :func:`solve_supports` found wrong with a support first (the index of ``bad``):
-a point or weight not finite or a weight negative, no positive total weight, the weighted
-centroid off the CM, every point and the contact at the CM (L = 0)."""
-
-# Columns of solve_supports' real outputs per row
-(O_VX, O_VY, O_OMEGA, O_FX, O_FY, O_KKT, O_COR_X, O_COR_Y, O_POWER, O_SLIP, O_GAP) = range(11)
-# and of its integer outputs per row
-(I_VERTEX, I_ITERS, I_MODE, I_CONSISTENT, I_FAILED) = range(5)
-
 
 @njit([SOLVE_SUPPORTS_SIGNATURE], cache=CACHE, fastmath=FAST)
 def solve_supports(points, weights, cms, contact_rel, normal, alpha_hat, push_hat, sin_alpha, mu_c, tol):

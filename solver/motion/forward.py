@@ -45,7 +45,7 @@ from solver.core.backends import in_backend
 from solver.core.errors import BackendNotFound, NotConverged
 from solver.core.threads import CasadiFunction, PerThreadCache, ignore_inaccurate_solution_warning
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
-from solver.kernels import forward as _kernel
+from solver.kernels import codes as _codes
 from solver.motion import newton as _newton
 
 Method = Literal["newton", "cvxpy", "casadi"]
@@ -692,10 +692,12 @@ def _batch_compiled(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, p: np.ndar
     the reference path, the solve and the answer's quantities, a support at a time); a
     support the kernel did not solve to ``tol.kkt`` is solved again on the reference path
     (solver.motion.newton, whose own failures go to the conic solver)."""
+    from solver.kernels import forward as kernel  # loaded on first use (a web process never needs it)
+
     t0 = time.perf_counter()
     # the kernel's signature takes writable float arrays (a support from Ray's object store is read-only)
     geometry = [np.require(getattr(geo, f), dtype=float, requirements=["W"]) for f in _GEOMETRY]
-    real, ints, bad = _kernel.solve_supports(
+    real, ints, bad = kernel.solve_supports(
         np.require(w, dtype=float, requirements=["W"]), np.require(p, dtype=float, requirements=["W"]),
         np.require(cms, dtype=float, requirements=["W"]), *geometry, mu_c,
         np.array([tol.kkt, tol.kkt, tol.max_newton_iter, tol.translation_omega,
@@ -703,7 +705,7 @@ def _batch_compiled(geo: SceneArrays, cms: np.ndarray, w: np.ndarray, p: np.ndar
     for fault, (field_name, reason) in enumerate(_BAD_INPUT):
         if bad[fault] >= 0:
             raise InvalidInput(field_name, reason.format(int(bad[fault])))
-    k = _kernel
+    k = _codes
     consistent = ints[:, k.I_CONSISTENT].astype(bool)
     out = BatchResult(
         cor=real[:, [k.O_COR_X, k.O_COR_Y]], omega=real[:, k.O_OMEGA], velocity_cm=real[:, [k.O_VX, k.O_VY]],

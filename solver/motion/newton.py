@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from solver.kernels.forward import ARMIJO, MAX_HALVINGS, NEAREST, ROUNDOFF, TINY, VERTEX_FIRST_MAX_K
+from solver.kernels.codes import ARMIJO, MAX_HALVINGS, NEAREST, ROUNDOFF, TINY, VERTEX_FIRST_MAX_K
 
 
 class BatchConvergence:

@@ -14,7 +14,6 @@ import numpy as np
 import pytest
 
 from models.feeder.fence import Fence
-from solver.feeder import simulate as sim
 from solver.feeder.simulate import FeederSimSettings, FenceSegment, simulate_belt_batch, simulate_fence_batch
 from solver.sim.kinematics import body_to_world
 from tests.feeder_cases import PARTS, part, random_fence, random_support
@@ -151,6 +150,7 @@ def test_a_run_kept_without_its_path_keeps_its_outcome_and_reach():
 def test_a_part_the_compiled_solve_cannot_carry_runs_on_the_reference(monkeypatch):
     """A run whose forward solve the compiled Newton could not finish (status REFERENCE) is
     run again, whole, on the reference path."""
+    from solver.kernels import codes
     from solver.kernels import fence as kernel
 
     real = kernel.run_belt
@@ -158,10 +158,10 @@ def test_a_part_the_compiled_solve_cannot_carry_runs_on_the_reference(monkeypatc
     def first_needs_reference(*args):
         summaries, path, events = real(*args)
         if args[-2] == 0:
-            summaries[0, 0, kernel.S_STATUS] = kernel.REFERENCE
+            summaries[0, 0, codes.S_STATUS] = codes.REFERENCE
         return summaries, path, events
 
-    monkeypatch.setattr(sim.fk, "run_belt", first_needs_reference)
+    monkeypatch.setattr(kernel, "run_belt", first_needs_reference)
     the_part = part("square")
     rng = np.random.default_rng(3)
     fence, mu_c = random_fence(rng)

@@ -133,13 +133,14 @@ def test_a_scene_per_support_agrees():
 
 def test_a_problem_the_kernel_leaves_unsolved_goes_to_the_reference(monkeypatch):
     """A row the kernel flags is solved again on the reference path and counted."""
+    from solver.kernels import codes
     from solver.kernels import forward as kernel
 
     real = kernel.solve_supports
 
     def flag_first(*args):
         values, ints, bad = real(*args)
-        ints[0, kernel.I_FAILED] = 1
+        ints[0, codes.I_FAILED] = 1
         return values, ints, bad
 
     monkeypatch.setattr(kernel, "solve_supports", flag_first)
