@@ -112,6 +112,16 @@ def _pose_hull(cm0, cm1, theta, body, out):
 
 
 @njit(cache=CACHE, fastmath=FAST)
+def _inward_normal(hull, i):
+    """The unit normal of hull edge i (from vertex i to the next) into the hull."""
+    j = (i + 1) % hull.shape[0]
+    q0 = hull[j, 0] - hull[i, 0]
+    q1 = hull[j, 1] - hull[i, 1]
+    ln = norm(q0, q1)
+    return -q1 / ln, q0 / ln
+
+
+@njit(cache=CACHE, fastmath=FAST)
 def _overlaps(hull, e0, e1, w0, w1, length, tol):
     """Whether the fence passes through the hull deeper than ``tol`` (the segment clipped by
     the hull's edges, each kept ``tol`` inside)."""
@@ -119,12 +129,7 @@ def _overlaps(hull, e0, e1, w0, w1, length, tol):
     lo = 0.0
     hi = length
     for i in range(m):
-        j = (i + 1) % m
-        q0 = hull[j, 0] - hull[i, 0]
-        q1 = hull[j, 1] - hull[i, 1]
-        ln = norm(q0, q1)
-        nx = -q1 / ln
-        ny = q0 / ln
+        nx, ny = _inward_normal(hull, i)
         base = nx * (e0 - hull[i, 0]) + ny * (e1 - hull[i, 1]) - tol
         rate = nx * w0 + ny * w1
         if rate == 0.0:
@@ -226,12 +231,7 @@ def _reimpose(cm0, cm1, theta, contact, index, body, hull, e0, e1, w0, w1, n0, n
         level = n0 * e0 + n1 * e1
         off = level - (n0 * hull[i, 0] + n1 * hull[i, 1])
         return cm0 + off * n0, cm1 + off * n1
-    j = (i + 1) % m
-    q0 = hull[j, 0] - hull[i, 0]
-    q1 = hull[j, 1] - hull[i, 1]
-    ln = norm(q0, q1)
-    ne0 = -q1 / ln
-    ne1 = q0 / ln
+    ne0, ne1 = _inward_normal(hull, i)
     off = (ne0 * e0 + ne1 * e1) - (ne0 * hull[i, 0] + ne1 * hull[i, 1])
     return cm0 + off * ne0, cm1 + off * ne1
 
@@ -427,27 +427,17 @@ def _vertex_at_end(hull, e0, e1, tol_c):
 
 
 @njit(cache=CACHE, fastmath=FAST)
-def _event(events, n_ev, record, push, code, index, value):
+def _append(buf, n, record, a, b, c, d):
+    """Row n of a recorded run's buffer (an event: push, code, index, value; a pose: push,
+    cm x, cm y, theta), and the buffer's new length; nothing for a run not recorded."""
     if not record:
-        return events, n_ev
-    events = _grow(events, n_ev)
-    events[n_ev, 0] = push
-    events[n_ev, 1] = code
-    events[n_ev, 2] = index
-    events[n_ev, 3] = value
-    return events, n_ev + 1
-
-
-@njit(cache=CACHE, fastmath=FAST)
-def _point(path, n_path, record, push, cm0, cm1, theta):
-    if not record:
-        return path, n_path
-    path = _grow(path, n_path)
-    path[n_path, 0] = push
-    path[n_path, 1] = cm0
-    path[n_path, 2] = cm1
-    path[n_path, 3] = theta
-    return path, n_path + 1
+        return buf, n
+    buf = _grow(buf, n)
+    buf[n, 0] = a
+    buf[n, 1] = b
+    buf[n, 2] = c
+    buf[n, 3] = d
+    return buf, n + 1
 
 
 @njit(cache=CACHE, fastmath=FAST)
@@ -542,7 +532,7 @@ def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, sett
     summary[S_START_X], summary[S_START_Y], summary[S_START_THETA] = cm0, cm1, theta
     summary[S_EVENTS_FROM], summary[S_PATH_FROM] = n_ev, n_path
     push = 0.0
-    path, n_path = _point(path, n_path, record, push, cm0, cm1, theta)
+    path, n_path = _append(path, n_path, record, push, cm0, cm1, theta)
     n_events_run, last_code, last_index = 0, -1, -1
     status, stalled, steps = STEP_LIMIT, 0, 0
     touched = flushed = False
@@ -550,7 +540,7 @@ def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, sett
     max_x = _max_x(hull)
     if _overlaps(hull, e0, e1, w0, w1, length, tol_c):
         status = OVERLAP
-        events, n_ev = _event(events, n_ev, record, push, EV_OVERLAP, -1, 0.0)
+        events, n_ev = _append(events, n_ev, record, push, EV_OVERLAP, -1, 0.0)
     for _ in range(0 if status == OVERLAP else int(settings[3])):
         _pose_hull(cm0, cm1, theta, body, hull)
         n_touch = _touching(hull, seg, tol_c, touching)
@@ -561,15 +551,15 @@ def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, sett
             lam = _next_contact(hull, e0, e1, w0, w1, n0, n1, length, tol_c)
             if lam < 0.0:
                 status = LEFT if touched else MISSED
-                events, n_ev = _event(events, n_ev, record, push, EV_LEFT if touched else EV_MISSED, -1, theta)
+                events, n_ev = _append(events, n_ev, record, push, EV_LEFT if touched else EV_MISSED, -1, theta)
                 break
             cm0, cm1, push, steps = cm0 - lam * D0, cm1 - lam * D1, push + lam, steps + 1
-            path, n_path = _point(path, n_path, record, push, cm0, cm1, theta)
+            path, n_path = _append(path, n_path, record, push, cm0, cm1, theta)
             _pose_hull(cm0, cm1, theta, body, hull)
             max_x = max(max_x, _max_x(hull))
             if last_code != EV_FIRST_CONTACT and last_code != EV_CONTACT_AGAIN:
                 last_code, last_index = EV_FIRST_CONTACT if n_events_run == 0 else EV_CONTACT_AGAIN, -1
-                events, n_ev = _event(events, n_ev, record, push, last_code, -1, 0.0)
+                events, n_ev = _append(events, n_ev, record, push, last_code, -1, 0.0)
                 n_events_run += 1
             continue
         contact, index, solve, v0, v1 = _mode(cm0, cm1, theta, hull, touching, n_touch, gaps, e0, e1, w0, w1, n0,
@@ -584,12 +574,12 @@ def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, sett
         if contact == ALONG or contact == JAM:
             status = LEFT if contact == ALONG else JAMMED
             code = EV_ALONG if contact == ALONG else EV_JAM
-            events, n_ev = _event(events, n_ev, record, push, code, -1, theta if contact == ALONG else mu_c)
+            events, n_ev = _append(events, n_ev, record, push, code, -1, theta if contact == ALONG else mu_c)
             break
         entry = _ENTRY_EVENT[contact]
         if not (last_code == entry and last_index == index):
             flushed = flushed or contact == FLUSH
-            events, n_ev = _event(events, n_ev, record, push, entry, index, 0.0)
+            events, n_ev = _append(events, n_ev, record, push, entry, index, 0.0)
             n_events_run, last_code, last_index = n_events_run + 1, entry, index
         a0, a1, th, h = _checked_step(cm0, cm1, theta, v0, v1, omega, contact, index, body, hull, e0, e1, w0, w1,
                                       n0, n1, length, f0, f1, step, min_step, tol_c)
@@ -603,15 +593,15 @@ def run_fence(body, support, weights, cm0, cm1, theta, seg, gamma, mu_c, a, sett
             if found:
                 contact, index, a0, a1, th, h = c2, i2, b0, b1, th2, h2
                 last_code, last_index = (EV_VERTEX_CORNER if c2 == VERTEX else EV_END_CORNER), i2
-                events, n_ev = _event(events, n_ev, record, push, last_code, i2, 0.0)
+                events, n_ev = _append(events, n_ev, record, push, last_code, i2, 0.0)
                 n_events_run += 1
         stalled = stalled + 1 if h <= min_step else 0
         if stalled >= int(settings[4]):
             status = STALLED
-            events, n_ev = _event(events, n_ev, record, push, EV_STALLED, contact * 1000 + index, h)
+            events, n_ev = _append(events, n_ev, record, push, EV_STALLED, contact * 1000 + index, h)
             break
         cm0, cm1, theta, push, steps = a0, a1, th, push + h, steps + 1
-        path, n_path = _point(path, n_path, record, push, cm0, cm1, theta)
+        path, n_path = _append(path, n_path, record, push, cm0, cm1, theta)
         _pose_hull(cm0, cm1, theta, body, hull)
         max_x = max(max_x, _max_x(hull))
     _summarise(summary, status, steps, push, cm0, cm1, theta, flushed, max_x, counts, n_ev, n_path)

@@ -89,12 +89,15 @@ def power_at(x0, x1, x2, wx, wy, p):
 
 
 @njit(cache=CACHE, fastmath=FAST)
-def gradient_at(x0, x1, x2, wx, wy, p):
-    """grad f at the twist: sum_i P_i (u_i, (J w_i) . u_i), u_i the unit velocity of w_i."""
+def gradient_at(x0, x1, x2, wx, wy, p, skip=-1):
+    """grad f at the twist: sum_i P_i (u_i, (J w_i) . u_i), u_i the unit velocity of w_i;
+    without the term of support point ``skip`` (-1: none)."""
     g0 = 0.0
     g1 = 0.0
     g2 = 0.0
     for i in range(wx.shape[0]):
+        if i == skip:
+            continue
         ux = x0 - x2 * wy[i]
         uy = x1 + x2 * wx[i]
         inv = 1.0 / max(math.sqrt(ux * ux + uy * uy), TINY)
@@ -485,20 +488,7 @@ def solve_sticking(wx, wy, p, c0, c1, q0, q1, kkt_tol, max_iter, work):
 def vertex_contact_force(wx, wy, p, c0, c1, x0, x1, x2, j, n0, n1, t0, t1, mu_c, m0, m1):
     """Sticking with the COR on support point j: the contact force is a set; its member
     deepest in the friction cone (newton._vertex_contact_force). Returns (m0, m1)."""
-    g0 = 0.0
-    g1 = 0.0
-    g2 = 0.0
-    for i in range(wx.shape[0]):
-        if i == j:
-            continue
-        ux = x0 - x2 * wy[i]
-        uy = x1 + x2 * wx[i]
-        inv = 1.0 / max(math.sqrt(ux * ux + uy * uy), TINY)
-        pex = p[i] * ux * inv
-        pey = p[i] * uy * inv
-        g0 += pex
-        g1 += pey
-        g2 += pey * wx[i] - pex * wy[i]
+    g0, g1, g2 = gradient_at(x0, x1, x2, wx, wy, p, j)
     jc0, jc1 = -c1, c0
     dv0, dv1 = wx[j] - c0, wy[j] - c1
     dn = math.hypot(dv0, dv1)
@@ -618,6 +608,13 @@ def norm(x, y):
 
 
 @njit(cache=CACHE, fastmath=FAST)
+def _note(bad, fault, r):
+    """Support r has ``fault``: kept if it is the first found with it."""
+    if bad[fault] < 0:
+        bad[fault] = r
+
+
+@njit(cache=CACHE, fastmath=FAST)
 def _largest(wx, wy):
     """The largest |w_i| (the centroid test's scale)."""
     big = 0.0
@@ -663,12 +660,10 @@ def solve_supports(points, weights, cms, contact_rel, normal, alpha_hat, push_ha
                 finite = False
             total += wi
         if not finite:
-            if bad[BAD_VALUES] < 0:
-                bad[BAD_VALUES] = r
+            _note(bad, BAD_VALUES, r)
             continue
         if not total > 0.0:
-            if bad[BAD_TOTAL] < 0:
-                bad[BAD_TOTAL] = r
+            _note(bad, BAD_TOTAL, r)
             continue
         c0, c1 = contact_rel[g, 0], contact_rel[g, 1]
         ell = norm(c0, c1)
@@ -682,12 +677,10 @@ def solve_supports(points, weights, cms, contact_rel, normal, alpha_hat, push_ha
             cx += p[i] * wx[i]
             cy += p[i] * wy[i]
         if norm(cx, cy) > centroid_tol * _largest(wx, wy):
-            if bad[BAD_CENTROID] < 0:
-                bad[BAD_CENTROID] = r
+            _note(bad, BAD_CENTROID, r)
             continue
         if not ell > 0.0:
-            if bad[BAD_LENGTH] < 0:
-                bad[BAD_LENGTH] = r
+            _note(bad, BAD_LENGTH, r)
             continue
         power = 0.0
         for i in range(k):
