@@ -36,7 +36,7 @@ from models.core.errors import InvalidInput
 from models.core.scene import PushScene
 from models.locus.cor_disk import disk_cor_locus
 from models.push import gross_motion as gm
-from models.sketch.disk_sketch import CorSketch, disk_cor_sketch
+from models.sketch.disk_sketch import CorSketch, Spans, disk_cor_sketch, sticking_spans
 
 
 @dataclass(frozen=True)
@@ -151,7 +151,7 @@ def frictionless_candidates(scene: PushScene, n_points: int) -> tuple[np.ndarray
 def fence_bounds_exact(
     a: float, c: float, alpha: float, beta_initial: float, beta_final: float, mu_c: float,
     n_nodes: int = 16, n_points: int = 256, which: tuple[str, ...] = FENCE_BOUNDS,
-    checkpoint: Checkpoint = _no_checkpoint,
+    checkpoint: Checkpoint = _no_checkpoint, spans: Spans = sticking_spans,
 ) -> dict[str, SketchBound]:
     """Bounds of the fence-alignment push (4.3) from one exact sketch per quadrature node
     (the nodes are shared, so every bound reuses the same sketches):
@@ -164,7 +164,8 @@ def fence_bounds_exact(
     Contact at c(-cos beta, sin beta), fence along alpha, push along +x. mu_c = 0 takes the
     frictionless locus {COR}_alpha. The book's composite closed form
     (models.push.gross_motion.fence_push_bound) is reported beside "push_max". ``checkpoint``
-    is called before every sketch (:data:`Checkpoint`)."""
+    is called before every sketch (:data:`Checkpoint`); ``spans`` answers the sketches'
+    sticking sweeps (models.sketch.disk_sketch.Spans)."""
     unknown = [k for k in which if k not in FENCE_BOUNDS]
     if unknown:
         raise InvalidInput("which", f"unknown bounds {unknown}; choose from {list(FENCE_BOUNDS)}")
@@ -178,7 +179,8 @@ def fence_bounds_exact(
             if mu_c == 0.0:
                 cache[beta] = frictionless_candidates(scene, n_points)
             else:
-                cache[beta] = sketch_candidates(disk_cor_sketch(scene, mu_c, n_points=n_points, sweep_points=n_points))
+                cache[beta] = sketch_candidates(disk_cor_sketch(scene, mu_c, n_points=n_points, sweep_points=n_points,
+                                                                  spans=spans))
         return cache[beta]
 
     rates = {
@@ -261,12 +263,14 @@ def encounter_scene(a: float, beta: float) -> PushScene:
 def encounter_bounds_exact(
     a: float, beta_initial: float, mu_c: float, beta_final: float = 0.5 * math.pi,
     n_nodes: int = 16, n_points: int = 256, checkpoint: Checkpoint = _no_checkpoint,
+    spans: Spans = sticking_spans,
 ) -> dict[str, SketchBound]:
     """Greatest and least length of the encounter (4.12) and greatest and least rotation
     (dxi/dbeta = -a cos beta / x_COR, models.push.gross_motion.rotation_rate) of a disk pushed
     aside by a point (4.4), from the exact sketch at every node (one sketch per node serves
     all four). Keys: "length_max", "length_min", "rotation_max", "rotation_min"; the book's
-    (4.16) and (4.18) are given beside the maxima. ``checkpoint`` as in :func:`fence_bounds_exact`."""
+    (4.16) and (4.18) are given beside the maxima. ``checkpoint`` and ``spans`` as in
+    :func:`fence_bounds_exact`."""
     if not 0.0 < beta_initial < beta_final <= 0.5 * math.pi:
         raise InvalidInput("beta_initial", "must satisfy 0 < beta_initial < beta_final <= pi/2")
     if n_nodes < 4:
@@ -291,7 +295,8 @@ def encounter_bounds_exact(
         per_key: dict[str, list[Extreme]] = {key: [] for key in rates}
         for k, beta in enumerate(betas):
             checkpoint(f"the sketch at beta = {float(beta):.6g} (rule with {n} nodes, node {k + 1})")
-            sk = disk_cor_sketch(encounter_scene(a, float(beta)), mu_c, n_points=n_points, sweep_points=n_points)
+            sk = disk_cor_sketch(encounter_scene(a, float(beta)), mu_c, n_points=n_points, sweep_points=n_points,
+                                 spans=spans)
             if sk.sense == "none" or not sk.allowed_modes:
                 # A head-on push (beta -> 0): the line of force runs through the CM and the
                 # disk only translates; the encounter never ends (4.16 diverges).

@@ -183,22 +183,21 @@ def force_scene(scene: PushScene, phi: float) -> tuple[PushScene, int]:
     return turned, (1 if turned.moment_arm > 0.0 else -1)
 
 
-def _clip(poly: np.ndarray, normal: np.ndarray, offset: float) -> np.ndarray:
-    """Sutherland-Hodgman: the part of a closed polygon with normal . x > offset."""
+def clip_half_plane(poly: np.ndarray, normal: np.ndarray, offset: float) -> np.ndarray:
+    """Sutherland-Hodgman: the part of a closed polygon with normal . x > offset (each
+    vertex inside kept, then the crossing of its edge to the next when the edge crosses;
+    all edges at once)."""
     if poly is None or len(poly) == 0:
         return np.empty((0, 2))
-    out = []
     s = poly @ normal - offset
-    n = len(poly)
-    for i in range(n):
-        j = (i + 1) % n
-        pi, pj, si, sj = poly[i], poly[j], s[i], s[j]
-        if si > 0.0:
-            out.append(pi)
-        if (si > 0.0) != (sj > 0.0):
-            t = si / (si - sj)
-            out.append(pi + t * (pj - pi))
-    return np.array(out) if out else np.empty((0, 2))
+    inside = s > 0.0
+    nxt = np.roll(np.arange(len(poly)), -1)
+    crossing = inside != inside[nxt]
+    t = np.where(crossing, s / np.where(crossing, s - s[nxt], 1.0), 0.0)
+    cut = poly + t[:, None] * (poly[nxt] - poly)
+    both = np.stack([poly, cut], axis=1).reshape(-1, 2)
+    keep = np.stack([inside, crossing], axis=1).reshape(-1)
+    return both[keep] if keep.any() else np.empty((0, 2))
 
 
 def _line_intervals(poly: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> list[tuple[float, float]]:
@@ -247,6 +246,11 @@ def sticking_spans(scene: PushScene, phis: Sequence[float], n_points: int) -> li
     return out
 
 
+Spans = Callable[[PushScene, Sequence[float], int], list[tuple[float, float] | None]]
+"""The sticking sweep's question at many force angles, :func:`sticking_spans`'s signature:
+the solver passes its compiled twin (solver/sketch/sweep.py), the same answers to rounding."""
+
+
 def _golden(evaluate: Callable[[list[int], list[float]], list[float]], brackets: Sequence[tuple[float, float]],
             steps: int) -> list[float]:
     """Argmin of each f_k on its bracket [lo, hi] by golden section (f_k unimodal near the
@@ -278,7 +282,7 @@ def _golden(evaluate: Callable[[list[int], list[float]], list[float]], brackets:
     return [x1[k] if f1[k] <= f2[k] else x2[k] for k in ks]
 
 
-def _sweep_angles(scene: PushScene, nu: float) -> np.ndarray:
+def sweep_angles(scene: PushScene, nu: float) -> np.ndarray:
     """Force angles of the coarse sweep: uniform over [-nu, nu], plus, when the cone holds
     the force line through the CM (angle phi0), angles crowding geometrically towards phi0
     from both sides: there the loci {COR}_phi grow like a^2/|alpha_phi . c| and reach the
@@ -296,36 +300,38 @@ def _sweep_angles(scene: PushScene, nu: float) -> np.ndarray:
     return out
 
 
-def sticking_locus_sweep(scene: PushScene, mu_c: float, n_points: int = 1024) -> StickingLocus | None:
+def sticking_locus_sweep(scene: PushScene, mu_c: float, n_points: int = 1024,
+                         spans: Spans = sticking_spans) -> StickingLocus | None:
     """The sticking locus by the book's construction (4.1.4): sweep phi over [-nu, nu],
     intersect each {COR}_phi with the sticking line, take the union; the two extremes are
-    refined by golden-section search over phi around the best coarse angle."""
+    refined by golden-section search over phi around the best coarse angle. ``spans``
+    answers each angle's question (:data:`Spans`)."""
     nu = math.atan(mu_c)
-    phis = _sweep_angles(scene, nu)
-    found = sticking_spans(scene, [float(ph) for ph in phis], n_points)
-    spans = {i: s for i, s in enumerate(found) if s is not None}
-    have = list(spans)
+    phis = sweep_angles(scene, nu)
+    found = spans(scene, [float(ph) for ph in phis], n_points)
+    coarse = {i: s for i, s in enumerate(found) if s is not None}
+    have = list(coarse)
     if not have:
         return None
     big = 1e300
 
     def low_and_neg_high(ks: list[int], xs: list[float]) -> list[float]:
         """f_0 = the span's low end, f_1 = minus its high end (big where there is none)."""
-        found = sticking_spans(scene, xs, n_points)
+        found = spans(scene, xs, n_points)
         return [big if s is None else (s[0] if k == 0 else -s[1]) for k, s in zip(ks, found)]
 
     def bracket(i: int) -> tuple[float, float]:
         return float(phis[max(i - 1, 0)]), float(phis[min(i + 1, len(phis) - 1)])
 
-    i_lo = min(have, key=lambda i: spans[i][0])
-    i_hi = max(have, key=lambda i: spans[i][1])
+    i_lo = min(have, key=lambda i: coarse[i][0])
+    i_hi = max(have, key=lambda i: coarse[i][1])
     p_lo, p_hi = _golden(low_and_neg_high, [bracket(i_lo), bracket(i_hi)], GOLDEN_STEPS)
     t_lo, neg_t_hi = low_and_neg_high([0, 1], [p_lo, p_hi])
     t_hi = -neg_t_hi
-    if not t_lo <= spans[i_lo][0]:
-        t_lo, p_lo = spans[i_lo][0], float(phis[i_lo])
-    if not t_hi >= spans[i_hi][1]:
-        t_hi, p_hi = spans[i_hi][1], float(phis[i_hi])
+    if not t_lo <= coarse[i_lo][0]:
+        t_lo, p_lo = coarse[i_lo][0], float(phis[i_lo])
+    if not t_hi >= coarse[i_hi][1]:
+        t_hi, p_hi = coarse[i_hi][1], float(phis[i_hi])
     c = scene.contact_point
     jp = perp(scene.push_hat)
     return StickingLocus(t_lo, t_hi, c + t_lo * jp, c + t_hi * jp, p_lo, p_hi)
@@ -392,23 +398,25 @@ def _slipping_piece(scene: PushScene, locus: ElementaryLocus, sigma: float) -> t
     c = scene.contact_point
     sgn = float(locus.moment_sign)
     # sign(m) alpha . (c - r) > 0  <=>  (-sign(m) alpha) . r > -sign(m) alpha . c
-    piece = _clip(locus.boundary, -sgn * scene.alpha_hat, float(-sgn * scene.alpha_hat @ c))
+    piece = clip_half_plane(locus.boundary, -sgn * scene.alpha_hat, float(-sgn * scene.alpha_hat @ c))
     # sigma sign(m) (c - r) . p > 0  <=>  (-sigma sign(m) p) . r > -sigma sign(m) p . c
     k = sigma * sgn
-    piece = _clip(piece, -k * scene.push_hat, float(-k * scene.push_hat @ c))
+    piece = clip_half_plane(piece, -k * scene.push_hat, float(-k * scene.push_hat @ c))
     return (piece,) if len(piece) >= 3 else ()
 
 
-def disk_cor_sketch(scene: PushScene, mu_c: float, n_points: int = 512, sweep_points: int | None = None) -> CorSketch:
+def disk_cor_sketch(scene: PushScene, mu_c: float, n_points: int = 512, sweep_points: int | None = None,
+                    spans: Spans = sticking_spans) -> CorSketch:
     """The COR sketch of ``scene`` with pusher friction ``mu_c`` (book 4.1): elementary loci
     with ``n_points`` boundary points, the sticking sweep's loci with ``sweep_points``
-    (default max(n_points, 1024): the sticking ends are where the sketch is most sensitive)."""
+    (default max(n_points, 1024): the sticking ends are where the sketch is most sensitive),
+    each answered by ``spans`` (:data:`Spans`)."""
     check_mu_c(mu_c)
     sense = sketch_sense(scene, mu_c)
     plus = disk_elementary_locus(scene, 1.0, mu_c, sense, n_points)
     minus = disk_elementary_locus(scene, -1.0, mu_c, sense, n_points)
     sweep_n = max(n_points, 1024) if sweep_points is None else sweep_points
-    stick = sticking_locus_sweep(scene, mu_c, sweep_n) if sense != "none" else None
+    stick = sticking_locus_sweep(scene, mu_c, sweep_n, spans) if sense != "none" else None
     return assemble_sketch(scene, mu_c, sense, plus, minus, stick)
 
 

@@ -1,5 +1,5 @@
 """The numbers the compiled kernels and their callers share (solver/kernels/forward.py,
-solver/kernels/fence.py): their algorithms' constants, the codes of their answers and the
+solver/kernels/fence.py, solver/kernels/disk.py): their algorithms' constants, the codes of their answers and the
 columns of their arrays. Plain Python: importing it loads no compiler, so the layers above
 read these without loading the kernels (a web process never does)."""
 
@@ -83,3 +83,11 @@ tried first by the next solve (solver.kernels.forward.solve_modes)."""
  S_SOLVES, S_NOT_OPTIMAL, S_MAX_KKT, S_MAX_ANGLE, S_EVENTS_FROM, S_EVENTS_TO, S_PATH_FROM, S_PATH_TO,
  S_MODES) = range(20)
 SUMMARY = S_MODES + MODE_COUNT
+
+
+# ---------------------------------------------------------------------------------------
+# The disk loci (solver/kernels/disk.py)
+
+SPAN_NONE, SPAN_FOUND, SPAN_REFERENCE = 0, 1, 2
+"""What the sticking sweep found at a force angle: no sticking point (or a translation), a
+span, or a scene or boundary the reference must answer (it says why)."""

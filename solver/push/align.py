@@ -42,6 +42,7 @@ from solver.push.bounds import (
     SketchCost,
     refuse_over_budget,
 )
+from solver.sketch.sweep import sticking_spans
 
 PIECE_EQUATIONS = {
     "frictionless": "(3.41)",
@@ -180,7 +181,7 @@ def _stage(problem: AlignProblem, al: fg.FenceAlignment, st: fg.FenceStage, numb
             # the frictionless locus (cheap). mu_c > 0: one exact sketch per node serves all four.
             which = gb.FENCE_BOUNDS[2:] if frictionless is not None else gb.FENCE_BOUNDS
             bounds = gb.fence_bounds_exact(a, c, alpha, bi, bf, mu, n_nodes=problem.n_nodes, n_points=problem.n_points,
-                                           which=which, checkpoint=checkpoint)
+                                           which=which, checkpoint=checkpoint, spans=sticking_spans)
             if frictionless is not None:
                 long_ex, short_ex = frictionless
                 long_err = short_err = 0.0

@@ -33,6 +33,7 @@ from solver.push.bounds import (
     SketchCost,
     refuse_over_budget,
 )
+from solver.sketch.sweep import sticking_spans
 
 LENGTH_MAX_EQUATION = "(4.16)"
 ROTATION_MAX_EQUATION = "(4.18), re-derived: pi/2 - beta_initial"
@@ -140,7 +141,7 @@ def disk_encounter(problem: DiskEncounterProblem, budget: Budget = UNLIMITED) ->
             budget.checkpoint(where, dataclasses.replace(closed_only, solve_time_s=time.perf_counter() - t0))
 
         bounds = gb.encounter_bounds_exact(a, beta, mu, n_nodes=problem.n_nodes, n_points=problem.n_points,
-                                           checkpoint=checkpoint)
+                                           checkpoint=checkpoint, spans=sticking_spans)
     qs = None if problem.quasi_static is None else problem.quasi_static.assess(ShapeMoments.disk(a))
     return dataclasses.replace(
         closed_only,

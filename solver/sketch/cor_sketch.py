@@ -28,6 +28,7 @@ from solver.sketch.certified_sketch import (
     CertifiedSketch,
     certified_sketch,
 )
+from solver.sketch.sweep import sticking_spans
 
 SKETCH_METHODS = ("analytic", "certified")
 
@@ -98,6 +99,6 @@ def cor_sketch(problem: SketchProblem, budget: Budget = UNLIMITED) -> SketchResu
     if certified is not None and certified.complete:
         sk = certified.sketch
     else:  # analytic; or a certified one not whole: the (circumscribing) disk's sketch bounds it (7.5)
-        sk = disk_cor_sketch(problem.scene, problem.mu_c, n_points=problem.n_points)
+        sk = disk_cor_sketch(problem.scene, problem.mu_c, n_points=problem.n_points, spans=sticking_spans)
     tip_line = disk_cor_locus(problem.scene, outputs=["tip_line"]).tip_line if problem.with_tip_line else None
     return SketchResult(problem, sk, certified, tip_line, time.perf_counter() - t0)

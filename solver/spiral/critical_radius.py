@@ -59,6 +59,7 @@ from solver.core.budget import UNLIMITED, Budget
 from solver.core.store import ResultStore
 from solver.core.tolerances import SOLVER_DEFAULT, SolverTolerances
 from solver.sketch.sticking_locus import sticking_locus
+from solver.sketch.sweep import sticking_spans
 
 METHODS = ("exact", "sweep", "tip_line")
 """Ways to compute r*(beta) (module docstring)."""
@@ -151,7 +152,7 @@ def critical_radius(a: float, beta: float, mu_c: float, method: str = "exact", t
                               time.perf_counter() - t0, "the book's tip-line approximation 2a/sin(beta) (4.13)")
     scene = encounter_scene(a, beta)
     if method == "sweep":
-        st = sticking_locus_sweep(scene, mu, int(sweep_points))
+        st = sticking_locus_sweep(scene, mu, int(sweep_points), sticking_spans)
         dt = time.perf_counter() - t0
         if st is None:
             return CriticalRadius(a, beta, mu, method, None, None, None, None, False, "empty", d, tip, None, dt,
@@ -203,7 +204,7 @@ def kink_beta(a: float, mu_c: float, sweep_points: int = KINK_SWEEP_POINTS,
     lo, hi = 0.3, 0.5 * math.pi - 1e-3
 
     def f(b):
-        st = sticking_locus_sweep(encounter_scene(a, b), mu_c, sweep_points)
+        st = sticking_locus_sweep(encounter_scene(a, b), mu_c, sweep_points, sticking_spans)
         return math.nan if st is None else -float(st.t_low) - 2.0 * a * math.sin(b)
 
     if not (f(lo) > 0.0 and f(hi) < 0.0):

@@ -15,7 +15,7 @@ from models.core.mpp import perp
 from models.core.scene import PushScene
 from models.core.support import random_balanced_tripods
 from models.locus import cor_disk as cd
-from models.sketch.disk_sketch import IMPLIED_MODES, disk_cor_sketch, force_scene, tip_line_estimate
+from models.sketch.disk_sketch import IMPLIED_MODES, clip_half_plane, disk_cor_sketch, force_scene, tip_line_estimate
 from solver.motion.forward import BatchResult, solve_forward_batch
 from tests.scenes import CONFIGS, SEED, SHORT, SKETCH_SCENES, distance_to_polyline, point_in_polygon
 
@@ -209,3 +209,32 @@ def test_the_sweep_solved_together_is_the_sweep_one_locus_at_a_time_4_1_4():
     together = sticking_spans(sc, phis, 256)
     alone = [sticking_spans(sc, [p], 256)[0] for p in phis]
     assert together == alone and sum(s is not None for s in alone) > 5
+
+
+def _clip_loop(poly, normal, offset):
+    """Sutherland-Hodgman written as the loop the vectorised clip replaced (one edge at a time)."""
+    out = []
+    s = poly @ normal - offset
+    for i in range(len(poly)):
+        j = (i + 1) % len(poly)
+        if s[i] > 0.0:
+            out.append(poly[i])
+        if (s[i] > 0.0) != (s[j] > 0.0):
+            out.append(poly[i] + s[i] / (s[i] - s[j]) * (poly[j] - poly[i]))
+    return np.array(out) if out else np.empty((0, 2))
+
+
+def test_the_slipping_pieces_clip_is_the_edge_by_edge_loop():
+    """The half-plane clip that cuts the slipping loci out of {COR}_{alpha +- nu} (4.1.3,
+    figure 4-2): the same points in the same order as the edge-by-edge loop, bitwise, on
+    seeded polygons and with vertices exactly on the line."""
+    rng = np.random.default_rng(20261204)
+    for _ in range(500):
+        poly = rng.normal(size=(int(rng.integers(3, 40)), 2))
+        normal, offset = rng.normal(size=2), float(rng.normal())
+        assert np.array_equal(clip_half_plane(poly, normal, offset), _clip_loop(poly, normal, offset))
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    for offset in (0.0, 0.5, 1.0, 2.0):
+        got = clip_half_plane(square, np.array([1.0, 0.0]), offset)
+        assert np.array_equal(got, _clip_loop(square, np.array([1.0, 0.0]), offset))
+    assert clip_half_plane(square, np.array([1.0, 0.0]), 2.0).shape == (0, 2)
