@@ -71,7 +71,7 @@ from models.core.mpp import mason_sense, perp
 from models.core.scene import PushScene
 from models.feeder.arcs import TWO_PI, Arcs, wrap
 from models.feeder.maps import ConfigurationMap
-from models.locus.cor_disk import disk_boundaries
+from models.locus.cor_disk import Boundaries, disk_boundaries
 from models.sketch.disk_sketch import force_scene
 
 PUSH = np.array([0.0, 1.0])
@@ -397,9 +397,10 @@ def max_slip_rate(a: float, c: np.ndarray, psi: float, mu: float, n_points: int)
 
 
 def max_slip_rates(a: float, queries: Sequence[tuple[np.ndarray, float, float]],
-                   n_points: int) -> list[tuple[float, bool]]:
+                   n_points: int, boundaries: Boundaries = disk_boundaries) -> list[tuple[float, bool]]:
     """:func:`max_slip_rate` at each (c, psi, mu), the disk loci of all of them solved at
-    once (models/locus/cor_disk.py, disk_boundaries)."""
+    once by ``boundaries`` (models/locus/cor_disk.py, disk_boundaries, or the solver's
+    compiled twin)."""
     out: list[tuple[float, bool]] = []
     pending: list[tuple[int, PushScene, np.ndarray, np.ndarray]] = []
     for c, psi, mu in queries:
@@ -413,8 +414,7 @@ def max_slip_rates(a: float, queries: Sequence[tuple[np.ndarray, float, float]],
         else:
             pending.append((len(out), turned, c, e))
             out.append((math.nan, ccw))
-    boundaries = disk_boundaries([turned for _, turned, _, _ in pending], n_points)
-    for (i, _, c, e), boundary in zip(pending, boundaries):
+    for (i, _, c, e), boundary in zip(pending, boundaries([turned for _, turned, _, _ in pending], n_points)):
         out[i] = (max(float(np.max(_slip_per_radian(boundary, c, e))), 0.0), out[i][1])
     return out
 
@@ -760,7 +760,7 @@ class _SlipPath:
 
 
 def endpoint_turns(part: Footprint, jobs: Sequence[tuple[int, Fence]], tol: FeederTolerances = DEFAULT,
-                   own_rate: OwnRate | None = None) -> list[EndpointTurn]:
+                   own_rate: OwnRate | None = None, boundaries: Boundaries = disk_boundaries) -> list[EndpointTurn]:
     """:func:`endpoint_turn` of each (edge j, fence), every path (an edge and a mu_c) taking
     its Heun steps in lockstep with the others, so that each step's disk loci are solved
     together (max_slip_rates): the same steps as one at a time, the same answers to the last
@@ -799,7 +799,7 @@ def endpoint_turns(part: Footprint, jobs: Sequence[tuple[int, Fence]], tol: Feed
             c = rotation(delta) @ ((ell_a * a - p.u_c) * p.t0 - p.h_c * p.n0)
             queries.append((c, p.g + delta, p.mu))
         out = []
-        for (p, (ell_a, delta)), (r, ccw) in zip(where, max_slip_rates(a, queries, tol.locus_points)):
+        for (p, (ell_a, delta)), (r, ccw) in zip(where, max_slip_rates(a, queries, tol.locus_points, boundaries)):
             evaluations[p.job] += 1
             if math.isinf(r):  # the slipping force through the CM: slide without turning
                 out.append(np.array([1.0, 0.0]))
@@ -852,17 +852,20 @@ class FenceMap:
 
 
 def fence_map(part: Footprint, fence: Fence, tol: FeederTolerances = DEFAULT,
-              checkpoint: Callable[[str], None] | None = None, own_rate: OwnRate | None = None) -> FenceMap:
+              checkpoint: Callable[[str], None] | None = None, own_rate: OwnRate | None = None,
+              boundaries: Boundaries = disk_boundaries) -> FenceMap:
     """The configuration map of ``part`` meeting ``fence`` (phases 1-6); ``checkpoint``
     (the caller's deadline: it raises to stop) is called before the extremes of leaving the
     end (before each edge's with ``own_rate``) and the reach.
     With ``own_rate`` the extremes B are bounded by the part's own loci (``bound`` "part");
-    the reach (phase 6) stays bounded by the disk."""
-    return fence_maps(part, [fence], tol, checkpoint, own_rate)[0]
+    the reach (phase 6) stays bounded by the disk. ``boundaries`` solves the slip paths' disk
+    loci (models.locus.cor_disk.Boundaries)."""
+    return fence_maps(part, [fence], tol, checkpoint, own_rate, boundaries)[0]
 
 
 def fence_maps(part: Footprint, fences: Sequence[Fence], tol: FeederTolerances = DEFAULT,
-               checkpoint: Callable[[str], None] | None = None, own_rate: OwnRate | None = None) -> list[FenceMap]:
+               checkpoint: Callable[[str], None] | None = None, own_rate: OwnRate | None = None,
+               boundaries: Boundaries = disk_boundaries) -> list[FenceMap]:
     """:func:`fence_map` of each fence, the extremes of every fence's edges integrated in
     lockstep (endpoint_turns; one edge at a time with ``own_rate``, whose certified rays
     take long enough for the deadline to be asked between edges)."""
@@ -879,13 +882,13 @@ def fence_maps(part: Footprint, fences: Sequence[Fence], tol: FeederTolerances =
     if own_rate is None:
         if checkpoint is not None:
             checkpoint(f"the extremes of leaving the end on {len(jobs)} edges")
-        turns_made = endpoint_turns(part, jobs, tol)
+        turns_made = endpoint_turns(part, jobs, tol, boundaries=boundaries)
     else:
         turns_made = []
         for j, fence in jobs:
             if checkpoint is not None:
                 checkpoint(f"the extremes of leaving the end on edge {j}")
-            turns_made += endpoint_turns(part, [(j, fence)], tol, own_rate)
+            turns_made += endpoint_turns(part, [(j, fence)], tol, own_rate, boundaries)
     out = []
     for fence, pieces, kernels, edges in layouts:
         turns = tuple(turns_made[:len(edges)])

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -570,6 +570,12 @@ def _disk_crossings(scene: PushScene) -> DiskCrossings:
         arcs.append(PerimeterArc(world_angle(eta_a), world_angle(eta_c), on_disk(eta_a), on_disk(eta_c)))
         arcs.append(PerimeterArc(world_angle(-eta_c), world_angle(-eta_a), on_disk(-eta_c), on_disk(-eta_a)))
     return DiskCrossings(cos_eta=cos_a, points=np.vstack([on_disk(eta_a), on_disk(-eta_a)]), arcs=tuple(arcs))
+
+
+Boundaries = Callable[[Sequence[PushScene], int], list[np.ndarray]]
+""":func:`disk_boundaries`'s question, for callers that take it as a parameter (the fence
+maps): the solver passes its compiled twin (solver/locus/disk_rings.py), the same points to
+rounding."""
 
 
 def disk_boundaries(scenes: Sequence[PushScene], n_points: int = 256, tol: Tolerances | None = None) -> list[np.ndarray]:

@@ -42,6 +42,7 @@ from solver.core.errors import TimeLimitReached
 from solver.feeder.design_cpsat import CpSatDesign, shortest_design_cpsat
 from solver.feeder.placement import Placement, place
 from solver.feeder.validate import Validation, validate_in_own_frames, validate_on_belt
+from solver.locus.disk_rings import disk_boundaries
 
 MIN_YIELD = 0.995
 """The default least guaranteed yield per pass of a fences-only design on a belt."""
@@ -212,7 +213,7 @@ def _maps(problem: FeederDesignProblem, budget: Budget, maps: list[FenceMap]) ->
         budget.checkpoint(f"the maps of the fences at {math.degrees(group[0]):+.1f} to "
                           f"{math.degrees(group[-1]):+.1f} degrees")
         maps += fence_maps(problem.part, [Fence.create(g, problem.mu_c) for g in group], problem.tol,
-                           checkpoint=budget.checkpoint)
+                           checkpoint=budget.checkpoint, boundaries=disk_boundaries)
 
 
 def _profiles(problem: FeederDesignProblem, maps: list[FenceMap], budget: Budget) -> list[ReachBound]:

@@ -36,6 +36,7 @@ from solver.feeder.simulate import (
     simulate_belt_batch,
     simulate_fence,
 )
+from solver.locus.disk_rings import disk_boundaries
 
 MAP_SLACK = 1e-6
 """Radians: a simulated final orientation this close to a band counts as in it."""
@@ -91,7 +92,7 @@ def feeder_map(problem: FeederMapProblem, budget: Budget = UNLIMITED) -> FeederM
                 own = PartLoci(problem.part, fence, problem.part_bound, budget.checkpoint)
             try:
                 maps.append(fence_map(problem.part, fence, problem.tol, checkpoint=budget.checkpoint,
-                                      own_rate=None if own is None else own.rate_for))
+                                      own_rate=None if own is None else own.rate_for, boundaries=disk_boundaries))
             finally:
                 if own is not None:
                     costs.append(own.cost)
@@ -198,7 +199,8 @@ def _in_map(problem: FeederSimProblem, fence: Fence, run: FenceRun) -> bool | No
     """Whether the run's outcome lies in its fence's map (None: not asked, not finished, or
     the fence was never touched, which the maps do not cover)."""
     if problem.check_map and run.status == "jammed":
-        return fence_map(problem.part, fence).map.jam.contains(run.theta_initial)
+        return fence_map(problem.part, fence, boundaries=disk_boundaries).map.jam.contains(run.theta_initial)
     if problem.check_map and run.status == "left" and run.theta_final is not None:
-        return fence_map(problem.part, fence).map.allows(run.theta_initial, run.theta_final, MAP_SLACK)
+        return fence_map(problem.part, fence, boundaries=disk_boundaries).map.allows(run.theta_initial,
+                                                                                   run.theta_final, MAP_SLACK)
     return None
