@@ -191,15 +191,20 @@ class DesignGraph:
             stop_margin = np.full(len(self.maps), math.inf)
             missed_gap = np.full(hit.shape, math.inf)
         out: list[tuple[frozenset[int], float] | None] = []
-        for f in range(len(self.maps)):
-            if refused[f]:
+        hits = np.flatnonzero(hit)
+        cuts = np.searchsorted(hits, pk.offsets).tolist()  # candidate f's hits: hits[cuts[f]:cuts[f + 1]]
+        offsets = pk.offsets.tolist()
+        missed_min = np.minimum.reduceat(missed_gap, pk.offsets[:-1]).tolist()  # every candidate has a band
+        stops = stop_margin.tolist()
+        for f, no in enumerate(refused.tolist()):
+            if no:
                 out.append(None)
                 continue
-            lo, hi = pk.offsets[f], pk.offsets[f + 1]
-            reached = frozenset(int(j) for j in np.flatnonzero(hit[lo:hi]))
-            margin = float(stop_margin[f])
-            if len(reached) < hi - lo:
-                margin = min(margin, float(missed_gap[lo:hi].min()))
+            lo = offsets[f]
+            reached = frozenset((hits[cuts[f]:cuts[f + 1]] - lo).tolist())
+            margin = stops[f]
+            if len(reached) < offsets[f + 1] - lo:
+                margin = min(margin, missed_min[f])
             out.append((reached, margin))
         return out
 
@@ -274,20 +279,53 @@ def cell_words(mask: int, cells: int) -> np.ndarray:
     return np.frombuffer(mask.to_bytes(8 * n, "little"), dtype="<u8").astype(np.uint64)
 
 
+Scan = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, int, np.ndarray, np.ndarray, float,
+                 float], bool]
+"""The dominance scan over every node reached (:func:`scan_reached`'s signature): the solver
+passes its compiled twin (solver/feeder/dominance.py), the same answer."""
+
+
+def scan_reached(starts: np.ndarray, widths: np.ndarray, counts: np.ndarray, margins: np.ndarray, words: np.ndarray,
+                 n: int, arcs: np.ndarray, inverse: np.ndarray, margin: float, slack: float) -> bool:
+    """Whether one of the first ``n`` nodes reached (node i: its arcs ``starts[i, :counts[i]]``,
+    ``widths[i, :counts[i]]``, margin, cell-mask words) has a margin >= ``margin``, no cell
+    outside the new set's mask (``inverse``: its complement's words) and its arcs within the
+    new set's ``arcs`` ((k, 2): start, width) widened by ``slack`` (:meth:`Arcs.issubset`).
+    The quick conditions are tested on chunks of nodes at once, in the order reached, the
+    arc test only where they hold; an answer found early stops the scan."""
+    other = Arcs(tuple((float(s), float(w)) for s, w in arcs))
+    lo, size = 0, ReachedSets.CHUNK
+    while lo < n:  # in growing chunks: most answers come early
+        hi = min(lo + size, n)
+        ok = margins[lo:hi] >= margin
+        ok &= ~(words[lo:hi] & inverse).any(axis=1)
+        for i in np.flatnonzero(ok):
+            k = lo + int(i)
+            mine = Arcs(tuple(zip(starts[k, :counts[k]].tolist(), widths[k, :counts[k]].tolist())))
+            if mine.issubset(other, slack):
+                return True
+        lo, size = hi, 2 * size
+    return False
+
+
 class ReachedSets:
-    """The nodes reached on one side, for the dominance test: their margins and cell masks
-    as arrays, so the quick necessary conditions are tested on all of them at once and
-    the exact arc test only where they hold."""
+    """The nodes reached on one side, for the dominance test: their margins, cell masks and
+    arcs as arrays, so that the whole scan is one call of ``scan`` (:data:`Scan`)."""
 
-    CHUNK = 256  # nodes tested at once: an answer found early stops the test
+    CHUNK = 256  # nodes tested at once by scan_reached: an answer found early stops the test
 
-    def __init__(self, cells: int) -> None:
+    def __init__(self, cells: int, scan: Scan = scan_reached) -> None:
         self.cells = cells
+        self.scan = scan
+        self.lookup_first = scan is scan_reached
         self.arcs: list[Arcs] = []
         self.masks: list[int] = []
         self.by_state: dict[tuple[int, frozenset[int]], int] = {}  # the state's node of largest margin
         self.margins = np.empty(64)
         self.words = np.empty((64, -(-cells // 64)), dtype=np.uint64)
+        self.starts = np.empty((64, 4))
+        self.widths = np.empty((64, 4))
+        self.counts = np.zeros(64, dtype=np.int64)
 
     def add(self, fence: int, occupied: frozenset[int], arcs: Arcs, mask: int, margin: float) -> None:
         """A node reached: its last fence, code set, set of orientations, cell mask, margin."""
@@ -295,8 +333,19 @@ class ReachedSets:
         if n == self.margins.size:
             self.margins = np.concatenate([self.margins, np.empty(n)])
             self.words = np.concatenate([self.words, np.empty_like(self.words)])
+            self.starts = np.concatenate([self.starts, np.empty_like(self.starts)])
+            self.widths = np.concatenate([self.widths, np.empty_like(self.widths)])
+            self.counts = np.concatenate([self.counts, np.zeros_like(self.counts)])
+        k = len(arcs.arcs)
+        if k > self.starts.shape[1]:
+            grow = np.empty((self.starts.shape[0], max(k, 2 * self.starts.shape[1]) - self.starts.shape[1]))
+            self.starts = np.hstack([self.starts, grow])
+            self.widths = np.hstack([self.widths, grow])
         self.margins[n] = margin
         self.words[n] = cell_words(mask, self.cells)
+        self.starts[n, :k] = [s for s, _ in arcs.arcs]
+        self.widths[n, :k] = [w for _, w in arcs.arcs]
+        self.counts[n] = k
         self.arcs.append(arcs)
         self.masks.append(mask)
         state = (fence, occupied)
@@ -307,35 +356,29 @@ class ReachedSets:
                   occupied: frozenset[int] = frozenset()) -> bool:
         """A node already reached whose set lies within ``arcs`` at no smaller margin.
 
-        The nodes of the same fence whose code set is within ``occupied`` are tried first
-        (their sets are unions of fewer of the same bands: the usual answer, found by
-        looking up each subset); every node is tried, by the same test, before False."""
-        for size in range(1, len(occupied) + 1):
+        With the reference scan, the nodes of the same fence whose code set is within
+        ``occupied`` are tried first (their sets are unions of fewer of the same bands: the
+        usual answer, found by looking up each subset); every node is tried, by the same
+        test, before False. A compiled scan tries every node sooner than those look-ups."""
+        for size in range(1, len(occupied) + 1 if self.lookup_first else 1):
             for sub in itertools.combinations(sorted(occupied), size):
                 i = self.by_state.get((fence, frozenset(sub)))
                 if (i is not None and self.margins[i] >= margin and self.masks[i] & ~mask == 0
                         and self.arcs[i].issubset(arcs, slack)):
                     return True
-        n = len(self.arcs)
-        inverse = ~cell_words(mask, self.cells)
-        lo, size = 0, self.CHUNK
-        while lo < n:  # in the order reached, in growing chunks: most answers come early
-            hi = min(lo + size, n)
-            ok = self.margins[lo:hi] >= margin
-            ok &= ~(self.words[lo:hi] & inverse).any(axis=1)
-            if any(self.arcs[lo + i].issubset(arcs, slack) for i in np.flatnonzero(ok)):
-                return True
-            lo, size = hi, 2 * size
-        return False
+        query = np.array(arcs.arcs, dtype=float).reshape(-1, 2)
+        return bool(self.scan(self.starts, self.widths, self.counts, self.margins, self.words, len(self.arcs), query,
+                              ~cell_words(mask, self.cells), margin, slack))
 
 
 def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                   tol: DesignTolerances = DESIGN_DEFAULT, checkpoint: Callable[[str], None] | None = None,
-                  progress: Progress | None = None) -> SearchResult:
+                  progress: Progress | None = None, scan: Scan = scan_reached) -> SearchResult:
     """Breadth-first search for the shortest design (module docstring) up to ``max_depth``
     fences; consecutive fences on opposite sides of the belt when ``alternate``.
     ``checkpoint`` (a deadline: it raises to stop) is called before each depth and each
-    node's children; ``progress`` then holds what was established."""
+    node's children; ``progress`` then holds what was established. ``scan`` runs the
+    pruning's dominance scan (:data:`Scan`)."""
     if max_depth < 1:
         raise InvalidInput("max_depth", "must be at least 1")
     t0 = time.perf_counter()
@@ -354,7 +397,7 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
     sets: dict[tuple[int, frozenset[int]], tuple[Arcs, int]] = {}  # (fence, code set) -> its set and mask
     best_margin: dict[tuple[int, frozenset[int]], float] = {}  # the same state reached before
     for node in frontier:
-        seen.setdefault(graph.side(node.fence) if alternate else 0.0, ReachedSets(tol.mask_cells)).add(
+        seen.setdefault(graph.side(node.fence) if alternate else 0.0, ReachedSets(tol.mask_cells, scan)).add(
             node.fence, node.occupied, node.arcs, node.mask, node.margin)
     depth = 1
     while True:
@@ -390,7 +433,7 @@ def search_design(graph: DesignGraph, max_depth: int, alternate: bool = True,
                     arcs = graph.occupied_set(f, occ)
                     sets[(f, occ)] = (arcs, cell_mask(arcs, tol.mask_cells))
                 arcs, mask = sets[(f, occ)]
-                side = seen.setdefault(key, ReachedSets(tol.mask_cells))
+                side = seen.setdefault(key, ReachedSets(tol.mask_cells, scan))
                 if not goal and side.dominated(arcs, mask, margin, tol.subset_slack, f, occ):
                     pruned += 1
                     continue

@@ -305,15 +305,17 @@ def feeder_design(problem: FeederDesignProblem, budget: Budget = UNLIMITED) -> F
 def _sequence_design(problem: FeederDesignProblem, graph: DesignGraph, budget: Budget, progress: Progress,
                      out: dict, timings: dict[str, float], t: float) -> str:
     """The fence sequence without a belt (issue 13): search, CP-SAT, validation in own frames."""
+    from solver.kernels.search import scan_reached  # compiled: loaded where it runs, not by the web processes
+
     status = "ok"
     search = out["search"] = search_design(graph, problem.max_depth, problem.alternate, problem.design_tol,
-                                           checkpoint=budget.checkpoint, progress=progress)
+                                           checkpoint=budget.checkpoint, progress=progress, scan=scan_reached)
     timings["search"] = time.perf_counter() - t
     design = search.design
     if design is None and problem.alternate:  # what the same search finds with the sides free
         try:
             free: SearchResult | None = search_design(graph, problem.max_depth, False, problem.design_tol,
-                                                      checkpoint=budget.checkpoint)
+                                                      checkpoint=budget.checkpoint, scan=scan_reached)
         except TimeLimitReached:
             free = None
         out["relaxed"] = (Relaxation("alternate", free),)

@@ -132,7 +132,7 @@ def ensure_cache() -> Path | None:
         return _prepared[0]
 
 
-KERNEL_MODULES = ("solver.kernels.forward", "solver.kernels.fence", "solver.kernels.disk")
+KERNEL_MODULES = ("solver.kernels.forward", "solver.kernels.fence", "solver.kernels.disk", "solver.kernels.search")
 """Every module of compiled kernels (imported by :func:`compiled`; preloaded by the
 service's solver workers, whose callers import them on first use)."""
 
