@@ -81,6 +81,7 @@ def _writer(path: str, offset: int) -> None:
         s.put("ns", f"{offset + i}", {"i": offset + i})
 
 
+@pytest.mark.slow  # 7 s: the heaviest of the everyday tier
 def test_two_processes_writing_at_once_leave_a_whole_file(tmp_path):
     path = str(tmp_path / "r.sqlite3")
     ctx = multiprocessing.get_context("spawn")

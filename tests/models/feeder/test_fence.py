@@ -234,6 +234,7 @@ def test_extreme_b_rises_with_mu_c_so_an_interval_takes_its_low_end_5_1():
             assert interval.least == pytest.approx(bs[0], abs=1e-12)
 
 
+@pytest.mark.slow  # 7 s: the heaviest of the everyday tier
 def test_reach_phase_6_1_8_6():
     """The orientations a fence's reach may not align (phase 6): none without a reach; fewer
     as the reach grows, nearly all for a reach of a tenth of the part; never empty for a
@@ -291,6 +292,7 @@ def test_unaligned_orientations_allow_everything_and_pass_through_products_5_4()
     assert not (matrix_product(short.matrix(N), full.matrix(N)) & ~second_short.matrix(N)).any()
 
 
+@pytest.mark.slow  # 7 s a case: the heaviest of the everyday tier
 @pytest.mark.parametrize(("verts", "cm", "gamma"), [
     ([[-1.8102071949042897, 0.5394001344053014], [-0.3889941148658179, -1.5262429273478046],
       [0.36675892323651266, -0.49389035386958713]], [-0.6108141288445317, -0.49357771560403013], -1.1404376484705965),
@@ -344,6 +346,7 @@ def test_the_reach_profile_is_phase_6_for_every_reach_at_once_1_8_6():
     assert not profile.unaligned(1e6 * a).is_empty
 
 
+@pytest.mark.slow  # 6 s: the heaviest of the everyday tier
 def test_over_a_mu_c_interval_a_design_samples_the_reach_per_mu_c_1_8_6():
     """One profile over [0.1, 0.3] leaves unaligned every orientation whose balance some
     mu_c there puts there (tens of degrees at any reach); a part has one mu_c, so a design

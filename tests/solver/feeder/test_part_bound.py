@@ -83,6 +83,7 @@ def test_the_slip_bound_holds_every_sampled_cor_and_is_tighter_than_the_disk_5_1
     assert np.median(ratios) < 0.8
 
 
+@pytest.mark.slow  # 9 s: the heaviest of the everyday tier
 def test_the_part_bound_narrows_the_disk_map_and_holds_simulated_parts_6_5():
     """The map with the part's own bound has the disk map's kernels and extremes A, and
     each band inside the disk's (B later, 7.5); 60 seeded simulated parts (random tripods

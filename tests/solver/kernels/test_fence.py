@@ -63,6 +63,7 @@ def test_random_parts_through_random_fences_take_the_reference_steps(name):
             assert [e.detail for e in x.events[:-1]] == [e.detail for e in y.events[:-1]]
 
 
+@pytest.mark.slow  # 9 s over its cases: the heaviest of the everyday tier
 @pytest.mark.parametrize("gamma, mu_c, length", [
     (0.6, 0.7, None),  # |tan gamma| = 0.68 <= mu_c: a flush part jams (6.4)
     (0.6, 1e-9, None),  # mu_c -> 0

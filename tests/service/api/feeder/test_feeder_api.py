@@ -260,6 +260,7 @@ TRIANGLE = {"vertices": [[0, 0], [2, 0], [0, 3]], "center_of_mass": [2 / 3, 1.0]
 TRIANGLE_A = math.hypot(4 / 3, 2.0)
 
 
+@pytest.mark.slow  # 5 s: the heaviest of the everyday tier
 def test_a_design_searched_as_placed_on_a_belt_1_8_6(client):
     """The right triangle on a belt of 20 part radii (fences at 20..70 degrees in 10 degree
     steps): fences only, guaranteed yield at least the 99.5 % asked; each placed fence has
@@ -384,6 +385,7 @@ def test_the_push_plan_baseline_of_a_64_gon_is_cut_and_reported_not_a_504(client
     assert out["candidates"] == 12 and out["push_plan_baseline"]["solve_time_ms"] < 10_000
 
 
+@pytest.mark.slow  # 5 s: the heaviest of the everyday tier
 def test_on_a_belt_the_defaults_find_what_exists_and_a_refusal_says_which_setting(client):
     """Issue 35, point 12: the right triangle on a belt with the defaults (no `alternate`, no
     `gate`) has its placed design (sides free on a belt); asked to alternate, there is none,
