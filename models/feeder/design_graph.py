@@ -282,7 +282,8 @@ def cell_words(mask: int, cells: int) -> np.ndarray:
 Scan = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, int, np.ndarray, np.ndarray, float,
                  float], bool]
 """The dominance scan over every node reached (:func:`scan_reached`'s signature): the solver
-passes its compiled twin (solver/feeder/dominance.py), the same answer."""
+passes its compiled twin (solver/kernels/search.py, from solver/feeder/design.py), the same
+answer."""
 
 
 def scan_reached(starts: np.ndarray, widths: np.ndarray, counts: np.ndarray, margins: np.ndarray, words: np.ndarray,
