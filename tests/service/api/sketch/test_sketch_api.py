@@ -1,7 +1,8 @@
 """POST /v1/cor/sketch: the COR sketch with pusher friction (book 4.1).
 
-The route is thin: its JSON is models.sketch.disk_sketch.cor_sketch on the same scene, number for
-number; the nine sketch letters of figure 4-6 come through (scenes of
+The route is thin: its JSON is models.sketch.disk_sketch.cor_sketch on the same scene with the
+solver's compiled sticking sweep (solver/sketch/sweep.py, its own agreement with the
+reference tested in tests/solver/sketch/test_sweep.py), number for number; the nine sketch letters of figure 4-6 come through (scenes of
 tests/models/sketch/test_disk_sketch.py); a push whose line passes through the CM inside the friction
 cone is answered as a translation (and forward solves agree that the part translates,
 sticking); a polygon is sketched as its circumscribing disk; the SVG is valid XML with the
@@ -25,6 +26,7 @@ from models.core.support import random_balanced_tripods
 from models.sketch.disk_sketch import IMPLIED_MODES, disk_cor_sketch
 from service.limits import SKETCH_MAX_N_POINTS, SKETCH_MIN_LENGTH
 from solver.motion.forward import BatchResult, solve_forward_batch
+from solver.sketch.sweep import sticking_spans
 from tests.scenes import CONFIGS, SHORT, SKETCH_SCENES
 
 URL = "/v1/cor/sketch"
@@ -101,7 +103,7 @@ def test_json_is_the_model(client, n_points):
     r, got = post(client, {**EXAMPLE, "n_points": n_points})
     assert r.status_code == 200, r.text
     scene = PushScene.create(1.0, EXAMPLE["contact_point"], EXAMPLE["edge_angle"], 0.0)
-    want = expected(disk_cor_sketch(scene, 0.3, n_points=n_points), scene)
+    want = expected(disk_cor_sketch(scene, 0.3, n_points=n_points, spans=sticking_spans), scene)
     assert {k: got[k] for k in want} == want
     assert got["kind"] == "sketch" and got["sketch_of"] == "disk" and got["n_points"] == n_points
     assert got["warnings"] == [] and got["contact_distance_to_outline"] is None
@@ -119,7 +121,7 @@ def test_defaults_and_other_push_directions(client):
     r, got = post(client, body)
     assert r.status_code == 200, r.text
     scene = PushScene.create(1.0, (1.4, -1.2), 1.9, 0.2, (2.0, -1.0))
-    want = expected(disk_cor_sketch(scene, 0.3), scene)
+    want = expected(disk_cor_sketch(scene, 0.3, spans=sticking_spans), scene)
     assert {k: got[k] for k in want} == want and got["n_points"] == 512
 
 
@@ -129,7 +131,7 @@ def test_polygon_is_sketched_as_its_circumscribing_disk(client):
     assert r.status_code == 200, r.text
     fp = Footprint.create(L_SHAPE)
     scene = PushScene.create(fp.circumradius, (0, 0.5), math.pi / 2, 0.0, fp.center_of_mass)
-    want = expected(disk_cor_sketch(scene, 0.4), scene)
+    want = expected(disk_cor_sketch(scene, 0.4, spans=sticking_spans), scene)
     assert {k: got[k] for k in want} == want
     assert got["sketch_of"] == "circumscribing_disk" and "circumscribing disk" in got["message"]
     assert got["contact_distance_to_outline"] == 0.0
