@@ -15,6 +15,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from models.core.mpp import perp
 from models.core.scene import PushScene
 from models.core.tolerances import Tolerances
 from models.locus.cor_disk import disk_boundaries as reference_boundaries
@@ -41,7 +42,7 @@ def disk_boundaries(scenes: Sequence[PushScene], n_points: int = 256, tol: Toler
     a = np.array([s.disk_radius for s in scenes])[:, None, None]
     cm = np.array([s.center_of_mass for s in scenes])[:, None, :]
     e1 = np.array([s.axis for s in scenes])[:, None, :]
-    e2 = np.stack([-e1[..., 1], e1[..., 0]], axis=-1)
+    e2 = perp(e1)
     local = local * a
     world = cm + local[..., :1] * e1 + local[..., 1:2] * e2
     return list(world)
